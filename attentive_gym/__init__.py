@@ -1,0 +1,25 @@
+"""attentive_gym: a bio-inspired multi-sensor attentional model for robots.
+
+Layers, from the bottom up:
+
+- ``attentive_gym.attention``: the attentional model, pure numpy (no gymnasium, no pymunk).
+- ``attentive_gym.world``: the pymunk search-and-rescue world and its scenarios.
+- ``attentive_gym.sensors``: analytic sonar-ring and laser-scanner simulation.
+- ``attentive_gym.envs``: the Gymnasium environments (``AttentiveRescue-v0``).
+- ``attentive_gym.wrappers``, ``attentive_gym.agents``, ``attentive_gym.experiments``.
+
+Importing the package registers the environments with Gymnasium (idempotently), so
+``gym.make("attentive_gym:AttentiveRescue-v0")`` works in spawned subprocesses too.
+"""
+
+try:  # the attention library must stay usable without gymnasium installed
+    import gymnasium as _gymnasium
+except ImportError:  # pragma: no cover - exercised by tests/attention/test_standalone.py
+    _gymnasium = None
+
+if _gymnasium is not None:
+    from attentive_gym.envs.registration import register_environments
+
+    register_environments()
+
+__version__ = "0.1.0"

@@ -1,0 +1,335 @@
+"""Configuration of the attentional model (MODEL.md, every section).
+
+- ``AttentionConfig``: frozen dataclass holding every parameter of the model, with its
+  default and unit; validated at construction.
+- ``ATTENTIVE_STATES``: the named levels of the Global Attentive State (gain ``g``).
+- ``MAP_NAMES``: the six feature maps, in order, with their aliases.
+- ``parse_state``: a named level or a positive float → the gain ``g``.
+
+Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
+name says otherwise (``_deg``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+__all__ = [
+    "AttentionConfig",
+    "ATTENTIVE_STATES",
+    "MAP_NAMES",
+    "MAP_ALIASES",
+    "BOTTOM_UP_MAPS",
+    "TOP_DOWN_MAPS",
+    "GRIDS",
+    "EGO_MOTION_MODES",
+    "SONAR_EGO_MODELS",
+    "parse_state",
+]
+
+#: Global Attentive State levels (MODEL.md §7): gain ``g`` multiplying the saliency map.
+ATTENTIVE_STATES: Mapping[str, float] = {"drowsy": 0.5, "alert": 1.0, "vigilant": 1.5}
+
+#: The six feature maps in the order of the rows of ``F``.
+MAP_NAMES: tuple[str, ...] = ("F1", "F2", "F3", "F4", "F5", "F6")
+#: Descriptive aliases accepted wherever a map name is.
+MAP_ALIASES: Mapping[str, str] = {
+    "motion": "F1",
+    "direction": "F2",
+    "distance": "F3",
+    "goal_speed": "F4",
+    "goal_direction": "F5",
+    "goal_distance": "F6",
+}
+#: Row indices of the bottom-up (F1–F3) and top-down (F4–F6) maps in ``F``.
+BOTTOM_UP_MAPS = (0, 1, 2)
+TOP_DOWN_MAPS = (3, 4, 5)
+
+#: Attention grids: "sonar" (J = 8, one region per front sonar) or "laser" (J = 180).
+GRIDS = ("sonar", "laser")
+#: Ego-motion compensation: "odometry" (default) or None (the paper, literally).
+EGO_MOTION_MODES = ("odometry", None)
+#: How a sonar reading of a static world is predicted after the robot moved (§3).
+SONAR_EGO_MODELS = ("laser", "point")
+
+
+def parse_state(state: str | float) -> float:
+    """The gain ``g`` of a Global Attentive State.
+
+    Args:
+        state: a level name of ``ATTENTIVE_STATES`` ("drowsy", "alert", "vigilant") or a
+            finite gain > 0.
+
+    Returns:
+        The gain ``g`` (dimensionless).
+
+    Raises:
+        ValueError: for an unknown name or a gain that is not a finite number > 0.
+    """
+    if isinstance(state, str):
+        try:
+            return ATTENTIVE_STATES[state.lower()]
+        except KeyError:
+            allowed = ", ".join(f"{k!r} ({v:g})" for k, v in ATTENTIVE_STATES.items())
+            raise ValueError(f"unknown attentive state {state!r}; allowed: {allowed}, or a gain > 0") from None
+    if isinstance(state, bool) or not isinstance(state, (int, float)):
+        raise ValueError(f"an attentive state is a level name or a gain > 0, got {state!r}")
+    gain = float(state)
+    if not (math.isfinite(gain) and gain > 0.0):
+        raise ValueError(f"an attentive state gain must be a finite number > 0, got {state!r}")
+    return gain
+
+
+@dataclass(frozen=True)
+class AttentionConfig:
+    """Every parameter of the attentional model (MODEL.md), with defaults and units.
+
+    Sensorial memory and kinematics (§2, §3):
+        memory_window: W, readings kept per observation space (samples, >= 2).
+        slope_samples: K, samples of the least-squares range-rate slope (2 <= K <= W);
+            K = 2 is the paper's literal two-sample difference.
+        max_speed_mps: MAX_SPEED, speeds are clipped to it and F1 is normalised by it.
+        direction_epsilon_mps: ε_v, |v| <= ε_v is labelled static.
+        ego_motion: "odometry" compensates the robot's own motion, None reproduces the
+            paper (immobile robot).
+        sonar_ego_model: how a static world's sonar reading is predicted after a move:
+            "laser" (default) from the laser scan re-projected into the new pose and read
+            through the sonar cone (right for walls seen obliquely, whose range does not
+            change when driving past them); "point" is MODEL.md's ``−v dt cos θ``, exact
+            for a point-like echo on the sonar axis only.
+        sonar_cone_half_width_deg: half-width of a sonar cone (deg), used by the "laser"
+            sonar ego-motion model.
+        sonar_ego_match_m: the "laser" model is used for a sonar only while the laser's
+            nearest echo in its cone agrees with the sonar's previous reading to within
+            this (m); otherwise the sonar sees something the laser does not and the
+            "point" model applies.
+
+    Sensors (§1):
+        sonar_max_range_m, sonar_min_range_m: sonar range (m).
+        laser_max_range_m: laser saturation ``mr`` (m).
+        no_echo_epsilon_m: a reading within this of its sensor's maximum range means
+            "nothing there" (m).
+
+    Feature maps (§4, §5):
+        grid: "sonar" (J = 8, one region per front sonar) or "laser" (J = 180, one per beam).
+        laser_only: F3 from the laser alone (default: laser fused with sonar by max).
+        max_distance_m: MAXDISTANCE of F6 (m).
+        td_require_target: top-down maps are 0 where their region has no echo (F4–F6)
+            or no motion (F4: static direction label); False keeps the raw goal table.
+        weights: weights of F1..F6 (>= 0; 0 = inactive). A top-down map is active only
+            while a goal for its feature is set.
+        normalise_combined: divide the combined map by the sum of the active weights.
+
+    Winner selection (§8):
+        threshold: θ, the focus fires when ``max L >= θ`` (> 0).
+        state: initial Global Attentive State, a name of ``ATTENTIVE_STATES`` or a gain > 0.
+
+    Attentional map, bottom-up course (§7):
+        preactivation_s, excitation_s, ior_s: phase lengths (s).
+        A_exc, A_ior: peak amplitudes of excitation and inhibition of return (gain units).
+        kernel_rise_fraction, kernel_decay_fraction: time constants of the rise-and-decay
+            kernel ``h_T`` as fractions of the phase length T (rise < decay).
+        lateral_sigma_regions: σ of the lateral spread ``G`` (regions).
+
+    Attentional map, top-down course (§7):
+        A_td: plateau of the top-down enhancement (gain units).
+        td_onset_s: delay before the enhancement starts (s).
+        td_tau_on_s, td_tau_off_s: rise and post-release decay time constants (s).
+        vigilance_after_s: hold time after which vigilance adaptation starts (s).
+        vigilance_amplitude_rel: adaptation plateau in units of ``A_td``.
+        vigilance_tau_s: growth time constant of the adaptation (s).
+        vigilance_recovery_s: decay time constant of the adaptation after release (s).
+    """
+
+    # --- sensorial memory and kinematics -----------------------------------------
+    memory_window: int = 10
+    slope_samples: int = 5
+    max_speed_mps: float = 1.0
+    direction_epsilon_mps: float = 0.05
+    ego_motion: str | None = "odometry"
+    sonar_ego_model: str = "laser"
+    sonar_cone_half_width_deg: float = 15.0
+    sonar_ego_match_m: float = 0.25
+    # --- sensors -------------------------------------------------------------------
+    sonar_max_range_m: float = 5.0
+    sonar_min_range_m: float = 0.15
+    laser_max_range_m: float = 20.0
+    no_echo_epsilon_m: float = 0.01
+    # --- feature maps --------------------------------------------------------------
+    grid: str = "sonar"
+    laser_only: bool = False
+    max_distance_m: float = 20.0
+    td_require_target: bool = True
+    weights: tuple[float, float, float, float, float, float] = (1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
+    normalise_combined: bool = True
+    # --- winner selection ----------------------------------------------------------
+    threshold: float = 0.1
+    state: str | float = "alert"
+    # --- bottom-up course ----------------------------------------------------------
+    preactivation_s: float = 0.15
+    excitation_s: float = 0.15
+    ior_s: float = 0.3
+    A_exc: float = 1.0
+    A_ior: float = 0.8
+    kernel_rise_fraction: float = 1.0 / 20.0
+    kernel_decay_fraction: float = 1.0 / 2.0
+    lateral_sigma_regions: float = 0.5
+    # --- top-down course -----------------------------------------------------------
+    A_td: float = 1.0
+    td_onset_s: float = 0.2
+    td_tau_on_s: float = 0.05
+    td_tau_off_s: float = 0.02
+    vigilance_after_s: float = 6.0
+    vigilance_amplitude_rel: float = 1.5
+    vigilance_tau_s: float = 1.0
+    vigilance_recovery_s: float = 2.0
+
+    def __post_init__(self) -> None:
+        for name in ("memory_window", "slope_samples"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 2:
+                raise ValueError(f"AttentionConfig.{name} must be an int >= 2 (samples), got {value!r}")
+        if self.slope_samples > self.memory_window:
+            raise ValueError(
+                f"AttentionConfig.slope_samples must be <= memory_window={self.memory_window}, "
+                f"got {self.slope_samples}"
+            )
+        positive = (
+            ("max_speed_mps", "m/s"),
+            ("sonar_max_range_m", "m"),
+            ("laser_max_range_m", "m"),
+            ("max_distance_m", "m"),
+            ("sonar_ego_match_m", "m"),
+            ("threshold", "saliency units"),
+            ("preactivation_s", "s"),
+            ("excitation_s", "s"),
+            ("ior_s", "s"),
+            ("lateral_sigma_regions", "regions"),
+            ("td_onset_s", "s"),
+            ("td_tau_on_s", "s"),
+            ("td_tau_off_s", "s"),
+            ("vigilance_after_s", "s"),
+            ("vigilance_tau_s", "s"),
+            ("vigilance_recovery_s", "s"),
+        )
+        for name, unit in positive:
+            _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=False)
+        non_negative = (
+            ("direction_epsilon_mps", "m/s"),
+            ("sonar_min_range_m", "m"),
+            ("no_echo_epsilon_m", "m"),
+            ("A_exc", "gain units"),
+            ("A_ior", "gain units"),
+            ("A_td", "gain units"),
+            ("vigilance_amplitude_rel", "multiples of A_td"),
+        )
+        for name, unit in non_negative:
+            _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=True)
+        # >= 0.5 deg: every cone holds a 1-degree laser beam; <= 30 deg: only the ±90° cones
+        # reach the laser's edges (front sonars are 20-40 deg apart)
+        _check_number("sonar_cone_half_width_deg", self.sonar_cone_half_width_deg, "deg", low=0.5,
+                      low_inclusive=True, high=30.0)
+        if self.sonar_min_range_m >= self.sonar_max_range_m:
+            raise ValueError(
+                f"AttentionConfig.sonar_min_range_m must be < sonar_max_range_m={self.sonar_max_range_m} m, "
+                f"got {self.sonar_min_range_m}"
+            )
+        if self.no_echo_epsilon_m >= self.sonar_max_range_m - self.sonar_min_range_m:
+            raise ValueError(
+                "AttentionConfig.no_echo_epsilon_m must be smaller than the sonar's span "
+                f"({self.sonar_max_range_m - self.sonar_min_range_m} m), got {self.no_echo_epsilon_m}"
+            )
+        for name in ("kernel_rise_fraction", "kernel_decay_fraction"):
+            _check_number(name, getattr(self, name), "fraction of the phase length", low=0.0,
+                          low_inclusive=False)
+        if self.kernel_rise_fraction >= self.kernel_decay_fraction:
+            raise ValueError(
+                "AttentionConfig.kernel_rise_fraction must be < kernel_decay_fraction "
+                f"({self.kernel_decay_fraction}), got {self.kernel_rise_fraction}"
+            )
+        if self.grid not in GRIDS:
+            raise ValueError(f"AttentionConfig.grid must be one of {GRIDS}, got {self.grid!r}")
+        if self.ego_motion not in EGO_MOTION_MODES:
+            raise ValueError(f"AttentionConfig.ego_motion must be one of {EGO_MOTION_MODES}, got {self.ego_motion!r}")
+        if self.sonar_ego_model not in SONAR_EGO_MODELS:
+            raise ValueError(
+                f"AttentionConfig.sonar_ego_model must be one of {SONAR_EGO_MODELS}, got {self.sonar_ego_model!r}"
+            )
+        for name in ("laser_only", "td_require_target", "normalise_combined"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")
+        try:
+            weights = tuple(float(w) for w in self.weights)
+        except (TypeError, ValueError):
+            raise ValueError(f"AttentionConfig.weights must be 6 numbers >= 0, got {self.weights!r}") from None
+        if len(weights) != len(MAP_NAMES) or not all(math.isfinite(w) and w >= 0.0 for w in weights):
+            raise ValueError(f"AttentionConfig.weights must be 6 finite numbers >= 0 (F1..F6), got {self.weights!r}")
+        object.__setattr__(self, "weights", weights)
+        try:
+            parse_state(self.state)
+        except ValueError as err:
+            raise ValueError(f"AttentionConfig.state: {err}") from None
+
+    # --- derived quantities ---------------------------------------------------------
+    @property
+    def course_s(self) -> float:
+        """Length of a whole bottom-up course: pre-activation + excitation + IOR (s)."""
+        return self.preactivation_s + self.excitation_s + self.ior_s
+
+    @property
+    def gain(self) -> float:
+        """The initial Global Attentive State gain ``g``."""
+        return parse_state(self.state)
+
+    # --- serialisation --------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as plain JSON-compatible values (tuples become lists)."""
+        return {f.name: (list(v) if isinstance(v := getattr(self, f.name), tuple) else v)
+                for f in dataclasses.fields(self)}
+
+    def to_json(self) -> str:
+        """The configuration as a JSON object string (keys sorted)."""
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_dict(cls, values: Mapping[str, Any]) -> "AttentionConfig":
+        """Build a configuration from a mapping of field names; missing fields keep defaults.
+
+        Raises:
+            ValueError: for an unknown field name (listing the allowed ones) or an invalid value.
+        """
+        if not isinstance(values, Mapping):
+            raise ValueError(f"an attention configuration must be a JSON object / mapping, got {type(values).__name__}")
+        names = [f.name for f in dataclasses.fields(cls)]
+        unknown = sorted(set(values) - set(names))
+        if unknown:
+            raise ValueError(f"unknown AttentionConfig field(s) {unknown}; allowed: {', '.join(names)}")
+        kwargs = dict(values)
+        if "weights" in kwargs and isinstance(kwargs["weights"], list):
+            kwargs["weights"] = tuple(kwargs["weights"])
+        return cls(**kwargs)
+
+    @classmethod
+    def from_json(cls, text: str) -> "AttentionConfig":
+        """Inverse of ``to_json``; ``ValueError`` for malformed JSON or invalid fields."""
+        try:
+            values = json.loads(text)
+        except json.JSONDecodeError as err:
+            raise ValueError(f"attention configuration is not valid JSON: {err}") from None
+        return cls.from_dict(values)
+
+
+def _check_number(name: str, value: Any, unit: str, *, low: float, low_inclusive: bool,
+                  high: float | None = None) -> None:
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    if ok:
+        ok = value >= low if low_inclusive else value > low
+    if ok and high is not None:
+        ok = value <= high
+    if not ok:
+        bound = f"{'>=' if low_inclusive else '>'} {low:g}" + (f" and <= {high:g}" if high is not None else "")
+        raise ValueError(f"AttentionConfig.{name} must be a finite number {bound} ({unit}), got {value!r}")

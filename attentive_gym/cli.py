@@ -1,0 +1,115 @@
+"""The ``attentive-gym`` command line.
+
+Subcommands (one small function each, registered in ``_SUBCOMMANDS``):
+
+- ``attend LOG --out DIR``: replay readings logged from a robot (CSV or NPZ, formats in
+  ``attentive_gym.attention.replay``) through the attentional model and write
+  ``DIR/trace.npz`` and ``DIR/trace.png``.
+
+Errors in the user's input (a malformed log, an invalid goal, map list or configuration)
+print one line on stderr and exit with status 2; ``main`` returns the exit status.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Callable, Sequence
+
+__all__ = ["main", "build_parser"]
+
+#: Exit status for invalid input (the same as argparse's usage errors).
+EXIT_USAGE = 2
+
+
+def _add_attend(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "attend",
+        help="replay a logged run through the attentional model",
+        description=(
+            "Replay sonar and laser readings logged from a robot through the attentional model. "
+            "LOG is a CSV with header t,sonar_0..sonar_15 (or sonar_0..sonar_7),laser_0..laser_179 "
+            "and optional v,w odometry columns (s, m, m/s, rad/s), or an NPZ with arrays t (T,), "
+            "sonar (T,16|8), laser (T,180) and optional odometry (T,2). Writes DIR/trace.npz and DIR/trace.png."
+        ),
+    )
+    parser.add_argument("log", type=Path, help="the logged run (.csv or .npz)")
+    parser.add_argument("--out", type=Path, required=True, help="output folder")
+    parser.add_argument("--goal", action="append", default=[], metavar="SPEC",
+                        help="a top-down goal, e.g. speed:between:0.5:0.9, speed:greater:0.6, "
+                             "distance:smaller:2, direction:towards (repeatable, one per feature)")
+    parser.add_argument("--maps", metavar="SPEC",
+                        help="active maps and weights, e.g. F1,F3 or F1=1,F4=2 (default: the configuration's)")
+    parser.add_argument("--state", metavar="STATE",
+                        help="Global Attentive State: drowsy, alert, vigilant or a gain > 0")
+    parser.add_argument("--config", metavar="JSON",
+                        help="AttentionConfig fields as a JSON object, or the path of a .json file holding one")
+    parser.add_argument("--no-figure", action="store_true", help="write trace.npz only")
+    parser.set_defaults(handler=_run_attend)
+
+
+def _run_attend(args: argparse.Namespace) -> int:
+    from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
+    from attentive_gym.attention.trace import save_trace
+
+    config = AttentionConfig()
+    if args.config:
+        text = args.config
+        if not text.lstrip().startswith("{"):
+            text = Path(text).read_text()
+        config = AttentionConfig.from_json(text)
+    model = AttentionModel(config)
+    model.set_goals(*(parse_goal(spec) for spec in args.goal))
+    if args.maps:
+        model.set_weights(parse_maps(args.maps))
+    if args.state:
+        model.set_state(_parse_state_arg(args.state))
+    log = load_log(args.log)
+    trace = replay_log(log, model)
+    args.out.mkdir(parents=True, exist_ok=True)
+    trace_path = save_trace(trace, args.out / "trace.npz")
+    print(f"{trace.n_steps} steps, {int(trace.fired.sum())} courses fired; wrote {trace_path}")
+    if not args.no_figure:
+        from attentive_gym.viz.trace_figure import plot_trace
+
+        figure_path = args.out / "trace.png"
+        plot_trace(trace, path=figure_path)
+        print(f"wrote {figure_path}")
+    return 0
+
+
+def _parse_state_arg(text: str) -> str | float:
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+#: Subcommand name → function adding it to the parser; the lead adds ``experiment``, ``train``...
+_SUBCOMMANDS: dict[str, Callable] = {"attend": _add_attend}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand."""
+    parser = argparse.ArgumentParser(prog="attentive-gym", description="attentive_gym command line")
+    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for add in _SUBCOMMANDS.values():
+        add(subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 2 invalid input)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.handler(args)
+    except (ValueError, OSError, json.JSONDecodeError) as err:
+        print(f"attentive-gym {args.command}: error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())

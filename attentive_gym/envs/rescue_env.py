@@ -1,0 +1,325 @@
+"""``AttentiveRescue-v0``: find the victim the goal describes, with sonars and a laser.
+
+- ``AttentiveRescueEnv``: the Gymnasium environment (see its docstring for the spaces,
+  reward, termination, truncation, info and keyword arguments).
+- ``resolve_scenario``: a scenario name, file path or object → a scenario source.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
+from attentive_gym.envs.reward import RewardConfig, rescue_reward
+from attentive_gym.sensors import LaserConfig, SensorSuite, SonarConfig
+from attentive_gym.world.arena import ArenaConfig, generate_arena
+from attentive_gym.world.builtin import BUILTIN_SCENARIOS, builtin_scenario
+from attentive_gym.world.robot import RobotConfig
+from attentive_gym.world.scenario import Scenario, TaskSpec
+from attentive_gym.world.scenario_io import SCENARIO_SUFFIXES, load_scenario
+from attentive_gym.world.world import ROBOT_ID, World
+
+__all__ = ["AttentiveRescueEnv", "resolve_scenario", "PROCEDURAL_SCENARIO"]
+
+#: Name of the procedurally generated arena (a new random arena every reset).
+PROCEDURAL_SCENARIO = "rescue"
+_RESET_OPTIONS = ("goal",)
+_MAX_GOAL_BOUND = 20.0  # m: the largest distance a goal can name (laser saturation)
+
+
+def resolve_scenario(scenario: str | os.PathLike | Scenario) -> Scenario | None:
+    """The fixed scenario named by ``scenario``, or ``None`` for the procedural arena.
+
+    Accepts ``"rescue"`` (procedural), a built-in name (``exp01`` … ``exp05``), a path to a
+    ``.yaml``/``.yml``/``.json`` file, or a ``Scenario``.
+    """
+    if isinstance(scenario, Scenario):
+        return scenario
+    if isinstance(scenario, str) and scenario == PROCEDURAL_SCENARIO:
+        return None
+    if isinstance(scenario, str) and scenario in BUILTIN_SCENARIOS:
+        return builtin_scenario(scenario)
+    if isinstance(scenario, (str, os.PathLike)) and Path(scenario).suffix.lower() in SCENARIO_SUFFIXES:
+        if not Path(scenario).is_file():
+            raise ValueError(f"scenario file {scenario} does not exist")
+        return load_scenario(scenario)
+    raise ValueError(
+        f"unknown scenario {scenario!r}; allowed: {PROCEDURAL_SCENARIO!r}, {sorted(BUILTIN_SCENARIOS)}, "
+        f"a path ending in {SCENARIO_SUFFIXES}, or a Scenario object"
+    )
+
+
+def _check_number(name: str, value: Any, low: float, high: float, low_open: bool = False) -> float:
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    ok = ok and (value > low if low_open else value >= low) and value <= high
+    if not ok:
+        bracket = "(" if low_open else "["
+        raise ValueError(f"{name} must be a number in {bracket}{low}, {high}], got {value!r}")
+    return float(value)
+
+
+class AttentiveRescueEnv(gym.Env):
+    """A Pioneer P2AT-like robot with 16 sonars and a 180-beam laser in a rescue arena.
+
+    **Task** (default scenario ``"rescue"``): a walled arena with rubble and moving bodies
+    (survivors and other robots). The episode's goal — e.g. ``speed in [0.5, 0.9] m/s`` —
+    describes one victim, the target; the distractors violate it. Reach the target.
+
+    **Observation** (``Dict``, float32):
+
+    - ``"sonar"`` (16,): ranges in m, [0.15, 5]; 5 means no echo. Indices 0..7 are the
+      front ring (+90° … −90°), 8..15 the rear ring (−90° … +90° through the back).
+    - ``"laser"`` (180,): ranges in m, [0, 20]; beam i at bearing −90° + (i + 0.5)°.
+    - ``"odometry"`` (2,): measured linear (m/s) and angular (rad/s) velocity.
+    - ``"goal"`` (13,): ``Goal.encode()`` of the episode's goal (layout in
+      ``attentive_gym.attention.goals.GOAL_ENCODING_FIELDS``; zeros = no goal).
+
+    Readings carry ``sensor_noise`` multiplicative Gaussian noise (default 5 %) on every
+    echo; odometry is exact.
+
+    **Action**: ``Box(-1, 1, (2,))`` = (linear, angular) as fractions of the robot's top
+    speeds (0.7 m/s, 140°/s by default). Values outside [−1, 1] are clipped; a NaN/inf
+    action or one of the wrong shape raises ``ValueError``. The robot ramps to the command
+    within its acceleration limits.
+
+    **Reward** (``attentive_gym.envs.reward``): progress towards the target (1 per m),
+    −2 per second in contact with anything, −0.1 per second, +10 on success. Scenarios
+    without a task give 0.
+
+    **Termination**: the robot's centre comes within ``success_radius_m`` (1 m) of the
+    target's. **Truncation**: the time limit (the task's, default 40 s; or the scenario's
+    ``duration_s``; or ``time_limit_s``).
+
+    **Info**: ``time_s``, ``robot_pose`` (x m, y m, heading rad), ``robot_velocity``
+    (odometry), ``mover_positions`` (M, 2), ``mover_velocities`` (M, 2), ``mover_names``,
+    ``target_index`` (−1 without a task), ``target_distance_m`` (NaN-free: inf without a
+    task), ``collision``, ``success``, ``goal`` (its text), ``sonar_hits`` / ``laser_hits``
+    (the entity id each reading came from, −1 for none).
+
+    **Keyword arguments** (``gym.make("AttentiveRescue-v0", ...)``): ``scenario`` (name,
+    file or ``Scenario``), ``sensor_noise`` (relative σ, [0, 0.5]), ``dt`` (s, (0, 0.5]),
+    ``render_mode``, the arena's knobs ``arena_size_m`` (side or (width, height)),
+    ``num_distractors``, ``rubble_per_100m2``, ``max_mover_speed_mps``, ``goals`` (goals to
+    sample from), ``time_limit_s``, and ``reward`` (``RewardConfig``), ``robot``
+    (``RobotConfig``), ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``). Unknown
+    keywords raise ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})``
+    fixes the episode's goal (a ``Goal`` or its encoding).
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
+
+    def __init__(
+        self,
+        scenario: str | os.PathLike | Scenario = PROCEDURAL_SCENARIO,
+        *,
+        render_mode: str | None = None,
+        sensor_noise: float = 0.05,
+        dt: float = 0.05,
+        arena_size_m: float | tuple[float, float] = 10.0,
+        num_distractors: int = 3,
+        rubble_per_100m2: float = 6.0,
+        max_mover_speed_mps: float = 1.0,
+        goals: tuple[Goal, ...] | None = None,
+        time_limit_s: float | None = None,
+        reward: RewardConfig = RewardConfig(),
+        robot: RobotConfig = RobotConfig(),
+        sonar: SonarConfig = SonarConfig(),
+        laser: LaserConfig = LaserConfig(),
+        **unknown: Any,
+    ) -> None:
+        if unknown:
+            allowed = [n for n in inspect.signature(AttentiveRescueEnv.__init__).parameters if n not in ("self", "unknown")]
+            raise TypeError(f"unknown keyword argument(s) {sorted(unknown)}; allowed: {allowed}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
+        self.render_mode = render_mode
+        self.dt = _check_number("dt", dt, 0.0, 0.5, low_open=True)
+        self.metadata = {**self.metadata, "render_fps": 1.0 / self.dt}
+        self.sensors = SensorSuite(sonar, laser, noise_std=_check_number("sensor_noise", sensor_noise, 0.0, 0.5))
+        self.scenario_source = scenario
+        self._fixed_scenario = resolve_scenario(scenario)
+        width, height = (arena_size_m, arena_size_m) if np.isscalar(arena_size_m) else tuple(arena_size_m)
+        self.arena = ArenaConfig(
+            width_m=width,
+            height_m=height,
+            rubble_per_100m2=rubble_per_100m2,
+            num_distractors=num_distractors,
+            max_mover_speed_mps=max_mover_speed_mps,
+            distractor_speed_range_mps=(min(0.3, max_mover_speed_mps), min(0.9, max_mover_speed_mps)),
+            goals=ArenaConfig.goals if goals is None else tuple(goals),
+        )
+        self.time_limit_s = None if time_limit_s is None else _check_number("time_limit_s", time_limit_s, 0.0, 1e6, low_open=True)
+        for name, value, cls in (("reward", reward, RewardConfig), ("robot", robot, RobotConfig),
+                                 ("sonar", sonar, SonarConfig), ("laser", laser, LaserConfig)):
+            if not isinstance(value, cls):
+                raise TypeError(f"{name} must be a {cls.__name__}, got {type(value).__name__}")
+        self.reward_config = reward
+        self.robot_config = robot
+
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+        self.observation_space = spaces.Dict(
+            {
+                "sonar": spaces.Box(0.0, sonar.max_range_m, shape=(16,), dtype=np.float32),
+                "laser": spaces.Box(0.0, laser.max_range_m, shape=(laser.num_beams,), dtype=np.float32),
+                "odometry": spaces.Box(
+                    np.array([-robot.max_linear_mps, -robot.max_angular_rps], dtype=np.float32) * 1.5,
+                    np.array([robot.max_linear_mps, robot.max_angular_rps], dtype=np.float32) * 1.5,
+                    dtype=np.float32,
+                ),
+                "goal": spaces.Box(0.0, _MAX_GOAL_BOUND, shape=(GOAL_ENCODING_SIZE,), dtype=np.float32),
+            }
+        )
+        self.world: World | None = None
+        self.goal: Goal | None = None
+        self._renderer = None
+        self._reading = None
+
+    # --- episode ------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        goal = self._goal_option(options)
+        if self._fixed_scenario is None:
+            scenario = generate_arena(self.arena, self.np_random, goal)
+        else:
+            scenario = self._fixed_scenario
+            if goal is not None and scenario.task is not None:
+                scenario = _with_goal(scenario, goal)
+        self.scenario = scenario
+        self.goal = goal if goal is not None else (scenario.task.goal if scenario.task else None)
+        if self.goal is not None and max(self.goal.encode()) > _MAX_GOAL_BOUND:
+            raise ValueError(f"goal {self.goal}: bounds above {_MAX_GOAL_BOUND} (the laser's range) are not allowed")
+        self.world = World(scenario, self.robot_config)
+        self._target_index = scenario.target_index
+        self._distance = self._target_distance()
+        self._limit_s = self.time_limit_s or (scenario.task.time_limit_s if scenario.task else scenario.duration_s)
+        observation = self._observe()
+        info = self._info(collided=False, success=False)
+        if self.render_mode == "human":
+            self.render()
+        return observation, info
+
+    def step(self, action):
+        if self.world is None:
+            raise RuntimeError("call reset() before step()")
+        command = self._check_action(action)
+        collided = self.world.step(
+            self.dt, command[0] * self.robot_config.max_linear_mps, command[1] * self.robot_config.max_angular_rps
+        )
+        observation = self._observe()
+        distance = self._target_distance()
+        if self._target_index is None:
+            reward, success = 0.0, False
+        else:
+            reward, success = rescue_reward(self.reward_config, self.dt, self._distance, distance, collided)
+        self._distance = distance
+        truncated = self.world.time_s >= self._limit_s - 1e-9 and not success
+        if self.render_mode == "human":
+            self.render()
+        return observation, float(reward), bool(success), bool(truncated), self._info(collided, success)
+
+    # --- helpers ------------------------------------------------------------------
+    def _goal_option(self, options: dict[str, Any] | None) -> Goal | None:
+        if options is None:
+            return None
+        if not isinstance(options, dict):
+            raise TypeError(f"reset options must be a dict, got {type(options).__name__}")
+        unknown = sorted(set(options) - set(_RESET_OPTIONS))
+        if unknown:
+            raise ValueError(f"unknown reset option(s) {unknown}; allowed: {list(_RESET_OPTIONS)}")
+        goal = options.get("goal")
+        if goal is None or isinstance(goal, Goal):
+            return goal
+        if isinstance(goal, (np.ndarray, list, tuple)):
+            return Goal.decode(goal)
+        raise ValueError(f"options['goal'] must be a Goal, its encoding, or None; got {type(goal).__name__}")
+
+    def _check_action(self, action) -> np.ndarray:
+        try:
+            command = np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"action must be numeric with shape (2,), got {action!r}") from None
+        if command.shape != (2,):
+            raise ValueError(f"action must have shape (2,) = (linear, angular), got shape {command.shape}")
+        if not np.all(np.isfinite(command)):
+            raise ValueError(f"action must be finite, got {command.tolist()}")
+        return np.clip(command, -1.0, 1.0)
+
+    def _observe(self) -> dict[str, np.ndarray]:
+        world = self.world
+        self._reading = self.sensors.read(world.robot.pose, world.geometry(), self.np_random, ROBOT_ID)
+        odometry_limit = self.observation_space["odometry"].high
+        return {
+            "sonar": self._reading.sonar.astype(np.float32),
+            "laser": self._reading.laser.astype(np.float32),
+            "odometry": np.clip(world.robot.odometry, -odometry_limit, odometry_limit).astype(np.float32),
+            "goal": np.zeros(GOAL_ENCODING_SIZE, np.float32) if self.goal is None else self.goal.encode(),
+        }
+
+    def _target_distance(self) -> float:
+        if self._target_index is None:
+            return math.inf
+        target = self.world.movers[self._target_index].body.position
+        robot = self.world.robot.body.position
+        return math.hypot(target[0] - robot[0], target[1] - robot[1])
+
+    def _info(self, collided: bool, success: bool) -> dict[str, Any]:
+        world = self.world
+        return {
+            "time_s": world.time_s,
+            "robot_pose": world.robot.pose,
+            "robot_velocity": world.robot.odometry,
+            "mover_positions": world.mover_positions(),
+            "mover_velocities": world.mover_velocities(),
+            "mover_names": tuple(m.entity.name for m in world.movers),
+            "target_index": -1 if self._target_index is None else self._target_index,
+            "target_distance_m": self._distance,
+            "collision": collided,
+            "success": success,
+            "goal": "none" if self.goal is None else str(self.goal),
+            "sonar_hits": self._reading.sonar_owner.copy(),
+            "laser_hits": self._reading.laser_owner.copy(),
+        }
+
+    # --- rendering ----------------------------------------------------------------
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
+            return None
+        if self.world is None:
+            raise RuntimeError("call reset() before render()")
+        from attentive_gym.envs.rendering import WorldRenderer
+
+        if self._renderer is None or self._renderer_bounds != self.scenario.bounds:
+            if self._renderer is not None:
+                self._renderer.close()
+            self._renderer = WorldRenderer(self.scenario.bounds, window=self.render_mode == "human", fps=self.metadata["render_fps"])
+            self._renderer_bounds = self.scenario.bounds
+        frame = self._renderer.render(
+            self.world, self.sensors.laser_segments(self.world.robot.pose, self._reading),
+            self.sensors.sonar_cones(self.world.robot.pose, self._reading), self._target_index,
+        )
+        return frame if self.render_mode == "rgb_array" else None
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = self.__dict__.copy()
+        state["_renderer"] = None  # pygame surfaces do not pickle; a new one is made on demand
+        return state
+
+
+def _with_goal(scenario: Scenario, goal: Goal) -> Scenario:
+    """``scenario`` with its task's goal replaced (the target stays the same body)."""
+    task = scenario.task
+    return Scenario(**{**vars(scenario), "task": TaskSpec(task.target, goal, task.time_limit_s)})

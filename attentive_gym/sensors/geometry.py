@@ -1,0 +1,279 @@
+"""The scene as the sensors see it: world-frame line segments and circles with owner ids.
+
+- ``SceneGeometry``: immutable world-frame arrays of segments and circles, each tagged
+  with the integer id of the body that owns it (the id the sensors report on a hit).
+- ``GeometryCache``: converts pymunk shapes into that form once, in each body's local
+  frame, and re-places only the moving bodies on every ``update()``.
+
+Every pymunk shape becomes an *exact* set of boundary primitives, so that the analytic
+casters of ``raycast`` agree with pymunk's own queries:
+
+==================  ==========================================================
+pymunk shape        primitives (local frame)
+==================  ==========================================================
+``Poly``, r = 0     its edges
+``Poly``, r > 0     its edges pushed outward by r, plus a circle of radius r at
+                    every vertex (the exact rounded polygon)
+``Segment``, r = 0  the segment
+``Segment``, r > 0  the capsule: the segment pushed by +r and by -r along its
+                    normal, plus a circle of radius r at each end
+``Circle``          a circle at ``offset`` of radius r
+==================  ==========================================================
+
+Each primitive lies inside its (solid) shape and together they cover the shape's
+outline, so the first crossing of a ray, or the nearest point in a cone, seen from
+outside the shape is the same for the primitives as for the shape itself.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+__all__ = ["SceneGeometry", "GeometryCache", "shape_primitives"]
+
+
+@dataclass(frozen=True, eq=False)
+class SceneGeometry:
+    """World-frame scene geometry (metres) with the owner id of every primitive.
+
+    Attributes:
+        segments: ``(S, 4)`` float64 ``x1, y1, x2, y2`` of zero-thickness line segments (m).
+        segment_owner: ``(S,)`` int64 owner id of each segment.
+        circles: ``(C, 3)`` float64 ``cx, cy, r`` of circles (m), ``r >= 0``.
+        circle_owner: ``(C,)`` int64 owner id of each circle.
+
+    Arrays are converted to contiguous float64/int64 on construction (no copy when they
+    already are) and checked: shapes, finite coordinates, non-negative radii. Treat
+    them as read-only: ``GeometryCache`` may hand the same object out more than once.
+
+    Raises:
+        ValueError: on a wrong shape, a non-finite coordinate or a negative radius.
+    """
+
+    segments: np.ndarray
+    segment_owner: np.ndarray
+    circles: np.ndarray
+    circle_owner: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name, dtype in (("segments", np.float64), ("segment_owner", np.int64),
+                            ("circles", np.float64), ("circle_owner", np.int64)):
+            object.__setattr__(self, name, np.ascontiguousarray(getattr(self, name), dtype=dtype))
+        s, c = self.segments, self.circles
+        if s.ndim != 2 or s.shape[1] != 4:
+            raise ValueError(f"SceneGeometry.segments must have shape (S, 4) = x1, y1, x2, y2; got {s.shape}")
+        if c.ndim != 2 or c.shape[1] != 3:
+            raise ValueError(f"SceneGeometry.circles must have shape (C, 3) = cx, cy, r; got {c.shape}")
+        if self.segment_owner.shape != (len(s),):
+            raise ValueError(
+                f"SceneGeometry.segment_owner must have shape ({len(s)},), one id per segment; "
+                f"got {self.segment_owner.shape}"
+            )
+        if self.circle_owner.shape != (len(c),):
+            raise ValueError(
+                f"SceneGeometry.circle_owner must have shape ({len(c)},), one id per circle; "
+                f"got {self.circle_owner.shape}"
+            )
+        if not (np.isfinite(s).all() and np.isfinite(c).all()):
+            raise ValueError("SceneGeometry coordinates and radii must be finite")
+        if (c[:, 2] < 0.0).any():
+            raise ValueError(f"SceneGeometry circle radii must be >= 0, got min {c[:, 2].min()}")
+
+    @classmethod
+    def _unchecked(cls, segments: np.ndarray, segment_owner: np.ndarray, circles: np.ndarray,
+                   circle_owner: np.ndarray) -> SceneGeometry:
+        """A ``SceneGeometry`` of arrays already known to be valid (``GeometryCache``'s
+        own, whose only new input, the poses, it checks itself), without the checks."""
+        geometry = object.__new__(cls)
+        for name, value in (("segments", segments), ("segment_owner", segment_owner), ("circles", circles),
+                            ("circle_owner", circle_owner)):
+            object.__setattr__(geometry, name, value)
+        return geometry
+
+    @classmethod
+    def empty(cls) -> SceneGeometry:
+        """A scene with nothing in it."""
+        return cls(np.empty((0, 4)), np.empty(0, np.int64), np.empty((0, 3)), np.empty(0, np.int64))
+
+
+def shape_primitives(shape: pymunk.Shape) -> tuple[np.ndarray, np.ndarray]:
+    """The exact boundary primitives of one pymunk shape, in its body's local frame.
+
+    Args:
+        shape: a ``pymunk.Poly``, ``pymunk.Segment`` or ``pymunk.Circle``.
+
+    Returns:
+        ``(segments (n, 4), circles (m, 3))`` float64 in metres (see the module table).
+        A zero-length ``Segment`` of radius 0 yields nothing: it has no extent to hit.
+
+    Raises:
+        TypeError: for any other shape type.
+    """
+    if isinstance(shape, pymunk.Poly):
+        vertices = np.array([tuple(v) for v in shape.get_vertices()], dtype=np.float64).reshape(-1, 2)
+        radius = float(shape.radius)
+        following = np.roll(vertices, -1, axis=0)
+        edges = following - vertices
+        lengths = np.hypot(edges[:, 0], edges[:, 1])
+        keep = lengths > 0.0  # a one-vertex polygon's only "edge" has no length (rounded, it is a circle)
+        starts, ends, edges, lengths = vertices[keep], following[keep], edges[keep], lengths[keep]
+        if radius > 0.0:
+            # pymunk keeps the convex hull counter-clockwise, so the outward normal of an
+            # edge is the edge turned clockwise
+            normals = np.stack([edges[:, 1], -edges[:, 0]], axis=1) / lengths[:, None]
+            starts, ends = starts + radius * normals, ends + radius * normals
+            circles = np.column_stack([vertices, np.full(len(vertices), radius)])
+        else:
+            circles = np.empty((0, 3))
+        return np.hstack([starts, ends]), circles
+    if isinstance(shape, pymunk.Segment):
+        a, b, radius = np.array(tuple(shape.a), float), np.array(tuple(shape.b), float), float(shape.radius)
+        length = float(np.hypot(*(b - a)))
+        if radius == 0.0:
+            return (np.hstack([a, b])[None, :] if length > 0.0 else np.empty((0, 4))), np.empty((0, 3))
+        circles = np.array([[a[0], a[1], radius], [b[0], b[1], radius]])
+        if length == 0.0:
+            return np.empty((0, 4)), circles[:1]
+        normal = np.array([b[1] - a[1], a[0] - b[0]]) / length * radius
+        sides = np.array([np.hstack([a + normal, b + normal]), np.hstack([a - normal, b - normal])])
+        return sides, circles
+    if isinstance(shape, pymunk.Circle):
+        ox, oy = shape.offset
+        return np.empty((0, 4)), np.array([[ox, oy, float(shape.radius)]])
+    raise TypeError(
+        f"unsupported shape type {type(shape).__name__}; allowed: pymunk.Poly, pymunk.Segment, pymunk.Circle"
+    )
+
+
+class GeometryCache:
+    """World-frame ``SceneGeometry`` of a fixed set of pymunk bodies, refreshed cheaply.
+
+    Built once; ``update()`` then re-reads only the poses of the non-static bodies and
+    re-places their local primitives in a few vectorised numpy operations (rotation as a
+    complex multiplication). Static bodies (``body.body_type == pymunk.Body.STATIC``)
+    are placed once, at construction: moving a static body later is not followed.
+    Shapes added to a body after construction are not seen either.
+
+    Args:
+        bodies: ``(owner_id, body, shapes)`` triples; several triples may share a body
+            (e.g. ``space.static_body`` with one owner per wall), and ``shapes`` may be
+            empty. Every shape must be attached to its ``body``.
+
+    Raises:
+        TypeError: for an owner id that is not an int, or an unsupported shape type.
+        ValueError: for a shape attached to another body than the one it is listed with.
+
+    Example:
+        >>> import pymunk
+        >>> body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        >>> box = pymunk.Poly.create_box(body, (1.0, 1.0))
+        >>> cache = GeometryCache([(7, body, [box])])
+        >>> body.position = (3.0, 0.0)
+        >>> float(cache.update().segments[:, 0].min())
+        2.5
+    """
+
+    def __init__(self, bodies: Sequence[tuple[int, pymunk.Body, Sequence[pymunk.Shape]]]) -> None:
+        static_segments, static_segment_owner, static_circles, static_circle_owner = [], [], [], []
+        moving_segments, moving_segment_owner, moving_segment_body = [], [], []
+        moving_circles, moving_circle_owner, moving_circle_body = [], [], []
+        self._bodies: list[pymunk.Body] = []  # the distinct moving bodies
+        index_of: dict[int, int] = {}
+        for owner, body, shapes in bodies:
+            if isinstance(owner, bool) or not isinstance(owner, (int, np.integer)):
+                raise TypeError(f"owner id must be an int, got {owner!r} ({type(owner).__name__})")
+            segments, circles = _body_primitives(body, shapes)
+            if body.body_type == pymunk.Body.STATIC:
+                static_segments.append(np.hstack([_place(segments[:, :2], body), _place(segments[:, 2:], body)]))
+                static_circles.append(np.column_stack([_place(circles[:, :2], body), circles[:, 2]]))
+                static_segment_owner.append(np.full(len(segments), owner, np.int64))
+                static_circle_owner.append(np.full(len(circles), owner, np.int64))
+                continue
+            index = index_of.setdefault(id(body), len(self._bodies))
+            if index == len(self._bodies):
+                self._bodies.append(body)
+            moving_segments.append(segments)
+            moving_segment_owner.append(np.full(len(segments), owner, np.int64))
+            moving_segment_body.append(np.full(len(segments), index, np.int64))
+            moving_circles.append(circles)
+            moving_circle_owner.append(np.full(len(circles), owner, np.int64))
+            moving_circle_body.append(np.full(len(circles), index, np.int64))
+        self._static = SceneGeometry(
+            _stack(static_segments, (0, 4)), _stack(static_segment_owner, (0,), np.int64),
+            _stack(static_circles, (0, 3)), _stack(static_circle_owner, (0,), np.int64),
+        )
+        # moving primitives as complex points (segment endpoints, then circle centres),
+        # each with the index of its body; the outputs start as copies of templates that
+        # hold the static primitives and the moving circles' radii
+        local_segments = _stack(moving_segments, (0, 4))
+        local_circles = _stack(moving_circles, (0, 3))
+        self._local_points = np.concatenate([
+            local_segments.reshape(-1, 2) @ np.array([1.0, 1j]), local_circles[:, :2] @ np.array([1.0, 1j]),
+        ])
+        self._point_body = np.concatenate([
+            np.repeat(_stack(moving_segment_body, (0,), np.int64), 2), _stack(moving_circle_body, (0,), np.int64),
+        ])
+        self._num_moving_endpoints = 2 * len(local_segments)
+        self._segment_template = np.vstack([self._static.segments, local_segments])
+        self._circle_template = np.vstack([self._static.circles, local_circles])
+        self._segment_owner = np.concatenate([self._static.segment_owner, _stack(moving_segment_owner, (0,), np.int64)])
+        self._circle_owner = np.concatenate([self._static.circle_owner, _stack(moving_circle_owner, (0,), np.int64)])
+
+    @property
+    def moving_bodies(self) -> tuple[pymunk.Body, ...]:
+        """The distinct non-static bodies whose poses ``update()`` reads."""
+        return tuple(self._bodies)
+
+    def update(self) -> SceneGeometry:
+        """The scene now: static primitives as built, moving ones at their bodies' poses.
+
+        Returns:
+            A new ``SceneGeometry`` (static primitives first, then the moving ones, in the
+            order given at construction); with no moving body, the same static object.
+
+        Raises:
+            ValueError: if a moving body's position or angle is not finite.
+        """
+        if not self._bodies:
+            return self._static
+        poses = np.array([(*body.position, body.angle) for body in self._bodies])  # (B, 3)
+        if not np.isfinite(poses).all():
+            bad = self._bodies[int(np.flatnonzero(~np.isfinite(poses).all(axis=1))[0])]
+            raise ValueError(f"body {bad!r} has a non-finite pose: position {bad.position}, angle {bad.angle}")
+        rotation = np.exp(1j * poses[:, 2])[self._point_body]
+        translation = (poses[:, 0] + 1j * poses[:, 1])[self._point_body]
+        placed = (self._local_points * rotation + translation).view(np.float64).reshape(-1, 2)
+        m = self._num_moving_endpoints
+        segments = self._segment_template.copy()
+        segments[len(self._static.segments):] = placed[:m].reshape(-1, 4)
+        circles = self._circle_template.copy()
+        circles[len(self._static.circles):, :2] = placed[m:]
+        return SceneGeometry._unchecked(segments, self._segment_owner, circles, self._circle_owner)
+
+
+def _body_primitives(body: pymunk.Body, shapes: Sequence[pymunk.Shape]) -> tuple[np.ndarray, np.ndarray]:
+    """Local-frame ``(segments (n, 4), circles (m, 3))`` of all ``shapes`` of ``body``."""
+    segments, circles = [np.empty((0, 4))], [np.empty((0, 3))]
+    for shape in shapes:
+        s, c = shape_primitives(shape)
+        if shape.body is not body:
+            raise ValueError(f"a {type(shape).__name__} listed with body {body!r} is attached to {shape.body!r}")
+        segments.append(s)
+        circles.append(c)
+    return np.concatenate(segments), np.concatenate(circles)
+
+
+def _place(points: np.ndarray, body: pymunk.Body) -> np.ndarray:
+    """``(n, 2)`` local points of ``body`` in the world frame (m)."""
+    x, y = body.position
+    c, s = np.cos(body.angle), np.sin(body.angle)
+    return np.column_stack([x + c * points[:, 0] - s * points[:, 1], y + s * points[:, 0] + c * points[:, 1]])
+
+
+def _stack(parts: list[np.ndarray], empty_shape: tuple[int, ...], dtype=np.float64) -> np.ndarray:
+    """``parts`` concatenated along the first axis (an empty array of ``empty_shape`` if none)."""
+    return np.ascontiguousarray(np.concatenate(parts), dtype=dtype) if parts else np.empty(empty_shape, dtype)

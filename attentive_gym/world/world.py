@@ -1,0 +1,203 @@
+"""The pymunk rescue world built from a ``Scenario``.
+
+- ``Entity``: one thing in the world with an integer id (the owner id the sensors report).
+- ``Mover``: a scripted kinematic body and its motion law.
+- ``World``: the space, the attentive robot, walls, rubble and movers; advances time in
+  fixed physics sub-steps and hands the sensors the scene's geometry.
+
+The space is public (``world.space``), as is the robot's body (``world.robot.body``), so
+users can add bodies and tests can check sensors against pymunk's own queries. Ids: the
+robot is 0, movers 1..M in scenario order, then walls (enclosure first) and rubble.
+Scripted movers are kinematic: they follow their scripts exactly, push the robot, and are
+not pushed back; walls and rubble are static.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from attentive_gym.sensors.geometry import GeometryCache, SceneGeometry
+from attentive_gym.world.behaviours import make_motion
+from attentive_gym.world.robot import Robot, RobotConfig
+from attentive_gym.world.scenario import BoxRubble, CircleRubble, MoverSpec, Scenario, SegmentRubble, WallSpec
+
+__all__ = ["Entity", "Mover", "World", "ROBOT_ID", "MOVER_COLLISION_TYPE", "STATIC_COLLISION_TYPE"]
+
+ROBOT_ID = 0
+MOVER_COLLISION_TYPE = 2
+STATIC_COLLISION_TYPE = 3
+_STATIC_FRICTION = 0.8
+
+
+@dataclass(frozen=True)
+class Entity:
+    """One body of the world: its id, kind (robot, victim, wall, rubble) and name."""
+
+    id: int
+    kind: str
+    name: str
+
+
+class Mover:
+    """A scripted moving body (victim or robot) with its motion law."""
+
+    def __init__(self, entity: Entity, spec: MoverSpec, bounds: tuple[float, float, float, float]) -> None:
+        self.entity = entity
+        self.spec = spec
+        self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        self.body.position = (spec.start.x_m, spec.start.y_m)
+        self.body.angle = math.radians(spec.start.heading_deg)
+        if spec.kind == "victim":
+            self.shape: pymunk.Shape = pymunk.Circle(self.body, spec.radius_m)
+        else:
+            self.shape = pymunk.Poly.create_box(self.body, (spec.length_m, spec.width_m))
+        self.shape.collision_type = MOVER_COLLISION_TYPE
+        self.shape.friction = _STATIC_FRICTION
+        start = (spec.start.x_m, spec.start.y_m)
+        self.motion = None if spec.behaviour is None else make_motion(spec.behaviour, start, bounds, spec.extent_m)
+
+    def drive(self, t_s: float, h_s: float, robot_xy) -> None:
+        """Set the velocity that follows the script over ``[t_s, t_s + h_s]``.
+
+        Called once per environment step: the body is exactly on its path at every step
+        boundary and moves in a straight line in between.
+        """
+        if self.motion is None:
+            return
+        vx, vy = self.motion.velocity(t_s, h_s, self.body.position, robot_xy)
+        self.body.velocity = (vx, vy)
+        if self.motion.face_motion and (vx or vy):
+            self.body.angle = math.atan2(vy, vx)
+
+
+class World:
+    """A rescue world: pymunk space, attentive robot, static geometry and scripted movers.
+
+    Args:
+        scenario: what to build.
+        robot_config: the attentive robot's physical parameters.
+        physics_dt_s: the largest physics sub-step (s); each ``step`` is split into equal
+            sub-steps no longer than this. At the default 25 ms a robot at full speed
+            (0.7 m/s) moves under 2 cm per sub-step, far less than a wall's thickness,
+            so it cannot tunnel through one.
+
+    Raises:
+        ValueError: if the robot or a mover starts overlapping another body.
+    """
+
+    def __init__(self, scenario: Scenario, robot_config: RobotConfig = RobotConfig(), physics_dt_s: float = 0.025):
+        if not (math.isfinite(physics_dt_s) and physics_dt_s > 0.0):
+            raise ValueError(f"physics_dt_s must be a finite number > 0, got {physics_dt_s!r}")
+        self.scenario = scenario
+        self.physics_dt_s = physics_dt_s
+        self.space = pymunk.Space()
+        self.space.gravity = (0.0, 0.0)
+        self.robot = Robot(self.space, robot_config, (scenario.robot.x_m, scenario.robot.y_m, math.radians(scenario.robot.heading_deg)))
+        self.entities: list[Entity] = [Entity(ROBOT_ID, "robot", "attentive robot")]
+        self.movers: list[Mover] = []
+        for spec in scenario.movers:
+            mover = Mover(self._new_entity(spec.kind, spec.name), spec, scenario.bounds)
+            self.space.add(mover.body, mover.shape)
+            self.movers.append(mover)
+        self.static: list[tuple[Entity, pymunk.Shape]] = []  # walls and rubble
+        for i, wall in enumerate(self._enclosure() + list(scenario.walls)):
+            self._add_static(self._new_entity("wall", f"wall {i}"), _wall_shape(self.space.static_body, wall))
+        for i, piece in enumerate(scenario.rubble):
+            self._add_static(self._new_entity("rubble", f"rubble {i}"), _rubble_shape(self.space.static_body, piece))
+        self._check_no_overlap()
+        self._geometry = GeometryCache(
+            [(ROBOT_ID, self.robot.body, [self.robot.shape])]
+            + [(m.entity.id, m.body, [m.shape]) for m in self.movers]
+            + [(entity.id, self.space.static_body, [shape]) for entity, shape in self.static]
+        )
+        self.time_s = 0.0
+        self._steps_taken = 0
+
+    def _new_entity(self, kind: str, name: str) -> Entity:
+        entity = Entity(len(self.entities), kind, name)
+        self.entities.append(entity)
+        return entity
+
+    def _add_static(self, entity: Entity, shape: pymunk.Shape) -> None:
+        shape.collision_type = STATIC_COLLISION_TYPE
+        shape.friction = _STATIC_FRICTION
+        self.space.add(shape)
+        self.static.append((entity, shape))
+
+    def _enclosure(self) -> list[WallSpec]:
+        """Walls centred on the bounds (half their thickness lies outside)."""
+        if not self.scenario.enclosed:
+            return []
+        x0, y0, x1, y1 = self.scenario.bounds
+        corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+        return [WallSpec(corners[i], corners[(i + 1) % 4]) for i in range(4)]
+
+    def _check_no_overlap(self) -> None:
+        owner = {id(m.shape): m.entity for m in self.movers}
+        owner.update({id(shape): entity for entity, shape in self.static})
+        owner[id(self.robot.shape)] = self.entities[ROBOT_ID]
+        for subject in [self.robot.shape] + [m.shape for m in self.movers]:
+            for hit in self.space.shape_query(subject):
+                other = owner.get(id(hit.shape))
+                if other is not None and hit.contact_point_set.points:
+                    raise ValueError(
+                        f"scenario {self.scenario.name!r}: {owner[id(subject)].name} starts overlapping {other.name}"
+                    )
+
+    def step(self, dt_s: float, linear_mps: float, angular_rps: float) -> bool:
+        """Advance the world by ``dt_s`` seconds with the robot commanded to the given velocities.
+
+        Returns:
+            Whether the robot touched another body during the step.
+        """
+        substeps = max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
+        h = dt_s / substeps
+        self.robot.command(linear_mps, angular_rps)
+        robot_xy = self.robot.body.position
+        for mover in self.movers:
+            mover.drive(self.time_s, dt_s, robot_xy)
+        collided = False
+        for _ in range(substeps):
+            self.robot.drive(h)
+            self.space.step(h)
+            collided = collided or self.robot.in_contact()
+        self._steps_taken += 1
+        self.time_s = self._steps_taken * dt_s
+        return collided
+
+    def geometry(self) -> SceneGeometry:
+        """The scene's world-frame geometry now, with owners = entity ids."""
+        return self._geometry.update()
+
+    def mover_positions(self) -> np.ndarray:
+        """``(M, 2)`` mover centres (m)."""
+        return np.array([m.body.position for m in self.movers], dtype=float).reshape(-1, 2)
+
+    def mover_velocities(self) -> np.ndarray:
+        """``(M, 2)`` mover velocities (m/s)."""
+        return np.array([m.body.velocity for m in self.movers], dtype=float).reshape(-1, 2)
+
+
+def _wall_shape(body: pymunk.Body, wall: WallSpec) -> pymunk.Poly:
+    """A box polygon of the wall's thickness around the segment ``start``–``end``."""
+    (ax, ay), (bx, by) = wall.start, wall.end
+    length = math.hypot(bx - ax, by - ay)
+    nx, ny = -(by - ay) / length * wall.thickness_m / 2, (bx - ax) / length * wall.thickness_m / 2
+    return pymunk.Poly(body, [(ax - nx, ay - ny), (bx - nx, by - ny), (bx + nx, by + ny), (ax + nx, ay + ny)])
+
+
+def _rubble_shape(body: pymunk.Body, piece) -> pymunk.Shape:
+    if isinstance(piece, BoxRubble):
+        transform = pymunk.Transform.translation(piece.x_m, piece.y_m).rotated(math.radians(piece.angle_deg))
+        half_w, half_h = piece.width_m / 2, piece.height_m / 2
+        corners = [(-half_w, -half_h), (half_w, -half_h), (half_w, half_h), (-half_w, half_h)]
+        return pymunk.Poly(body, corners, transform)
+    if isinstance(piece, CircleRubble):
+        return pymunk.Circle(body, piece.radius_m, (piece.x_m, piece.y_m))
+    if isinstance(piece, SegmentRubble):
+        return pymunk.Segment(body, piece.start, piece.end, piece.radius_m)
+    raise TypeError(f"unknown rubble {type(piece).__name__}")

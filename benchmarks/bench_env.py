@@ -1,0 +1,94 @@
+"""Raw ``AttentiveRescue-v0`` speed against gymnasium's BipedalWalker-v3, in one run.
+
+Prints:
+1. steps/s of the raw env (random actions, no rendering) and of BipedalWalker-v3 (which
+   casts 10 lidar rays a step), measured alternately in rounds; medians and their ratio
+   (target: ≥ 1.5×);
+2. the per-step cost with 10 / 50 / 200 rubble pieces in a 30 × 30 m arena (the cost
+   should grow no worse than linearly with the number of shapes).
+
+Usage: ``python benchmarks/bench_env.py [--seconds 2] [--rounds 5]``
+(BipedalWalker needs ``pip install -e ".[bench]"``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import gymnasium as gym
+import numpy as np
+
+import attentive_gym  # noqa: F401  (registers the environments)
+
+
+def steps_per_second(env: gym.Env, seconds: float, seed: int = 0) -> float:
+    """Random-action steps per second of ``env`` over about ``seconds`` of wall time."""
+    env.action_space.seed(seed)
+    env.reset(seed=seed)
+    actions = [env.action_space.sample() for _ in range(256)]
+    steps, start = 0, time.perf_counter()
+    while True:
+        for action in actions:
+            _, _, terminated, truncated, _ = env.step(action)
+            steps += 1
+            if terminated or truncated:
+                env.reset()
+        elapsed = time.perf_counter() - start
+        if elapsed >= seconds:
+            return steps / elapsed
+
+
+def compare_with_bipedal_walker(seconds: float, rounds: int) -> None:
+    ours = gym.make("AttentiveRescue-v0").unwrapped
+    try:
+        peer = gym.make("BipedalWalker-v3").unwrapped
+    except gym.error.DependencyNotInstalled as error:
+        print(f"BipedalWalker-v3 unavailable ({error}); install the [bench] extra")
+        return
+    steps_per_second(ours, 0.3)  # warm-up: compiles the sensor kernels
+    ours_rates, peer_rates = [], []
+    for _ in range(rounds):
+        ours_rates.append(steps_per_second(ours, seconds))
+        peer_rates.append(steps_per_second(peer, seconds))
+    a, b = statistics.median(ours_rates), statistics.median(peer_rates)
+    print("== raw env vs BipedalWalker-v3 (medians of alternating rounds) ==")
+    print(f"AttentiveRescue-v0 : {a:9.0f} steps/s  ({1e6 / a:6.1f} µs/step)")
+    print(f"BipedalWalker-v3   : {b:9.0f} steps/s  ({1e6 / b:6.1f} µs/step)")
+    print(f"ratio              : {a / b:9.2f}x  (target >= 1.5x)")
+
+
+def cost_by_rubble(seconds: float) -> None:
+    print("== step cost by number of rubble pieces (30 x 30 m arena, 3 distractors) ==")
+    print(f"{'rubble':>7} {'shapes':>7} {'segments':>9} {'circles':>8} {'µs/step':>9} {'µs/shape':>9}")
+    area_m2 = 30.0 * 30.0
+    for count in (10, 50, 200):
+        env = gym.make("AttentiveRescue-v0", arena_size_m=30.0, rubble_per_100m2=count * 100.0 / area_m2).unwrapped
+        env.reset(seed=0)
+        geometry = env.world.geometry()
+        shapes = len(env.world.static) + len(env.world.movers) + 1
+        rate = steps_per_second(env, seconds)
+        print(
+            f"{len(env.scenario.rubble):7d} {shapes:7d} {len(geometry.segments):9d} {len(geometry.circles):8d} "
+            f"{1e6 / rate:9.1f} {1e6 / rate / shapes:9.2f}"
+        )
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--seconds", type=float, default=2.0, help="wall time per measurement")
+    parser.add_argument("--rounds", type=int, default=5, help="alternating rounds for the peer comparison")
+    args = parser.parse_args(argv)
+    compare_with_bipedal_walker(args.seconds, args.rounds)
+    cost_by_rubble(args.seconds)
+    try:
+        from bench_sensors import main as sensor_benchmark
+    except ImportError:
+        from benchmarks.bench_sensors import main as sensor_benchmark
+    print("== sensor sweep vs pymunk per-ray queries ==")
+    sensor_benchmark([])
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,217 @@
+"""AttentiveRescue-v0: API conformance, determinism, pickling, bad input, task logic."""
+
+import pickle
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import attentive_gym  # noqa: F401  (registers the environments)
+from attentive_gym.attention.goals import Goal
+from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+from attentive_gym.world.builtin import BUILTIN_SCENARIOS
+from attentive_gym.world.world import ROBOT_ID
+
+SCENARIOS = ["rescue", *sorted(BUILTIN_SCENARIOS)]
+
+
+def rollout(env, seed, steps=60, action_seed=0):
+    """Observations, rewards and infos of a seeded random rollout."""
+    rng = np.random.default_rng(action_seed)
+    obs, info = env.reset(seed=seed)
+    trace = [obs]
+    for _ in range(steps):
+        obs, reward, terminated, truncated, info = env.step(rng.uniform(-1, 1, 2).astype(np.float32))
+        trace.append((obs, reward, terminated, truncated, info["robot_pose"], info["mover_positions"]))
+        if terminated or truncated:
+            obs, info = env.reset()
+    return trace
+
+
+def assert_same(a, b):
+    if isinstance(a, dict):
+        assert a.keys() == b.keys()
+        for key in a:
+            assert_same(a[key], b[key])
+    elif isinstance(a, (tuple, list)):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            assert_same(x, y)
+    else:
+        np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("scenario", SCENARIOS)
+def test_gymnasium_check_env(scenario):
+    env = gym.make("AttentiveRescue-v0", scenario=scenario).unwrapped
+    check_env(env, skip_render_check=True)
+
+
+def test_sb3_check_env():
+    from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+    sb3_check_env(AttentiveRescueEnv(), warn=True)
+
+
+def test_make_by_module_path_and_registration_is_idempotent():
+    from attentive_gym.envs.registration import register_environments
+
+    register_environments()
+    register_environments()
+    env = gym.make("attentive_gym:AttentiveRescue-v0")
+    assert isinstance(env.unwrapped, AttentiveRescueEnv)
+
+
+@pytest.mark.parametrize("scenario", ["rescue", "exp03"])
+def test_same_seed_same_trajectory_bit_for_bit(scenario):
+    first = rollout(AttentiveRescueEnv(scenario), seed=11)
+    second = rollout(AttentiveRescueEnv(scenario), seed=11)
+    assert_same(first, second)
+
+
+def test_different_seeds_differ():
+    a = rollout(AttentiveRescueEnv(), seed=1, steps=5)
+    b = rollout(AttentiveRescueEnv(), seed=2, steps=5)
+    assert not np.array_equal(a[0]["laser"], b[0]["laser"])
+
+
+def test_pickle_round_trip_continues_identically():
+    env = AttentiveRescueEnv()
+    env.reset(seed=5)
+    for _ in range(10):
+        env.step(np.array([0.5, 0.2], np.float32))
+    clone = pickle.loads(pickle.dumps(env))
+    for _ in range(20):
+        action = np.array([0.8, -0.3], np.float32)
+        assert_same(env.step(action)[:4], clone.step(action)[:4])
+
+
+def test_observations_match_the_space_and_sensor_limits():
+    env = AttentiveRescueEnv()
+    obs, _ = env.reset(seed=0)
+    for _ in range(50):
+        assert env.observation_space.contains(obs)
+        assert np.all(obs["sonar"] >= 0.15) and np.all(obs["sonar"] <= 5.0)
+        assert np.all(obs["laser"] <= 20.0)
+        obs, *_ = env.step(env.action_space.sample())
+
+
+def test_noise_free_readings_match_the_geometry():
+    env = AttentiveRescueEnv("exp01", sensor_noise=0.0)
+    obs, info = env.reset(seed=0)
+    # exp01: a P2AT 3 m away at +10°, its near face 3 - 0.313 m from the origin, seen by s4
+    assert obs["sonar"][3] == pytest.approx(3.0 - 0.313 - 0.245 * np.cos(np.radians(0)), abs=0.06)
+    assert info["sonar_hits"][3] == 1
+    assert np.all(obs["sonar"][[0, 1, 5, 6, 7]] == 5.0)
+    assert set(info["laser_hits"]) <= {-1, 1}
+
+
+def test_reaching_the_target_terminates_with_the_bonus():
+    env = AttentiveRescueEnv()
+    env.reset(seed=3)
+    world = env.world
+    target = world.movers[env._target_index]
+    # put the robot next to the target: the next step succeeds
+    x, y = target.body.position
+    world.robot.body.position = (x + 0.9, y)
+    world.robot.control.position = (x + 0.9, y)
+    _, reward, terminated, truncated, info = env.step(np.zeros(2, np.float32))
+    assert terminated and not truncated and info["success"]
+    assert reward > env.reward_config.success - 2.0
+    assert info["target_distance_m"] <= 1.0
+
+
+def test_time_limit_truncates():
+    env = AttentiveRescueEnv("exp01", time_limit_s=1.0)
+    env.reset(seed=0)
+    flags = [env.step(np.zeros(2, np.float32))[3] for _ in range(20)]
+    assert flags == [False] * 19 + [True]
+
+
+def test_goal_option_fixes_the_goal_and_its_encoding():
+    env = AttentiveRescueEnv()
+    goal = Goal.smaller("speed", 0.3)
+    obs, info = env.reset(seed=0, options={"goal": goal})
+    np.testing.assert_array_equal(obs["goal"], goal.encode())
+    assert info["goal"] == str(goal)
+    obs, _ = env.reset(seed=0, options={"goal": Goal.between("speed", 0.5, 0.9).encode()})
+    assert Goal.decode(obs["goal"]) == Goal.between("speed", 0.5, 0.9)
+
+
+@pytest.mark.parametrize(
+    "action, message",
+    [
+        (np.array([np.nan, 0.0]), "finite"),
+        (np.array([np.inf, 0.0]), "finite"),
+        (np.zeros(3), "shape"),
+        (np.zeros((2, 1)), "shape"),
+        ("fast", "numeric"),
+    ],
+)
+def test_bad_actions_raise_value_error(action, message):
+    env = AttentiveRescueEnv()
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=message):
+        env.step(action)
+
+
+def test_out_of_range_actions_are_clipped():
+    a, b = AttentiveRescueEnv(), AttentiveRescueEnv()
+    a.reset(seed=4)
+    b.reset(seed=4)
+    for _ in range(10):
+        assert_same(a.step(np.array([7.0, -3.0]))[:4], b.step(np.array([1.0, -1.0]))[:4])
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, message",
+    [
+        ({"scenario": "moon"}, ValueError, "unknown scenario 'moon'; allowed"),
+        ({"scenario": "missing.yaml"}, ValueError, "does not exist"),
+        ({"sensor_noise": -0.1}, ValueError, "sensor_noise must be a number in"),
+        ({"dt": 0.0}, ValueError, "dt must be a number in"),
+        ({"render_mode": "ascii"}, ValueError, "render_mode must be None or one of"),
+        ({"num_distractors": 100}, ValueError, "num_distractors"),
+        ({"goals": (Goal.smaller("distance", 1.0),)}, ValueError, "distance goals"),
+        ({"speed": 2}, TypeError, "allowed: \\['scenario'"),
+    ],
+)
+def test_bad_keywords_raise_errors_listing_what_is_allowed(kwargs, error, message):
+    with pytest.raises(error, match=message):
+        gym.make("AttentiveRescue-v0", **kwargs)
+
+
+def test_bad_reset_options():
+    env = AttentiveRescueEnv()
+    with pytest.raises(ValueError, match="unknown reset option"):
+        env.reset(options={"target": 1})
+    with pytest.raises(ValueError, match="distance goals"):
+        env.reset(options={"goal": Goal.smaller("distance", 1.0)})
+
+
+def test_public_space_and_robot_body():
+    env = gym.make("AttentiveRescue-v0")
+    env.reset(seed=0)
+    world = env.unwrapped.world
+    assert world.robot.body in world.space.bodies
+    assert world.entities[ROBOT_ID].kind == "robot"
+
+
+def test_render_rgb_array_draws_the_world():
+    env = AttentiveRescueEnv(render_mode="rgb_array")
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 5  # walls, rubble, movers, beams
+    assert env.metadata["render_fps"] == pytest.approx(20.0)
+    env.close()
+
+
+def test_render_human_is_headless_safe():
+    env = AttentiveRescueEnv(render_mode="human", dt=0.1)
+    env.reset(seed=0)
+    env.step(np.zeros(2, np.float32))
+    assert env.render() is None
+    assert env.metadata["render_fps"] == pytest.approx(10.0)
+    env.close()
