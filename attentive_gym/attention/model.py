@@ -21,6 +21,7 @@ Example:
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import numbers
@@ -172,6 +173,14 @@ class AttentionOutput:
     #  nearest valid reading per region (J,), inf where none)
     _sources: tuple = field(repr=False, default=())
 
+    def __eq__(self, other: object) -> bool:
+        """Equal when every public field is equal (arrays element-wise, exactly)."""
+        if not isinstance(other, AttentionOutput):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, f), getattr(other, f)) for f in _OUTPUT_FIELDS)
+
+    __hash__ = None  # holds arrays: mutable in practice, so not hashable
+
     @functools.cached_property
     def view(self) -> FocusView | None:
         """What the sensors see at the focus, None without focus."""
@@ -194,6 +203,10 @@ class AttentionOutput:
             distance_m=float(nearest[j]) if np.isfinite(nearest[j]) else None,
             features=self.F[:, j].copy(),
         )
+
+
+#: The public fields of ``AttentionOutput``, compared by ``==``.
+_OUTPUT_FIELDS = tuple(f.name for f in dataclasses.fields(AttentionOutput) if not f.name.startswith("_"))
 
 
 class AttentionModel:

@@ -1,18 +1,22 @@
-"""Idempotent registration of the package's environments with Gymnasium."""
+"""Idempotent registration of the package's environments with Gymnasium.
+
+``AttentiveRescue-v0`` is the base environment; the other ids are its observation
+variants (``attentive_gym.wrappers.variants``).
+"""
 
 from gymnasium.envs.registration import register, registry
 
-__all__ = ["ENVIRONMENT_IDS", "register_environments"]
+__all__ = ["register_environments"]
 
-#: id -> (entry point, extra registration keyword arguments)
-_SPECS = {
-    "AttentiveRescue-v0": ("attentive_gym.envs.rescue_env:AttentiveRescueEnv", {"max_episode_steps": None}),
-}
-ENVIRONMENT_IDS = tuple(_SPECS)
+_BASE_ID = "AttentiveRescue-v0"
 
 
 def register_environments() -> None:
     """Register every environment of the package once; later calls do nothing."""
-    for env_id, (entry_point, kwargs) in _SPECS.items():
+    from attentive_gym.wrappers.variants import registered_entry_points
+
+    entry_points = {_BASE_ID: "attentive_gym.envs.rescue_env:AttentiveRescueEnv", **registered_entry_points()}
+    for env_id, entry_point in entry_points.items():
         if env_id not in registry:
-            register(id=env_id, entry_point=entry_point, **kwargs)
+            register(id=env_id, entry_point=entry_point, max_episode_steps=None)
+

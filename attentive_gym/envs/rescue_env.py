@@ -181,6 +181,9 @@ class AttentiveRescueEnv(gym.Env):
         self.goal: Goal | None = None
         self._renderer = None
         self._reading = None
+        #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
+        #: ``AttentionWrapper`` to show the focus); None draws nothing more.
+        self.render_overlay = None
 
     # --- episode ------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -305,6 +308,7 @@ class AttentiveRescueEnv(gym.Env):
         frame = self._renderer.render(
             self.world, self.sensors.laser_segments(self.world.robot.pose, self._reading),
             self.sensors.sonar_cones(self.world.robot.pose, self._reading), self._target_index,
+            overlay=self.render_overlay,
         )
         return frame if self.render_mode == "rgb_array" else None
 

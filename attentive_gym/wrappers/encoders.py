@@ -1,0 +1,193 @@
+"""Observation encoders: an ``AttentionOutput`` and the raw readings → an agent's observation.
+
+One encoder per observation mode of ``AttentionWrapper``; each has an exact
+``space`` (a ``gymnasium.spaces.Dict`` of float32 ``Box`` es) and ``encode(raw, output)``,
+where ``raw`` is the base environment's observation (``"sonar"`` (16,), ``"laser"``
+(180,), ``"odometry"`` (2,), ``"goal"`` (13,)) and ``output`` the model's step.
+
+- ``FocusEncoder`` (``"focus"``): only the winner-takes-all region's sub-representation,
+  49 numbers (layout in its docstring).
+- ``SaliencyEncoder`` (``"saliency"``): the raw readings plus the maps L and M.
+- ``MaskedEncoder`` (``"masked"``): the raw readings with everything outside the focus
+  replaced by the sensor's maximum range, plus 0/1 masks of what was kept.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+
+from attentive_gym.attention import AttentionConfig, AttentionOutput, Grid
+from attentive_gym.attention.regions import SONAR_RING
+
+__all__ = ["ENCODERS", "FocusEncoder", "MaskedEncoder", "SaliencyEncoder", "LASER_BINS", "map_ceilings"]
+
+#: Sub-sectors a focused region's laser beams are summarised into (min range in each).
+LASER_BINS = 6
+_F32 = np.float32
+
+
+def _box(low, high, shape) -> spaces.Box:
+    return spaces.Box(np.full(shape, low, _F32), np.full(shape, high, _F32), dtype=_F32)
+
+
+def map_ceilings(config: AttentionConfig, gain: float) -> tuple[float, float]:
+    """Upper bounds of M and of L for ``config`` and a Global Attentive State gain up to ``gain``.
+
+    A region's centre gain is at most one bottom-up course (``A_exc``) plus a held and a
+    decaying top-down course (``2 A_td``); the lateral spread sums it over at most the
+    largest row sum of ``G``; C is at most 1 when normalised, else the sum of the weights.
+    """
+    from attentive_gym.attention.attentional_map import lateral_spread
+
+    n_regions = Grid.make(config.grid).n_regions
+    spread = float(lateral_spread(n_regions, config.lateral_sigma_regions).sum(axis=1).max())
+    m_high = 1.0 + (config.A_exc + 2.0 * config.A_td) * spread
+    c_high = 1.0 if config.normalise_combined else float(sum(config.weights))
+    return m_high, gain * m_high * c_high
+
+
+def _passthrough_spaces(base: spaces.Dict) -> dict[str, spaces.Box]:
+    """The base observation's odometry and goal spaces, kept as they are."""
+    return {"odometry": base["odometry"], "goal": base["goal"]}
+
+
+class FocusEncoder:
+    """The focused region's sub-representation (MODEL.md §8), nothing from outside it.
+
+    Keys (all float32; every region-specific entry is 0 when there is no focus):
+
+    - ``"region"`` (J + 1,): one-hot of the focused region, last slot = no focus.
+    - ``"event"`` (3,): fired (a new course started), origin bottom-up, origin top-down.
+    - ``"saliency"`` (1,): L at the focus, in [0, the ceiling of ``map_ceilings``].
+    - ``"bearing"`` (2,): cos and sin of the region's bearing (robot frame).
+    - ``"sonar"`` (2,): the region's sonar range (m, [0, sonar max]) and echo flag.
+    - ``"laser"`` (6,): minimum laser range (m) in each of 6 equal sub-sectors of the
+      region's beams, right to left.
+    - ``"motion"`` (4,): range rate (m/s, + away, clipped to ±max speed) and the
+      direction label one-hot (towards, static, away).
+    - ``"distance"`` (1,): nearest valid reading in the region (m); the laser's
+      maximum when none.
+    - ``"features"`` (6,): F1..F6 at the region.
+    - ``"odometry"`` (2,), ``"goal"`` (13,): as in the base observation.
+
+    49 numbers with the sonar grid (J = 8). Needs ``grid="sonar"``: with one region per
+    laser beam the one-hot alone would be 181 numbers.
+    """
+
+    def __init__(self, config: AttentionConfig, base: spaces.Dict, gain: float) -> None:
+        if config.grid != "sonar":
+            raise ValueError(f"the 'focus' observation needs AttentionConfig(grid='sonar'), got grid={config.grid!r}")
+        self.grid = Grid.make(config.grid)
+        self._max_speed = config.max_speed_mps
+        self._max_distance = config.max_distance_m
+        self._l_high = map_ceilings(config, gain)[1]
+        j = self.grid.n_regions
+        self.space = spaces.Dict(
+            {
+                "region": _box(0.0, 1.0, (j + 1,)),
+                "event": _box(0.0, 1.0, (3,)),
+                "saliency": _box(0.0, self._l_high, (1,)),
+                "bearing": _box(-1.0, 1.0, (2,)),
+                "sonar": spaces.Box(np.zeros(2, _F32), np.array([config.sonar_max_range_m, 1.0], _F32), dtype=_F32),
+                "laser": _box(0.0, config.laser_max_range_m, (LASER_BINS,)),
+                "motion": spaces.Box(np.array([-self._max_speed, 0, 0, 0], _F32),
+                                     np.array([self._max_speed, 1, 1, 1], _F32), dtype=_F32),
+                "distance": _box(0.0, config.max_distance_m, (1,)),
+                "features": _box(0.0, 1.0, (6,)),
+                **_passthrough_spaces(base),
+            }
+        )
+        # per region: where each laser sub-sector starts within the region's beams
+        self._bin_starts = [np.cumsum([0] + [len(b) for b in np.array_split(beams, LASER_BINS)[:-1]]).astype(np.intp)
+                            for beams in self.grid.beam_indices]
+        offsets = np.cumsum([0] + [space.shape[0] for space in self.space.values()])
+        self._parts = {key: slice(a, b) for key, a, b in zip(self.space, offsets[:-1], offsets[1:])}
+        self._size = int(offsets[-1])
+        self._bearings = [np.array([np.cos(b), np.sin(b)], _F32) for b in self.grid.bearings_rad]
+
+    def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
+        flat = np.zeros(self._size, _F32)  # every entry's view below shares this buffer
+        obs = {key: flat[part] for key, part in self._parts.items()}
+        obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
+        view = output.view
+        if view is None:
+            obs["region"][-1] = 1.0
+            return obs
+        obs["region"][view.region] = 1.0
+        obs["event"][:] = (output.fired, output.origin == "bottom-up", output.origin == "top-down")
+        obs["saliency"][0] = min(output.saliency, self._l_high)
+        obs["bearing"][:] = self._bearings[view.region]
+        obs["sonar"][:] = (view.sonar_range_m, view.sonar_echo)
+        obs["laser"][:] = np.minimum.reduceat(view.laser_ranges_m, self._bin_starts[view.region])
+        obs["motion"][0] = min(max(view.range_rate_mps, -self._max_speed), self._max_speed)
+        obs["motion"][2 + int(view.direction)] = 1.0
+        obs["distance"][0] = self._max_distance if view.distance_m is None else min(view.distance_m, self._max_distance)
+        obs["features"][:] = view.features
+        return obs
+
+
+class SaliencyEncoder:
+    """The raw readings plus the saliency ``"L"`` (J,) and attentional map ``"M"`` (J,).
+
+    L and M lie in [0, their ceilings of ``map_ceilings``] (M's baseline is 1); the other
+    keys are the base observation's.
+    """
+
+    def __init__(self, config: AttentionConfig, base: spaces.Dict, gain: float) -> None:
+        j = Grid.make(config.grid).n_regions
+        self._m_high, self._l_high = map_ceilings(config, gain)
+        self.space = spaces.Dict({**base.spaces, "L": _box(0.0, self._l_high, (j,)), "M": _box(0.0, self._m_high, (j,))})
+
+    def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
+        return {
+            **raw,
+            "L": np.minimum(output.L, self._l_high).astype(_F32),
+            "M": np.minimum(output.M, self._m_high).astype(_F32),
+        }
+
+
+class MaskedEncoder:
+    """The raw readings with everything outside the focus at the sensor's maximum range.
+
+    Keys: the base observation's (``"sonar"``, ``"laser"`` masked), plus
+    ``"sonar_mask"`` (16,) and ``"laser_mask"`` (180,), 1 where the reading was kept
+    (the focused region's front sonar and laser beams), 0 elsewhere; all 0 without a
+    focus. Rear sonars are never in a region, so always masked.
+    """
+
+    def __init__(self, config: AttentionConfig, base: spaces.Dict, gain: float) -> None:
+        self.grid = Grid.make(config.grid)
+        self._sonar_max = _F32(base["sonar"].high.max())
+        self._laser_max = _F32(base["laser"].high.max())
+        n_beams = base["laser"].shape[0]
+        if base["sonar"].shape != (SONAR_RING,) or n_beams != len(self.grid.beam_region):
+            raise ValueError(
+                f"the 'masked' observation needs {SONAR_RING} sonars and {len(self.grid.beam_region)} laser beams, "
+                f"got {base['sonar'].shape[0]} and {n_beams}"
+            )
+        self.space = spaces.Dict(
+            {**base.spaces, "sonar_mask": _box(0.0, 1.0, (SONAR_RING,)), "laser_mask": _box(0.0, 1.0, (n_beams,))}
+        )
+        self._masks = []
+        for region in range(self.grid.n_regions):
+            sonar_mask = np.zeros(SONAR_RING, _F32)
+            sonar_mask[int(self.grid.region_sonar[region])] = 1.0
+            laser_mask = np.zeros(n_beams, _F32)
+            laser_mask[self.grid.beam_slices[region]] = 1.0
+            self._masks.append((sonar_mask, laser_mask))
+        self._empty = (np.zeros(SONAR_RING, _F32), np.zeros(n_beams, _F32))
+
+    def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
+        sonar_mask, laser_mask = self._empty if output.focus is None else self._masks[output.focus]
+        return {
+            **raw,
+            "sonar": np.where(sonar_mask > 0, raw["sonar"], self._sonar_max),
+            "laser": np.where(laser_mask > 0, raw["laser"], self._laser_max),
+            "sonar_mask": sonar_mask.copy(),
+            "laser_mask": laser_mask.copy(),
+        }
+
+
+#: Observation mode → encoder class.
+ENCODERS = {"focus": FocusEncoder, "saliency": SaliencyEncoder, "masked": MaskedEncoder}

@@ -1,0 +1,97 @@
+"""``GoalActionWrapper``: the agent chooses its own top-down goal and map weights.
+
+The action becomes one ``Box(-1, 1, (2 + K + 6,))`` (a space every SB3 algorithm
+supports, PPO and SAC alike), laid out as
+
+- ``[0:2]``: the motion command, passed on to the environment (linear, angular);
+- ``[2:2+K]``: one score per entry of the goal menu; the highest score's goal drives
+  attention (ties to the first entry);
+- ``[2+K:8+K]``: the weights of F1..F6, each mapped from [−1, 1] to [0, ``max_weight``].
+
+The choice applies to the attention computed in the same step, after the motion. At
+reset the task's goal and the configured weights are in force until the first action.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import gymnasium as gym
+import numpy as np
+
+from attentive_gym.attention import Goal
+from attentive_gym.attention.config import MAP_NAMES
+from attentive_gym.wrappers.attention import AttentionWrapper
+
+__all__ = ["GoalActionWrapper", "DEFAULT_GOAL_MENU"]
+
+#: Goals the agent can choose from by default: none, the default task goals, and the
+#: three direction goals.
+DEFAULT_GOAL_MENU: tuple[Goal | None, ...] = (
+    None,
+    Goal.between("speed", 0.5, 0.9),
+    Goal.smaller("speed", 0.3),
+    Goal.direction_is("towards"),
+    Goal.direction_is("static"),
+    Goal.direction_is("away"),
+)
+
+
+def _find_attention(env: gym.Env) -> AttentionWrapper:
+    current = env
+    while isinstance(current, gym.Wrapper):
+        if isinstance(current, AttentionWrapper):
+            return current
+        current = current.env
+    raise ValueError("GoalActionWrapper must wrap an AttentionWrapper (e.g. GoalActionWrapper(AttentionWrapper(env)))")
+
+
+class GoalActionWrapper(gym.ActionWrapper):
+    """Extend the motion action with a goal choice and six map weights.
+
+    Args:
+        env: an environment wrapped (at any depth) by ``AttentionWrapper``, with a
+            ``Box`` action of shape (2,).
+        goal_menu: the goals to choose from (``None`` = no top-down goal), at least one.
+        max_weight: the weight an action entry of +1 stands for (> 0).
+    """
+
+    def __init__(self, env: gym.Env, goal_menu: Sequence[Goal | None] = DEFAULT_GOAL_MENU, max_weight: float = 2.0) -> None:
+        super().__init__(env)
+        self._attention = _find_attention(env)
+        if not (isinstance(env.action_space, gym.spaces.Box) and env.action_space.shape == (2,)):
+            raise ValueError(f"GoalActionWrapper needs a Box action of shape (2,), got {env.action_space}")
+        self.goal_menu = tuple(goal_menu)
+        if not self.goal_menu or any(g is not None and not isinstance(g, Goal) for g in self.goal_menu):
+            raise ValueError(f"goal_menu must be a non-empty sequence of Goal or None, got {goal_menu!r}")
+        if not (isinstance(max_weight, (int, float)) and np.isfinite(max_weight) and max_weight > 0):
+            raise ValueError(f"max_weight must be a finite number > 0, got {max_weight!r}")
+        self.max_weight = float(max_weight)
+        size = 2 + len(self.goal_menu) + len(MAP_NAMES)
+        self.action_space = gym.spaces.Box(-1.0, 1.0, shape=(size,), dtype=np.float32)
+        self._choice: int | None = None  # the menu entry and weights in force
+        self._weights: np.ndarray | None = None
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        self._attention.clear_goal()
+        self._attention.model.set_weights()
+        self._choice, self._weights = None, None
+        return self.env.reset(seed=seed, options=options)
+
+    def action(self, action):
+        action = np.asarray(action, dtype=np.float64)
+        if action.shape != self.action_space.shape:
+            raise ValueError(f"action must have shape {self.action_space.shape}, got {action.shape}")
+        if not np.all(np.isfinite(action)):
+            raise ValueError(f"action must be finite, got {action}")
+        action = np.clip(action, -1.0, 1.0)
+        k = len(self.goal_menu)
+        choice = int(np.argmax(action[2:2 + k]))
+        if choice != self._choice:  # re-planning the model's maps only on a change
+            self._attention.set_goal(self.goal_menu[choice])
+            self._choice = choice
+        weights = (action[2 + k:] + 1.0) * 0.5 * self.max_weight
+        if not np.array_equal(weights, self._weights):
+            self._attention.model.set_weights(weights)
+            self._weights = weights
+        return action[:2].astype(np.float32)

@@ -1,0 +1,110 @@
+"""The attended observations hold what they document, and only that."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from attentive_gym.attention import AttentionConfig
+from attentive_gym.wrappers import AttentionWrapper, make_env
+from attentive_gym.wrappers.encoders import LASER_BINS, FocusEncoder, map_ceilings
+
+
+def test_focus_observation_is_small_and_describes_the_focused_region(exp01_focus_env, run_until_focus):
+    env = exp01_focus_env
+    assert sum(int(np.prod(s.shape)) for s in env.observation_space.spaces.values()) <= 64
+    obs, info = run_until_focus(env)
+    out = info["attention"]
+    view = out.view
+    j = out.focus
+    assert j == 3  # exp01: the robot in sonar s4's cone
+    assert obs["region"].argmax() == j and obs["region"].sum() == 1
+    assert obs["event"][0] == out.fired and obs["event"][1] == (out.origin == "bottom-up")
+    assert obs["sonar"][0] == pytest.approx(view.sonar_range_m, rel=1e-6) and obs["sonar"][1] == 1.0
+    bins = np.array_split(view.laser_ranges_m, LASER_BINS)
+    np.testing.assert_allclose(obs["laser"], [b.min() for b in bins], rtol=1e-6)
+    np.testing.assert_allclose(obs["features"], out.F[:, j], rtol=1e-6)
+    assert obs["saliency"][0] == pytest.approx(out.saliency, rel=1e-6)
+    assert obs["bearing"] == pytest.approx([np.cos(np.radians(10)), np.sin(np.radians(10))], rel=1e-6)
+    assert obs["motion"][1:].sum() == 1.0
+    assert env.observation_space.contains(obs)
+
+
+def test_focus_observation_carries_nothing_from_outside_the_focus(exp01_focus_env, run_until_focus):
+    env = exp01_focus_env
+    obs, info = run_until_focus(env)
+    out = info["attention"]
+    j = out.focus
+    encoder = env._encoder
+    raw = {"odometry": obs["odometry"], "goal": obs["goal"]}
+    others = np.arange(out.F.shape[1]) != j
+    grid, readings, valid, rates, nearest = out._sources
+    readings, rates, nearest = readings.copy(), rates.copy(), nearest.copy()
+    outside = np.ones(readings.shape, bool)
+    outside[int(grid.region_sonar[j])] = False
+    outside[8:188][grid.beam_indices[j]] = False
+    readings[outside] = 0.42
+    rates[outside] = -0.3
+    nearest[others] = 0.1
+    F, L, M = out.F.copy(), out.L.copy(), out.M.copy()
+    F[:, others], L[others], M[others] = 0.77, 0.0, 2.0
+    perturbed = dataclasses.replace(out, F=F, L=L, M=M, _sources=(grid, readings, valid, rates, nearest))
+    again = encoder.encode(raw, perturbed)
+    for key in obs:
+        np.testing.assert_array_equal(again[key], obs[key], err_msg=key)
+
+
+def test_focus_observation_without_focus_is_the_none_slot_only():
+    env = make_env("focus", scenario="exp01", sensor_noise=0.0, weights={"motion": 1.0})
+    obs, info = env.reset(seed=0)
+    assert info["attention"].focus is None  # nothing moves in the first reading
+    assert obs["region"][-1] == 1.0 and obs["region"][:-1].sum() == 0.0
+    for key in ("event", "saliency", "bearing", "sonar", "laser", "motion", "distance", "features"):
+        assert not obs[key].any(), key
+
+
+def test_focus_mode_refuses_the_laser_grid():
+    env = make_env("raw", scenario="exp01")
+    with pytest.raises(ValueError, match="grid='sonar'"):
+        AttentionWrapper(env, "focus", config=AttentionConfig(grid="laser"))
+
+
+def test_saliency_observation_holds_the_maps(run_until_focus):
+    env = make_env("saliency", scenario="exp01", sensor_noise=0.0)
+    env.reset(seed=0)
+    obs, info = run_until_focus(env)
+    np.testing.assert_allclose(obs["L"], info["attention"].L, rtol=1e-6)
+    np.testing.assert_allclose(obs["M"], info["attention"].M, rtol=1e-6)
+    assert env.observation_space.contains(obs)
+
+
+def test_map_ceilings_bound_the_attentional_map():
+    config = AttentionConfig()
+    m_high, l_high = map_ceilings(config, gain=1.5)
+    # one bottom-up and two top-down courses, spread over the neighbours (e^-2 each)
+    assert m_high == pytest.approx(1.0 + 3.0 * (1.0 + 2 * np.exp(-2.0) + 2 * np.exp(-8.0) + 2 * np.exp(-18.0)), rel=1e-9)
+    assert l_high == pytest.approx(1.5 * m_high)
+
+
+@pytest.mark.parametrize("grid", ["sonar", "laser"])
+def test_masked_observation_keeps_only_the_focused_readings(grid, run_until_focus):
+    env = make_env("masked", scenario="exp01", sensor_noise=0.0, attention=AttentionConfig(grid=grid))
+    env.reset(seed=0)
+    obs, info = run_until_focus(env)
+    out = info["attention"]
+    base = env.unwrapped._reading
+    kept_beams = np.flatnonzero(obs["laser_mask"])
+    np.testing.assert_array_equal(kept_beams, out.view.laser_beams)
+    np.testing.assert_allclose(obs["laser"][kept_beams], base.laser[kept_beams], rtol=1e-6)
+    assert np.all(obs["laser"][obs["laser_mask"] == 0] == 20.0)
+    assert np.flatnonzero(obs["sonar_mask"]).tolist() == [int(env.model.grid.region_sonar[out.focus])]
+    assert np.all(obs["sonar"][obs["sonar_mask"] == 0] == 5.0)
+    assert env.observation_space.contains(obs)
+
+
+def test_focus_encoder_space_has_the_documented_layout():
+    env = make_env("raw")
+    encoder = FocusEncoder(AttentionConfig(), env.observation_space, gain=1.5)
+    sizes = {k: s.shape[0] for k, s in encoder.space.spaces.items()}
+    assert sizes == {"region": 9, "event": 3, "saliency": 1, "bearing": 2, "sonar": 2, "laser": LASER_BINS,
+                     "motion": 4, "distance": 1, "features": 6, "odometry": 2, "goal": 13}
