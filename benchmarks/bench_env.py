@@ -4,8 +4,9 @@ Prints:
 1. steps/s of the raw env (random actions, no rendering) and of BipedalWalker-v3 (which
    casts 10 lidar rays a step), measured alternately in rounds; medians and their ratio
    (target: ≥ 1.5×);
-2. the per-step cost with 10 / 50 / 200 rubble pieces in a 30 × 30 m arena (the cost
-   should grow no worse than linearly with the number of shapes).
+2. the per-step cost with 10 / 50 / 200 rubble pieces in a 60 × 60 m arena (large enough
+   to place 200 pieces and the movers), in µs per step and per shape: the cost should grow
+   no worse than linearly with the number of shapes.
 
 Usage: ``python benchmarks/bench_env.py [--seconds 2] [--rounds 5]``
 (BipedalWalker needs ``pip install -e ".[bench]"``).
@@ -40,6 +41,26 @@ def steps_per_second(env: gym.Env, seconds: float, seed: int = 0) -> float:
             return steps / elapsed
 
 
+def step_cost_us(env: gym.Env, seconds: float, seed: int = 0) -> float:
+    """µs per random-action ``env.step``, resets excluded (they generate a new arena, whose
+    cost grows with the rubble count and is not a step's)."""
+    env.action_space.seed(seed)
+    env.reset(seed=seed)
+    actions = [env.action_space.sample() for _ in range(256)]
+    steps, stepping, start = 0, 0.0, time.perf_counter()
+    while time.perf_counter() - start < seconds:
+        tic = time.perf_counter()
+        for action in actions:
+            _, _, terminated, truncated, _ = env.step(action)
+            steps += 1
+            if terminated or truncated:
+                stepping += time.perf_counter() - tic
+                env.reset()
+                tic = time.perf_counter()
+        stepping += time.perf_counter() - tic
+    return stepping / steps * 1e6
+
+
 def compare_with_bipedal_walker(seconds: float, rounds: int) -> None:
     ours = gym.make("AttentiveRescue-v0").unwrapped
     try:
@@ -59,20 +80,28 @@ def compare_with_bipedal_walker(seconds: float, rounds: int) -> None:
     print(f"ratio              : {a / b:9.2f}x  (target >= 1.5x)")
 
 
+RUBBLE_ARENA_M = 60.0  # a 30 m arena cannot place 200 pieces and the movers
+
+
 def cost_by_rubble(seconds: float) -> None:
-    print("== step cost by number of rubble pieces (30 x 30 m arena, 3 distractors) ==")
-    print(f"{'rubble':>7} {'shapes':>7} {'segments':>9} {'circles':>8} {'µs/step':>9} {'µs/shape':>9}")
-    area_m2 = 30.0 * 30.0
+    side = RUBBLE_ARENA_M
+    print(f"== step cost by number of rubble pieces ({side:g} x {side:g} m arena, 3 distractors) ==")
+    print(f"{'rubble':>7} {'shapes':>7} {'segments':>9} {'circles':>8} {'µs/step':>9} {'µs/shape':>9} {'vs 10':>7}")
+    area_m2 = side * side
+    first = None
     for count in (10, 50, 200):
-        env = gym.make("AttentiveRescue-v0", arena_size_m=30.0, rubble_per_100m2=count * 100.0 / area_m2).unwrapped
+        env = gym.make("AttentiveRescue-v0", arena_size_m=side, rubble_per_100m2=count * 100.0 / area_m2).unwrapped
         env.reset(seed=0)
+        assert len(env.scenario.rubble) == count, (len(env.scenario.rubble), count)
         geometry = env.world.geometry()
         shapes = len(env.world.static) + len(env.world.movers) + 1
-        rate = steps_per_second(env, seconds)
+        cost = step_cost_us(env, seconds)
+        first = first or (cost, shapes)
         print(
             f"{len(env.scenario.rubble):7d} {shapes:7d} {len(geometry.segments):9d} {len(geometry.circles):8d} "
-            f"{1e6 / rate:9.1f} {1e6 / rate / shapes:9.2f}"
+            f"{cost:9.1f} {cost / shapes:9.2f} {cost / first[0]:6.2f}x"
         )
+    print(f"(shapes grew {shapes / first[1]:.1f}x; the step cost should grow no more than that)")
 
 
 def main(argv=None) -> None:

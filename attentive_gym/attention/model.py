@@ -30,6 +30,7 @@ from types import MappingProxyType
 from typing import Iterable, Mapping
 
 import numpy as np
+from numba import njit
 
 from attentive_gym.attention.attentional_map import CourseBook, attentional_map, lateral_spread
 from attentive_gym.attention.config import (
@@ -415,42 +416,50 @@ class AttentionModel:
 
         # --- kinematics from memory (§3) --------------------------------------------------
         rates = memory.range_rates(cfg.slope_samples)
-        abs_rates = np.abs(rates)
-        speed = np.minimum(abs_rates, cfg.max_speed_mps)
-        labels = np.sign(rates) * (abs_rates > cfg.direction_epsilon_mps)
-        columns = label_columns(labels)
         valid = ~invalid
-        o1, o2 = readings[_SONAR], readings[_LASER]
-        sonar_speed, sonar_labels8 = speed[_SONAR], labels[_SONAR]
         active = self._active
         n_regions = grid.n_regions
         F = np.zeros((len(MAP_NAMES), n_regions))
+        if not grid.is_laser:  # the sonar grid: one compiled call, same arithmetic
+            region_speed, sonar_labels, directions, nearest, distances = _sonar_grid_kernel(
+                rates, readings, invalid, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
+                cfg.max_distance_m, grid.beam_region, self._spaces.rarity_scale, self._spaces.rarity_shift,
+                active[0] > 0.0, active[1] > 0.0, active[2] > 0.0, cfg.laser_only, cfg.laser_max_range_m, F,
+            )
+            echo = nearest < np.inf
+        else:
+            abs_rates = np.abs(rates)
+            speed = np.minimum(abs_rates, cfg.max_speed_mps)
+            labels = np.sign(rates) * (abs_rates > cfg.direction_epsilon_mps)
+            columns = label_columns(labels)
+            o1, o2 = readings[_SONAR], readings[_LASER]
+            sonar_speed, sonar_labels8 = speed[_SONAR], labels[_SONAR]
 
-        # --- bottom-up maps (§4) ----------------------------------------------------------
-        if active[0] > 0.0:
-            F[0] = grid.sonar_to_regions(motion_map(sonar_speed, cfg.max_speed_mps))
-        if active[1] > 0.0:
-            rarity = rarity_map(labels, columns, self._spaces)
-            F[1] = np.maximum(grid.sonar_to_regions(rarity[_SONAR]), grid.reduce_beams(np.maximum, rarity[_LASER]))
-        if active[2] > 0.0:
-            if cfg.laser_only:
-                F[2] = grid.reduce_beams(np.maximum, distance_map(o2, cfg.laser_max_range_m))
-            else:
-                contrast = distance_map(readings, self._max_ranges, self._spaces)
-                F[2] = np.maximum(grid.reduce_beams(np.maximum, contrast[_LASER]),
-                                  grid.sonar_to_regions(contrast[_SONAR]))
+            # --- bottom-up maps (§4) ----------------------------------------------------------
+            if active[0] > 0.0:
+                F[0] = grid.sonar_to_regions(motion_map(sonar_speed, cfg.max_speed_mps))
+            if active[1] > 0.0:
+                rarity = rarity_map(labels, columns, self._spaces)
+                F[1] = np.maximum(grid.sonar_to_regions(rarity[_SONAR]), grid.reduce_beams(np.maximum, rarity[_LASER]))
+            if active[2] > 0.0:
+                if cfg.laser_only:
+                    F[2] = grid.reduce_beams(np.maximum, distance_map(o2, cfg.laser_max_range_m))
+                else:
+                    contrast = distance_map(readings, self._max_ranges, self._spaces)
+                    F[2] = np.maximum(grid.reduce_beams(np.maximum, contrast[_LASER]),
+                                      grid.sonar_to_regions(contrast[_SONAR]))
 
-        # --- region quantities --------------------------------------------------------------
-        sonar_labels = grid.sonar_to_regions(sonar_labels8)
-        laser_labels = (labels[_LASER] if grid.is_laser
-                        else majority_labels(columns[_LASER], grid.beam_region, n_regions))
-        directions = np.where(sonar_labels != 0.0, sonar_labels, laser_labels)
-        nearest_all = np.where(valid, readings, np.inf)
-        nearest = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
-                             grid.sonar_to_regions(nearest_all[_SONAR]))
-        echo = nearest < np.inf
-        distances = np.minimum(nearest, cfg.max_distance_m)
-        region_speed = grid.sonar_to_regions(sonar_speed)
+            # --- region quantities --------------------------------------------------------------
+            sonar_labels = grid.sonar_to_regions(sonar_labels8)
+            laser_labels = (labels[_LASER] if grid.is_laser
+                            else majority_labels(columns[_LASER], grid.beam_region, n_regions))
+            directions = np.where(sonar_labels != 0.0, sonar_labels, laser_labels)
+            nearest_all = np.where(valid, readings, np.inf)
+            nearest = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
+                                 grid.sonar_to_regions(nearest_all[_SONAR]))
+            echo = nearest < np.inf
+            distances = np.minimum(nearest, cfg.max_distance_m)
+            region_speed = grid.sonar_to_regions(sonar_speed)
 
         # --- top-down maps and goal masks (§5) --------------------------------------------
         fulfilled = None
@@ -599,3 +608,153 @@ def _as_float_array(values, name: str) -> np.ndarray:
         return np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be an array of ranges in metres, got {type(values).__name__}") from None
+
+
+# --- the fused sonar-grid kernel (J = 8) -------------------------------------------------
+# One compiled call for §3's labels and speeds, F1–F3 and the region quantities on the sonar
+# grid. It repeats numpy's arithmetic operation for operation (sums in numpy's pairwise
+# order, see ``_pairwise_sum``), so its results are identical to the array expressions of
+# the general path, which still serves the laser grid.
+
+
+@njit(cache=True)
+def _pairwise_block(a, lo, n):
+    """numpy's pairwise summation of ``a[lo:lo + n]`` for ``n <= 128`` (one block)."""
+    if n < 8:
+        res = 0.0
+        for i in range(n):
+            res += a[lo + i]
+        return res
+    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
+    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
+    i = 8
+    m = n - n % 8
+    while i < m:
+        r0 += a[lo + i]
+        r1 += a[lo + i + 1]
+        r2 += a[lo + i + 2]
+        r3 += a[lo + i + 3]
+        r4 += a[lo + i + 4]
+        r5 += a[lo + i + 5]
+        r6 += a[lo + i + 6]
+        r7 += a[lo + i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[lo + i]
+        i += 1
+    return res
+
+
+@njit(cache=True)
+def _pairwise_halves(a, lo, n):
+    """numpy's pairwise summation for ``n <= 256``: blocks, or two halves of blocks."""
+    if n <= 128:
+        return _pairwise_block(a, lo, n)
+    n2 = n // 2
+    n2 -= n2 % 8
+    return _pairwise_block(a, lo, n2) + _pairwise_block(a, lo + n2, n - n2)
+
+
+@njit(cache=True)
+def _pairwise_sum(a, lo, n):
+    """``sum(a[lo:lo + n])`` in the order of numpy's pairwise summation (``np.add.reduce``
+    of a contiguous array), for ``n <= 496`` (two levels of halves; no recursion, which
+    numba does not cache reliably)."""
+    if n <= 128:
+        return _pairwise_block(a, lo, n)
+    n2 = n // 2
+    n2 -= n2 % 8
+    return _pairwise_halves(a, lo, n2) + _pairwise_halves(a, lo + n2, n - n2)
+
+
+@njit(cache=True)
+def _sonar_grid_kernel(rates, readings, invalid, max_ranges, max_speed, epsilon, max_distance, beam_region,
+                       rarity_scale, rarity_shift, do_f1, do_f2, do_f3, laser_only, laser_max, F):
+    """Fill ``F[0:3]`` (active rows only) and return ``(sonar_speed, sonar_labels,
+    directions, nearest, distances)``, all ``(8,)``, for the sonar grid (8 front sonars
+    then 180 beams in the channel vectors)."""
+    n_sonar = 8
+    n = rates.shape[0]
+    n_laser = n - n_sonar
+    labels = np.empty(n)
+    columns = np.empty(n, np.int64)
+    counts = np.zeros(6, np.int64)  # label counts per (space, column)
+    for k in range(n):
+        r = rates[k]
+        a = abs(r)
+        label = 0.0
+        column = 2
+        if a > epsilon:
+            if r > 0.0:
+                label, column = 1.0, 1
+            elif r < 0.0:
+                label, column = -1.0, 0
+        labels[k] = label
+        columns[k] = column
+        counts[(0 if k < n_sonar else 3) + column] += 1
+    sonar_speed = np.empty(n_sonar)
+    for j in range(n_sonar):
+        sonar_speed[j] = min(abs(rates[j]), max_speed)
+    if do_f1:
+        mean = _pairwise_sum(sonar_speed, 0, n_sonar) / n_sonar
+        for j in range(n_sonar):
+            F[0, j] = abs(sonar_speed[j] - mean) / max_speed
+    if do_f2:
+        for j in range(n_sonar):
+            F[1, j] = rarity_scale[j] / counts[columns[j]] - rarity_shift[j]
+        for i in range(n_laser):
+            k = n_sonar + i
+            value = rarity_scale[k] / counts[3 + columns[k]] - rarity_shift[k]
+            j = beam_region[i]
+            if value > F[1, j]:
+                F[1, j] = value
+    if do_f3:
+        if laser_only:
+            mean = _pairwise_sum(readings, n_sonar, n_laser) / n_laser
+            first = np.full(n_sonar, -np.inf)
+            for i in range(n_laser):
+                value = abs(readings[n_sonar + i] - mean) / laser_max
+                j = beam_region[i]
+                if value > first[j]:
+                    first[j] = value
+            for j in range(n_sonar):
+                F[2, j] = first[j]
+        else:
+            # add.reduceat: the first element, then the pairwise sum of the rest
+            sonar_mean = (readings[0] + _pairwise_sum(readings, 1, n_sonar - 1)) / n_sonar
+            laser_mean = (readings[n_sonar] + _pairwise_sum(readings, n_sonar + 1, n_laser - 1)) / n_laser
+            laser_part = np.full(n_sonar, -np.inf)
+            for i in range(n_laser):
+                k = n_sonar + i
+                value = abs(readings[k] - laser_mean) / max_ranges[k]
+                j = beam_region[i]
+                if value > laser_part[j]:
+                    laser_part[j] = value
+            for j in range(n_sonar):
+                F[2, j] = max(laser_part[j], abs(readings[j] - sonar_mean) / max_ranges[j])
+    # region quantities
+    label_counts = np.zeros((n_sonar, 3), np.int64)
+    nearest = np.full(n_sonar, np.inf)
+    for i in range(n_laser):
+        k = n_sonar + i
+        j = beam_region[i]
+        label_counts[j, columns[k]] += 1
+        if not invalid[k] and readings[k] < nearest[j]:
+            nearest[j] = readings[k]
+    sonar_labels = labels[:n_sonar].copy()
+    directions = np.empty(n_sonar)
+    distances = np.empty(n_sonar)
+    for j in range(n_sonar):
+        if sonar_labels[j] != 0.0:
+            directions[j] = sonar_labels[j]
+        else:
+            best = 0
+            for c in range(1, 3):
+                if label_counts[j, c] > label_counts[j, best]:
+                    best = c
+            directions[j] = -1.0 if best == 0 else (1.0 if best == 1 else 0.0)
+        if not invalid[j] and readings[j] < nearest[j]:
+            nearest[j] = readings[j]
+        distances[j] = min(nearest[j], max_distance)
+    return sonar_speed, sonar_labels, directions, nearest, distances

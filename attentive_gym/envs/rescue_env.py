@@ -20,6 +20,7 @@ from gymnasium import spaces
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.reward import RewardConfig, rescue_reward
 from attentive_gym.sensors import LaserConfig, SensorSuite, SonarConfig
+from attentive_gym.sensors import _pymunk_access as _body_state
 from attentive_gym.world.arena import ArenaConfig, generate_arena
 from attentive_gym.world.builtin import BUILTIN_SCENARIOS, builtin_scenario
 from attentive_gym.world.robot import RobotConfig
@@ -55,6 +56,9 @@ def resolve_scenario(scenario: str | os.PathLike | Scenario) -> Scenario | None:
         f"unknown scenario {scenario!r}; allowed: {PROCEDURAL_SCENARIO!r}, {sorted(BUILTIN_SCENARIOS)}, "
         f"a path ending in {SCENARIO_SUFFIXES}, or a Scenario object"
     )
+
+
+_FLOAT_DTYPES = (np.dtype(np.float32), np.dtype(np.float64))
 
 
 def _check_number(name: str, value: Any, low: float, high: float, low_open: bool = False) -> float:
@@ -177,8 +181,11 @@ class AttentiveRescueEnv(gym.Env):
                 "goal": spaces.Box(0.0, _MAX_GOAL_BOUND, shape=(GOAL_ENCODING_SIZE,), dtype=np.float32),
             }
         )
+        high = self.observation_space["odometry"].high
+        self._odometry_limit = (float(high[0]), float(high[1]))  # the float32 bounds, exactly
         self.world: World | None = None
         self.goal: Goal | None = None
+        self._goal_cache: tuple = (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none")  # goal, encoding, text
         self._renderer = None
         self._reading = None
         #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
@@ -212,9 +219,9 @@ class AttentiveRescueEnv(gym.Env):
     def step(self, action):
         if self.world is None:
             raise RuntimeError("call reset() before step()")
-        command = self._check_action(action)
+        linear, angular = self._check_action(action)
         collided = self.world.step(
-            self.dt, command[0] * self.robot_config.max_linear_mps, command[1] * self.robot_config.max_angular_rps
+            self.dt, linear * self.robot_config.max_linear_mps, angular * self.robot_config.max_angular_rps
         )
         observation = self._observe()
         distance = self._target_distance()
@@ -244,7 +251,12 @@ class AttentiveRescueEnv(gym.Env):
             return Goal.decode(goal)
         raise ValueError(f"options['goal'] must be a Goal, its encoding, or None; got {type(goal).__name__}")
 
-    def _check_action(self, action) -> np.ndarray:
+    def _check_action(self, action) -> tuple[float, float]:
+        """The action as (linear, angular) floats clipped to [-1, 1], or ``ValueError``."""
+        if type(action) is np.ndarray and action.shape == (2,) and action.dtype in _FLOAT_DTYPES:
+            linear, angular = float(action[0]), float(action[1])  # fast path: a policy's usual output
+            if math.isfinite(linear) and math.isfinite(angular):
+                return min(max(linear, -1.0), 1.0), min(max(angular, -1.0), 1.0)
         try:
             command = np.asarray(action, dtype=np.float64)
         except (TypeError, ValueError):
@@ -253,24 +265,41 @@ class AttentiveRescueEnv(gym.Env):
             raise ValueError(f"action must have shape (2,) = (linear, angular), got shape {command.shape}")
         if not np.all(np.isfinite(command)):
             raise ValueError(f"action must be finite, got {command.tolist()}")
-        return np.clip(command, -1.0, 1.0)
+        linear, angular = np.clip(command, -1.0, 1.0).tolist()
+        return linear, angular
 
     def _observe(self) -> dict[str, np.ndarray]:
         world = self.world
-        self._reading = self.sensors.read(world.robot.pose, world.geometry(), self.np_random, ROBOT_ID)
-        odometry_limit = self.observation_space["odometry"].high
+        body = world.robot.body
+        self._reading = reading = self.sensors.read(_body_state.pose(body), world.geometry(), self.np_random, ROBOT_ID)
+        # world.robot.odometry, clipped to the observation space's bounds, in plain floats
+        vx, vy = _body_state.velocity(body)
+        heading = body.angle
+        linear, angular = vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity
+        linear_limit, angular_limit = self._odometry_limit
+        odometry = (min(max(linear, -linear_limit), linear_limit), min(max(angular, -angular_limit), angular_limit))
         return {
-            "sonar": self._reading.sonar.astype(np.float32),
-            "laser": self._reading.laser.astype(np.float32),
-            "odometry": np.clip(world.robot.odometry, -odometry_limit, odometry_limit).astype(np.float32),
-            "goal": np.zeros(GOAL_ENCODING_SIZE, np.float32) if self.goal is None else self.goal.encode(),
+            "sonar": reading.sonar.astype(np.float32),
+            "laser": reading.laser.astype(np.float32),
+            "odometry": np.array(odometry, dtype=np.float32),
+            "goal": self._goal_cached()[1].copy(),
         }
+
+    def _goal_cached(self) -> tuple:
+        """``(goal, goal.encode(), str(goal))`` of the current goal, computed once per goal."""
+        if self._goal_cache[0] is not self.goal:
+            goal = self.goal
+            self._goal_cache = (
+                (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none") if goal is None
+                else (goal, goal.encode(), str(goal))
+            )
+        return self._goal_cache
 
     def _target_distance(self) -> float:
         if self._target_index is None:
             return math.inf
-        target = self.world.movers[self._target_index].body.position
-        robot = self.world.robot.body.position
+        target = _body_state.position(self.world.movers[self._target_index].body)
+        robot = _body_state.position(self.world.robot.body)
         return math.hypot(target[0] - robot[0], target[1] - robot[1])
 
     def _info(self, collided: bool, success: bool) -> dict[str, Any]:
@@ -281,12 +310,12 @@ class AttentiveRescueEnv(gym.Env):
             "robot_velocity": world.robot.odometry,
             "mover_positions": world.mover_positions(),
             "mover_velocities": world.mover_velocities(),
-            "mover_names": tuple(m.entity.name for m in world.movers),
+            "mover_names": world.mover_names,
             "target_index": -1 if self._target_index is None else self._target_index,
             "target_distance_m": self._distance,
             "collision": collided,
             "success": success,
-            "goal": "none" if self.goal is None else str(self.goal),
+            "goal": self._goal_cached()[2],
             "sonar_hits": self._reading.sonar_owner.copy(),
             "laser_hits": self._reading.laser_owner.copy(),
         }

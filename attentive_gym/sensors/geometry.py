@@ -30,8 +30,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 import pymunk
+from numba import njit
+
+from attentive_gym.sensors._pymunk_access import poses as _body_poses
 
 __all__ = ["SceneGeometry", "GeometryCache", "shape_primitives"]
 
@@ -89,9 +94,8 @@ class SceneGeometry:
         """A ``SceneGeometry`` of arrays already known to be valid (``GeometryCache``'s
         own, whose only new input, the poses, it checks itself), without the checks."""
         geometry = object.__new__(cls)
-        for name, value in (("segments", segments), ("segment_owner", segment_owner), ("circles", circles),
-                            ("circle_owner", circle_owner)):
-            object.__setattr__(geometry, name, value)
+        geometry.__dict__.update(segments=segments, segment_owner=segment_owner, circles=circles,
+                                 circle_owner=circle_owner)
         return geometry
 
     @classmethod
@@ -206,14 +210,12 @@ class GeometryCache:
             _stack(static_segments, (0, 4)), _stack(static_segment_owner, (0,), np.int64),
             _stack(static_circles, (0, 3)), _stack(static_circle_owner, (0,), np.int64),
         )
-        # moving primitives as complex points (segment endpoints, then circle centres),
+        # moving primitives as local points (segment endpoints, then circle centres),
         # each with the index of its body; the outputs start as copies of templates that
         # hold the static primitives and the moving circles' radii
         local_segments = _stack(moving_segments, (0, 4))
         local_circles = _stack(moving_circles, (0, 3))
-        self._local_points = np.concatenate([
-            local_segments.reshape(-1, 2) @ np.array([1.0, 1j]), local_circles[:, :2] @ np.array([1.0, 1j]),
-        ])
+        self._local_points = np.ascontiguousarray(np.concatenate([local_segments.reshape(-1, 2), local_circles[:, :2]]))
         self._point_body = np.concatenate([
             np.repeat(_stack(moving_segment_body, (0,), np.int64), 2), _stack(moving_circle_body, (0,), np.int64),
         ])
@@ -240,19 +242,57 @@ class GeometryCache:
         """
         if not self._bodies:
             return self._static
-        poses = np.array([(*body.position, body.angle) for body in self._bodies])  # (B, 3)
-        if not np.isfinite(poses).all():
-            bad = self._bodies[int(np.flatnonzero(~np.isfinite(poses).all(axis=1))[0])]
-            raise ValueError(f"body {bad!r} has a non-finite pose: position {bad.position}, angle {bad.angle}")
-        rotation = np.exp(1j * poses[:, 2])[self._point_body]
-        translation = (poses[:, 0] + 1j * poses[:, 1])[self._point_body]
-        placed = (self._local_points * rotation + translation).view(np.float64).reshape(-1, 2)
-        m = self._num_moving_endpoints
-        segments = self._segment_template.copy()
-        segments[len(self._static.segments):] = placed[:m].reshape(-1, 4)
-        circles = self._circle_template.copy()
-        circles[len(self._static.circles):, :2] = placed[m:]
+        poses = np.array(_body_poses(self._bodies))  # (3 B,) x, y, angle per body
+        segments, circles, bad = _place_kernel(
+            poses, self._local_points, self._point_body, self._num_moving_endpoints,
+            self._segment_template, self._circle_template,
+        )
+        if bad >= 0:
+            body = self._bodies[bad]
+            raise ValueError(f"body {body!r} has a non-finite pose: position {body.position}, angle {body.angle}")
         return SceneGeometry._unchecked(segments, self._segment_owner, circles, self._circle_owner)
+
+
+@njit(cache=True)
+def _place_kernel(poses, local_points, point_body, num_endpoints, segment_template, circle_template):
+    """``GeometryCache.update``'s arithmetic: copies of the templates with the moving
+    points (segment endpoints, then circle centres) placed at their bodies' poses
+    (``poses``: ``(3 B,)`` x, y, angle of each body).
+
+    The rotation is the complex product ``(lx + i ly)(cos a + i sin a)`` written out, then
+    the translation is added. Returns ``(segments, circles, bad)``; ``bad`` is the index
+    of the first body with a non-finite pose (then the outputs are meaningless), or -1.
+    """
+    n_bodies = poses.shape[0] // 3
+    cos_a = np.empty(n_bodies)
+    sin_a = np.empty(n_bodies)
+    for b in range(n_bodies):
+        if not (math.isfinite(poses[3 * b]) and math.isfinite(poses[3 * b + 1]) and math.isfinite(poses[3 * b + 2])):
+            return segment_template.copy(), circle_template.copy(), b
+        cos_a[b] = math.cos(poses[3 * b + 2])
+        sin_a[b] = math.sin(poses[3 * b + 2])
+    segments = segment_template.copy()
+    circles = circle_template.copy()
+    first_segment = segments.shape[0] - num_endpoints // 2
+    first_circle = circles.shape[0] - (local_points.shape[0] - num_endpoints)
+    for k in range(local_points.shape[0]):
+        b = point_body[k]
+        lx = local_points[k, 0]
+        ly = local_points[k, 1]
+        c = cos_a[b]
+        s = sin_a[b]
+        px = (lx * c - ly * s) + poses[3 * b]
+        py = (lx * s + ly * c) + poses[3 * b + 1]
+        if k < num_endpoints:
+            row = first_segment + k // 2
+            col = 2 * (k % 2)
+            segments[row, col] = px
+            segments[row, col + 1] = py
+        else:
+            row = first_circle + k - num_endpoints
+            circles[row, 0] = px
+            circles[row, 1] = py
+    return segments, circles, -1
 
 
 def _body_primitives(body: pymunk.Body, shapes: Sequence[pymunk.Shape]) -> tuple[np.ndarray, np.ndarray]:

@@ -10,11 +10,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from attentive_gym.sensors._checks import check_geometry, check_owner, check_pose, check_relative_std
 from attentive_gym.sensors.geometry import SceneGeometry
 from attentive_gym.sensors.laser import LaserConfig, LaserScanner
-from attentive_gym.sensors.noise import apply_range_noise
+from attentive_gym.sensors.raycast import cones_kernel, fan_kernel
 from attentive_gym.sensors.sonar import SonarConfig, SonarRing
 
 __all__ = ["SensorReading", "SensorSuite"]
@@ -65,6 +66,8 @@ class SensorSuite:
         self.sonar_ring = SonarRing(sonar)
         self.laser_scanner = LaserScanner(laser)
         self.noise_std = check_relative_std("noise_std", noise_std)
+        self._num_readings = self.sonar_ring.num_sonars + self.laser_scanner.config.num_beams
+        self._laser_step_rad = self.laser_scanner.config.step_rad
 
     def read(self, pose, geometry: SceneGeometry, rng: np.random.Generator,
              exclude_owner: int = -1) -> SensorReading:
@@ -83,15 +86,22 @@ class SensorSuite:
         x, y, theta = check_pose(pose)
         geometry = check_geometry(geometry)
         exclude = check_owner(exclude_owner)
-        sonar, sonar_owner = self.sonar_ring.sweep(x, y, theta, geometry, exclude)
-        laser, laser_owner = self.laser_scanner.sweep(x, y, theta, geometry, exclude)
-        s, c = self.sonar_ring.config, self.laser_scanner.config
-        return SensorReading(
-            sonar=apply_range_noise(sonar, self.noise_std, s.min_range_m, s.max_range_m, rng),
-            laser=apply_range_noise(laser, self.noise_std, 0.0, c.max_range_m, rng),
-            sonar_owner=sonar_owner,
-            laser_owner=laser_owner,
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+        # one draw for both sensors: the same stream as sonar's normals, then the laser's
+        normals = rng.standard_normal(self._num_readings)
+        ring, scanner = self.sonar_ring, self.laser_scanner
+        s, c = ring.config, scanner.config
+        ox, oy = scanner._origin(x, y, theta)
+        sonar, sonar_owner, laser, laser_owner = _read_kernel(
+            x, y, theta, ring._positions, ring._bearings, ring._half_width_rad, s.min_range_m, s.max_range_m,
+            ox, oy, theta + scanner._first_bearing_rad, self._laser_step_rad, c.num_beams, c.max_range_m,
+            geometry.segments, geometry.segment_owner, geometry.circles, geometry.circle_owner, exclude,
+            self.noise_std, normals,
         )
+        reading = object.__new__(SensorReading)  # the dataclass's fields, without its frozen __init__
+        reading.__dict__.update(sonar=sonar, laser=laser, sonar_owner=sonar_owner, laser_owner=laser_owner)
+        return reading
 
     def laser_segments(self, pose, reading: SensorReading) -> np.ndarray:
         """``(2, B, 2)`` beam origins and ends of ``reading`` (m, world frame) for drawing."""
@@ -100,3 +110,36 @@ class SensorSuite:
     def sonar_cones(self, pose, reading: SensorReading) -> list[np.ndarray]:
         """One ``(P, 2)`` cone polygon per sonar of ``reading`` (m, world frame) for drawing."""
         return self.sonar_ring.cone_polygons(pose, reading.sonar)
+
+
+@njit(cache=True)
+def _noisy(ranges, sigma, normals, offset, min_range, max_range):
+    """``noise.apply_range_noise`` in place, with the normals ``normals[offset:]``."""
+    for k in range(ranges.shape[0]):
+        r = ranges[k]
+        if r >= max_range:
+            ranges[k] = max_range
+            continue
+        v = r * (1.0 + sigma * normals[offset + k])
+        if v < min_range:
+            v = min_range
+        elif v > max_range:
+            v = max_range
+        ranges[k] = v
+
+
+@njit(cache=True)
+def _read_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar_min, sonar_max,
+                 laser_x, laser_y, laser_first, laser_step, num_beams, laser_max,
+                 segments, segment_owner, circles, circle_owner, exclude, sigma, normals):
+    """``SensorSuite.read`` after its checks: both sweeps and the noise in one call."""
+    sonar, sonar_owner, _ = cones_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar_max,
+                                         segments, segment_owner, circles, circle_owner, exclude)
+    for k in range(sonar.shape[0]):
+        if sonar[k] < sonar_min:
+            sonar[k] = sonar_min
+    laser, laser_owner = fan_kernel(laser_x, laser_y, laser_first, laser_step, num_beams, laser_max,
+                                    segments, segment_owner, circles, circle_owner, exclude)
+    _noisy(sonar, sigma, normals, 0, sonar_min, sonar_max)
+    _noisy(laser, sigma, normals, sonar.shape[0], 0.0, laser_max)
+    return sonar, sonar_owner, laser, laser_owner

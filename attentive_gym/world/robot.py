@@ -19,6 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
+from attentive_gym.sensors import _pymunk_access as _body_state
+
 __all__ = ["RobotConfig", "Robot", "ROBOT_COLLISION_TYPE"]
 
 #: pymunk collision type of the attentive robot's shape.
@@ -104,27 +106,32 @@ class Robot:
         # Drive along the chord of the arc turned during this sub-step (the heading at its
         # middle), so the body's velocity stays aligned with its heading while turning.
         heading = self.body.angle + 0.5 * angular * h_s
-        self.control.velocity = (linear * math.cos(heading), linear * math.sin(heading))
-        self.control.angular_velocity = angular
+        control = self.control
+        _body_state.set_velocity(control, linear * math.cos(heading), linear * math.sin(heading))
+        _body_state.set_angular_velocity(control, angular)
 
     @property
     def pose(self) -> np.ndarray:
         """``(x_m, y_m, heading_rad)`` of the body's centre."""
-        x, y = self.body.position
-        return np.array([x, y, self.body.angle])
+        return np.array(_body_state.pose(self.body))
 
     @property
     def odometry(self) -> np.ndarray:
         """Measured ``(linear m/s along the heading, angular rad/s)`` of the body."""
-        vx, vy = self.body.velocity
-        heading = self.body.angle
-        return np.array([vx * math.cos(heading) + vy * math.sin(heading), self.body.angular_velocity])
+        body = self.body
+        vx, vy = _body_state.velocity(body)
+        heading = body.angle
+        return np.array([vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity])
 
     def in_contact(self) -> bool:
         """Whether the body touches any other shape after the last physics step."""
-        touching = []
-        self.body.each_arbiter(lambda arbiter: touching.append(bool(arbiter.contact_point_set.points)))
-        return any(touching)
+        counts: list[int] = []
+        self.body.each_arbiter(_append_contact_count, counts)
+        return any(counts)
+
+
+def _append_contact_count(arbiter: pymunk.Arbiter, counts: list[int]) -> None:
+    counts.append(_body_state.contact_count(arbiter))
 
 
 def _approach(value: float, target: float, max_change: float) -> float:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
+from attentive_gym.sensors import _pymunk_access as _body_state
 from attentive_gym.sensors.geometry import GeometryCache, SceneGeometry
 from attentive_gym.world.behaviours import make_motion
 from attentive_gym.world.robot import Robot, RobotConfig
@@ -66,12 +67,14 @@ class Mover:
         Called once per environment step: the body is exactly on its path at every step
         boundary and moves in a straight line in between.
         """
-        if self.motion is None:
+        motion = self.motion
+        if motion is None:
             return
-        vx, vy = self.motion.velocity(t_s, h_s, self.body.position, robot_xy)
-        self.body.velocity = (vx, vy)
-        if self.motion.face_motion and (vx or vy):
-            self.body.angle = math.atan2(vy, vx)
+        body = self.body
+        vx, vy = motion.velocity(t_s, h_s, _body_state.position(body), robot_xy)
+        _body_state.set_velocity(body, vx, vy)
+        if motion.face_motion and (vx or vy):
+            _body_state.set_angle(body, math.atan2(vy, vx))
 
 
 class World:
@@ -156,15 +159,19 @@ class World:
         """
         substeps = max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
         h = dt_s / substeps
-        self.robot.command(linear_mps, angular_rps)
-        robot_xy = self.robot.body.position
-        for mover in self.movers:
-            mover.drive(self.time_s, dt_s, robot_xy)
+        robot = self.robot
+        robot.command(linear_mps, angular_rps)
+        if self.movers:
+            robot_xy = _body_state.position(robot.body)
+            t_s = self.time_s
+            for mover in self.movers:
+                mover.drive(t_s, dt_s, robot_xy)
         collided = False
+        space = self.space
         for _ in range(substeps):
-            self.robot.drive(h)
-            self.space.step(h)
-            collided = collided or self.robot.in_contact()
+            robot.drive(h)
+            space.step(h)
+            collided = collided or robot.in_contact()
         self._steps_taken += 1
         self.time_s = self._steps_taken * dt_s
         return collided
@@ -173,13 +180,27 @@ class World:
         """The scene's world-frame geometry now, with owners = entity ids."""
         return self._geometry.update()
 
+    @property
+    def mover_names(self) -> tuple[str, ...]:
+        """The movers' names, in scenario order."""
+        names = self.__dict__.get("_mover_names")
+        if names is None or len(names) != len(self.movers):
+            names = self._mover_names = tuple(m.entity.name for m in self.movers)
+        return names
+
     def mover_positions(self) -> np.ndarray:
         """``(M, 2)`` mover centres (m)."""
-        return np.array([m.body.position for m in self.movers], dtype=float).reshape(-1, 2)
+        xy: list[float] = []
+        for m in self.movers:
+            xy += _body_state.position(m.body)
+        return np.array(xy, dtype=float).reshape(-1, 2)
 
     def mover_velocities(self) -> np.ndarray:
         """``(M, 2)`` mover velocities (m/s)."""
-        return np.array([m.body.velocity for m in self.movers], dtype=float).reshape(-1, 2)
+        v: list[float] = []
+        for m in self.movers:
+            v += _body_state.velocity(m.body)
+        return np.array(v, dtype=float).reshape(-1, 2)
 
 
 def _wall_shape(body: pymunk.Body, wall: WallSpec) -> pymunk.Poly:
