@@ -145,12 +145,12 @@ def _rubble_piece(rng: np.random.Generator, x: float, y: float) -> Rubble:
     return SegmentRubble((x - dx, y - dy), (x + dx, y + dy), 0.05)
 
 
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """Distance (m) from point ``p`` to the segment ``a``–``b``."""
+def _segment_distances(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distances (m) from each of ``points`` ``(N, 2)`` to the segment ``a``–``b``, ``(N,)``."""
     ab = b - a
     denom = float(ab @ ab)
-    t = 0.0 if denom == 0.0 else min(max(float((p - a) @ ab) / denom, 0.0), 1.0)
-    return float(np.linalg.norm(a + t * ab - p))
+    t = np.zeros(len(points)) if denom == 0.0 else np.clip((points - a) @ ab / denom, 0.0, 1.0)
+    return np.linalg.norm(a + t[:, None] * ab - points, axis=1)
 
 
 class _Layout:
@@ -161,15 +161,22 @@ class _Layout:
         self.low = np.array([_WALL_MARGIN_M, _WALL_MARGIN_M])
         self.high = np.array([config.width_m, config.height_m]) - _WALL_MARGIN_M
         self.rubble: list[Rubble] = []
+        self._rubble_centres = np.empty((0, 2))
+        self._rubble_extents = np.empty(0)
         self.discs: list[tuple[np.ndarray, float]] = []  # placed movers and robot: (centre, extent)
 
     def random_point(self, extent: float) -> np.ndarray:
         return self.rng.uniform(self.low + extent, self.high - extent)
 
+    def add_rubble(self, piece: Rubble) -> None:
+        self.rubble.append(piece)
+        self._rubble_centres = np.vstack([self._rubble_centres, [piece.x_m, piece.y_m]])
+        self._rubble_extents = np.append(self._rubble_extents, piece.extent_m)
+
     def clear_of_rubble(self, a: np.ndarray, b: np.ndarray, extent: float, gap: float = 0.15) -> bool:
-        return all(
-            _segment_distance(np.array([r.x_m, r.y_m]), a, b) > r.extent_m + extent + gap for r in self.rubble
-        )
+        """Whether a body of ``extent`` (m) swept from ``a`` to ``b`` stays ``gap`` (m) clear of all rubble."""
+        distances = _segment_distances(self._rubble_centres, a, b)
+        return bool(np.all(distances > self._rubble_extents + extent + gap))
 
     def clear_of_discs(self, p: np.ndarray, extent: float, gap: float) -> bool:
         return all(np.linalg.norm(p - c) > e + extent + gap for c, e in self.discs)
@@ -184,7 +191,7 @@ def _place_rubble(layout: _Layout, count: int, robot_xy: np.ndarray) -> None:
             if np.linalg.norm(centre - robot_xy) > piece.extent_m + 1.2 and layout.clear_of_rubble(
                 centre, centre, piece.extent_m, gap=0.3
             ):
-                layout.rubble.append(piece)
+                layout.add_rubble(piece)
                 break
 
 
