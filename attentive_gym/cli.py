@@ -5,6 +5,8 @@ Subcommands (one small function each, registered in ``_SUBCOMMANDS``):
 - ``attend LOG --out DIR``: replay readings logged from a robot (CSV or NPZ, formats in
   ``attentive_gym.attention.replay``) through the attentional model and write
   ``DIR/trace.npz`` and ``DIR/trace.png``.
+- ``experiment NAME|all [--noise S] [--seed N] [--out DIR]``: reproduce the paper's
+  experiments and print MODEL.md §9's checks (``attentive_gym.experiments.cli``).
 
 Errors in the user's input (a malformed log, an invalid goal, map list or configuration)
 print one line on stderr and exit with status 2; ``main`` returns the exit status.
@@ -17,6 +19,8 @@ import json
 import sys
 from pathlib import Path
 from typing import Callable, Sequence
+
+from attentive_gym.experiments.cli import add_experiment_parser
 
 __all__ = ["main", "build_parser"]
 
@@ -88,7 +92,10 @@ def _parse_state_arg(text: str) -> str | float:
 
 
 #: Subcommand name → function adding it to the parser; the lead adds ``experiment``, ``train``...
-_SUBCOMMANDS: dict[str, Callable] = {"attend": _add_attend}
+_SUBCOMMANDS: dict[str, Callable] = {
+    "attend": _add_attend,
+    "experiment": add_experiment_parser,
+}
 
 
 def build_parser() -> argparse.ArgumentParser:

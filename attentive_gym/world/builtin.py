@@ -50,15 +50,22 @@ def exp01() -> Scenario:
 
 def exp02() -> Scenario:
     """Exp02, distance (F3, sonar + laser): a room 16 × 12 m whose walls lie beyond sonar
-    range (> 5 m) but within laser range; a robot 3 m away at +70° — in the gap between
-    the s1 and s2 cones — starts after 1.5 s at 0.5 m/s and drives past the robot's left
-    side to behind it."""
-    legs = [Leg((-1.0, 1.0), 0.5), Leg((-3.0, 1.0), 0.5)]
+    range (> 5 m) but within laser range; a robot 3 m away at +135° — behind-left, outside
+    every front sonar cone and the laser's field of view — starts after 1.5 s at 0.5 m/s
+    and drives forward past the robot's left side (2.1 m abeam), entering sonar s1's cone
+    at about 4 s and s2's at about 6 s."""
+    x, y = polar(3.0, 135.0)
+    target = MoverSpec(
+        name="target",
+        kind="robot",
+        start=Pose(x, y, 0.0),
+        behaviour=PathBehaviour(legs=(Leg((6.0, y), 0.5),), start_delay_s=1.5),
+    )
     return Scenario(
         name="exp02",
         bounds=(-4.0, -6.0, 12.0, 6.0),
         enclosed=True,
-        movers=(_robot("target", 3.0, 70.0, legs, delay_s=1.5),),
+        movers=(target,),
         duration_s=12.0,
     )
 
@@ -98,8 +105,9 @@ def exp04() -> Scenario:
 
 def exp05() -> Scenario:
     """Exp05, motion + goal speed (F1 + F4, GREATER(0.6) m/s): two robots 7 m away, out of
-    sonar range: the faster (0.7 m/s) at +10° from 0 s, the slower (0.6 m/s) at −30° from
-    2 s; each approaches to 2.5 m and backs away to 7 m, the faster leaving range first."""
+    sonar range: the faster (0.7 m/s) at +10° from 0 s, the slower (0.55 m/s: the paper's
+    "~0.6", below the goal's threshold) at −30° from 2 s; each approaches to 2.5 m and
+    backs away to 7 m, the faster leaving range first."""
     def there_and_back(bearing, speed):
         return [Leg(polar(2.5, bearing), speed), Leg(polar(7.0, bearing), speed)]
 
@@ -108,7 +116,7 @@ def exp05() -> Scenario:
         bounds=(-2.0, -8.0, 10.0, 8.0),
         movers=(
             _robot("fast", 7.0, 10.0, there_and_back(10.0, 0.7), delay_s=0.0),
-            _robot("slow", 7.0, -30.0, there_and_back(-30.0, 0.6), delay_s=2.0),
+            _robot("slow", 7.0, -30.0, there_and_back(-30.0, 0.55), delay_s=2.0),
         ),
         duration_s=19.0,
     )

@@ -1,0 +1,53 @@
+"""``attentive-gym experiment NAME|all [--noise S] [--seed N] [--out DIR]``.
+
+Runs one experiment (or all five, with a tqdm progress bar), prints each MODEL.md §9
+check as PASS/FAIL with its measured values, and with ``--out`` writes ``DIR/NAME.npz``
+(the trace) and ``DIR/NAME.png`` (the figure). Exit status 0 whatever the checks say.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from attentive_gym.experiments.checks import check_experiment
+from attentive_gym.experiments.registry import EXPERIMENT_NAMES, get_experiment
+from attentive_gym.experiments.runner import run_experiment
+
+__all__ = ["add_experiment_parser"]
+
+_ALL = "all"
+
+
+def add_experiment_parser(subparsers) -> None:
+    """Add the ``experiment`` subcommand to an argparse ``subparsers`` object."""
+    parser = subparsers.add_parser(
+        "experiment",
+        help="reproduce one of the paper's experiments (or all)",
+        description=("Run one of the paper's experiments with the robot immobile, print the MODEL.md §9 checks "
+                     f"and optionally write DIR/NAME.npz and DIR/NAME.png. NAME: {', '.join(EXPERIMENT_NAMES)} "
+                     f"or {_ALL}."),
+    )
+    parser.add_argument("name", metavar="NAME", help=f"{', '.join(EXPERIMENT_NAMES)} or {_ALL}")
+    parser.add_argument("--noise", type=float, default=0.0,
+                        help="relative sensor noise σ in [0, 0.5] (default 0; the paper's is 0.05)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the noise (int >= 0, default 0)")
+    parser.add_argument("--out", type=Path, help="folder for NAME.npz and NAME.png (default: write nothing)")
+    parser.set_defaults(handler=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    names = EXPERIMENT_NAMES if args.name == _ALL else (get_experiment(args.name).name,)
+    if args.name == _ALL:
+        from tqdm import tqdm
+
+        names = tqdm(names, desc="experiments", unit="exp")
+    lines = []
+    for name in names:
+        result = run_experiment(name, noise=args.noise, seed=args.seed, out_dir=args.out)
+        checks = check_experiment(result)
+        lines.append(f"{name}: {sum(c.passed for c in checks)}/{len(checks)} checks pass")
+        lines.extend(f"  {'PASS' if c.passed else 'FAIL'} {c.name}: {c.measured}" for c in checks)
+        lines.extend(f"  wrote {path}" for path in result.paths)
+    print("\n".join(lines))
+    return 0
