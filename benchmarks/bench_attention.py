@@ -3,7 +3,8 @@
 Run: ``python benchmarks/bench_attention.py [--steps N]``. Prints µs per model step for a
 stationary and a moving robot (ego-motion compensation on), µs per raw
 ``AttentiveRescue-v0`` step with random actions when that environment can be made, and
-their ratio. The readings are realistic: a room with walls, two targets moving at
+their ratio (wall-clock times, measured in the same run). The model's CPU time per step is
+printed too: it is what the step costs when the machine is shared with other jobs. The readings are realistic: a room with walls, two targets moving at
 0.5-0.8 m/s, 5 % multiplicative noise. Nothing is asserted: measure, don't guess.
 """
 
@@ -54,8 +55,8 @@ def make_readings(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     return np.clip(sonar, 0.0, SONAR_MAX_M), np.clip(laser, 0.0, LASER_MAX_M)
 
 
-def time_model(steps: int, odometry: tuple[float, float] | None) -> tuple[float, int]:
-    """µs per step with all six maps active, and the number of courses fired."""
+def time_model(steps: int, odometry: tuple[float, float] | None) -> tuple[float, float, int]:
+    """Wall-clock and CPU µs per step with all six maps active, and the courses fired."""
     sonar, laser = make_readings(steps + WARM_UP)
     model = AttentionModel(AttentionConfig())
     model.set_goals(Goal.between("speed", 0.5, 0.9), Goal.direction_is("towards"), Goal.smaller("distance", 3.0))
@@ -63,10 +64,11 @@ def time_model(steps: int, odometry: tuple[float, float] | None) -> tuple[float,
     fired = 0
     for k in range(WARM_UP):
         model.step(k * DT_S, sonar[k], laser[k], odometry)
-    start = time.perf_counter()
+    start, start_cpu = time.perf_counter(), time.process_time()
     for k in range(WARM_UP, WARM_UP + steps):
         fired += model.step(k * DT_S, sonar[k], laser[k], odometry).fired
-    return (time.perf_counter() - start) / steps * 1e6, fired
+    cpu = time.process_time() - start_cpu
+    return (time.perf_counter() - start) / steps * 1e6, cpu / steps * 1e6, fired
 
 
 def time_env(steps: int) -> float | None:
@@ -97,15 +99,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=5000)
     args = parser.parse_args()
-    still, fired_still = time_model(args.steps, None)
-    moving, fired_moving = time_model(args.steps, (0.4, 0.2))
+    still, still_cpu, fired_still = time_model(args.steps, None)
+    moving, moving_cpu, fired_moving = time_model(args.steps, (0.4, 0.2))
     env = time_env(min(args.steps, 2000))
-    rows = [("model step, robot still (6 maps, J=8)", still), ("model step, robot moving (ego-motion)", moving)]
+    rows = [("model step, robot still (6 maps, J=8)", still, still_cpu),
+            ("model step, robot moving (ego-motion)", moving, moving_cpu)]
     if env is not None:
-        rows.append(("raw AttentiveRescue-v0 step", env))
-    print(f"{'what':45s} {'us/step':>9s}")
-    for name, value in rows:
-        print(f"{name:45s} {value:9.1f}")
+        rows.append(("raw AttentiveRescue-v0 step", env, None))
+    print(f"{'what':45s} {'us/step':>9s} {'cpu us':>8s}")
+    for name, value, cpu in rows:
+        print(f"{name:45s} {value:9.1f} {'' if cpu is None else f'{cpu:8.1f}'}")
     print(f"(courses fired: {fired_still} still, {fired_moving} moving, over {args.steps} steps)")
     if env is not None:
         print(f"ratio model/env: {still / env:.2f} still, {moving / env:.2f} moving (target < 0.5)")

@@ -227,7 +227,10 @@ class Goal:
         decimals (so a float32 round trip gives back the same goal), and a BETWEEN with
         ``lo > hi`` is reordered.
         """
-        vec = np.asarray(vector, dtype=float).reshape(-1)
+        try:
+            vec = np.asarray(vector, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise ValueError(f"a goal encoding must be {GOAL_ENCODING_SIZE} numbers, got {vector!r}") from None
         if vec.shape != (GOAL_ENCODING_SIZE,):
             raise ValueError(f"a goal encoding has {GOAL_ENCODING_SIZE} entries, got shape {np.shape(vector)}")
         if not np.all(np.isfinite(vec)):

@@ -6,6 +6,8 @@
 - ``predict_scan``: a static world's laser scan after the robot moved.
 - ``point_range_change``: MODEL.md's sonar prediction ``−v dt cos θ`` (point-like echo).
 - ``virtual_sonar``: the nearest laser echo inside each sonar cone.
+- ``scan_points``, ``ego_range_change``: compiled kernels of the model's step, the same
+  arithmetic as ``predict_scan``, ``point_range_change`` and ``virtual_sonar``.
 
 Units: seconds, metres, m/s, radians. Range rates are positive when the range grows
 (moving away), as in MODEL.md (d = +1 away, −1 towards).
@@ -16,6 +18,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
+
+from attentive_gym.attention._numerics import interp_sorted
 
 __all__ = [
     "slope_weights",
@@ -142,3 +147,75 @@ def virtual_sonar(scan_m: np.ndarray, bearings_rad: np.ndarray,
     inside = np.minimum.reduceat(scan_m, indices)[take]
     at_edges = np.interp(edges, bearings_rad, scan_m)
     return np.minimum(inside, at_edges.min(axis=1))
+
+
+@njit(cache=True)
+def scan_points(ranges_m, cos_b, sin_b, dx_m, dy_m, x_out, y_out):
+    """A scan's echo points after a move of ``(dx, dy)``, as in ``predict_scan``:
+    ``x = r cos b − dx``, ``y = r sin b − dy`` (m), written into ``x_out``, ``y_out`` ``(n,)``."""
+    for i in range(ranges_m.shape[0]):
+        x_out[i] = ranges_m[i] * cos_b[i] - dx_m
+        y_out[i] = ranges_m[i] * sin_b[i] - dy_m
+
+
+@njit(cache=True)
+def ego_range_change(previous, angles, x, y, dtheta_rad, dx_m, dy_m, bearings_rad, sonar_cos, sonar_sin,
+                     cone_plan, cone_edges_rad, match_m, point_model, change):
+    """The range change a static world shows after the robot's move, per channel (m).
+
+    The arithmetic of ``predict_scan`` for the laser and of ``virtual_sonar`` /
+    ``point_range_change`` for the sonars, operation for operation.
+
+    Args:
+        previous: ``(S + B,)`` the previous readings (m): S front sonars, then B beams.
+        angles: ``(B,)`` ``np.arctan2(y, x)`` of the echo points (rad; numpy's arctan2,
+            whose SIMD results differ from libm's in the last bit, so it is taken outside).
+        x, y: ``(B,)`` the echo points in the new frame (``scan_points``, m).
+        dtheta_rad, dx_m, dy_m: the move (``planar_displacement``).
+        bearings_rad: ``(B,)`` beam bearings, increasing.
+        sonar_cos, sonar_sin: ``(S,)`` of the front sonar bearings.
+        cone_plan: ``(S, 4)`` int per sonar cone: its beams ``start <= i < stop``
+            (``regions.sonar_cone_bounds``) and the places of its two edges in
+            ``cone_edges_rad``.
+        cone_edges_rad: ``(2S,)`` the bearings of all cone edges, increasing.
+        match_m: ``sonar_ego_match_m``; point_model: True for ``sonar_ego_model="point"``.
+        change: ``(S + B,)`` output (m).
+    """
+    n_sonar = sonar_cos.shape[0]
+    n_beams = bearings_rad.shape[0]
+    new_bearings = np.empty(n_beams)
+    distances = np.empty(n_beams)
+    for i in range(n_beams):
+        bearing = angles[i] - dtheta_rad
+        # np.maximum.accumulate: occlusion folds become flat steps
+        new_bearings[i] = bearing if i == 0 or bearing > new_bearings[i - 1] else new_bearings[i - 1]
+        distances[i] = math.hypot(x[i], y[i])
+    predicted = np.empty(n_beams)
+    interp_sorted(bearings_rad, new_bearings, distances, predicted)
+    for i in range(n_beams):
+        change[n_sonar + i] = predicted[i] - previous[n_sonar + i]
+    laser_prev = previous[n_sonar:]
+    if not point_model:
+        # the scans at the cone edges, before and after the move
+        edges_before = np.empty(2 * n_sonar)
+        edges_after = np.empty(2 * n_sonar)
+        interp_sorted(cone_edges_rad, bearings_rad, laser_prev, edges_before)
+        interp_sorted(cone_edges_rad, bearings_rad, predicted, edges_after)
+    for j in range(n_sonar):
+        point = -(dx_m * sonar_cos[j] + dy_m * sonar_sin[j])
+        if point_model:
+            change[j] = point
+            continue
+        start, stop, edge0, edge1 = cone_plan[j, 0], cone_plan[j, 1], cone_plan[j, 2], cone_plan[j, 3]
+        before = min(_min_of(laser_prev, start, stop), min(edges_before[edge0], edges_before[edge1]))
+        after = min(_min_of(predicted, start, stop), min(edges_after[edge0], edges_after[edge1]))
+        change[j] = after - before if abs(before - previous[j]) <= match_m else point
+
+
+@njit(cache=True)
+def _min_of(values, start, stop):
+    """``values[start:stop].min()`` (stop > start)."""
+    smallest = values[start]
+    for i in range(start + 1, stop):
+        smallest = min(smallest, values[i])
+    return smallest

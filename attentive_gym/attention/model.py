@@ -32,7 +32,8 @@ from typing import Iterable, Mapping
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention.attentional_map import CourseBook, attentional_map, lateral_spread
+from attentive_gym.attention._numerics import interp, pairwise_sum, vecmat
+from attentive_gym.attention.attentional_map import CourseBook, lateral_spread
 from attentive_gym.attention.config import (
     BOTTOM_UP_MAPS,
     MAP_ALIASES,
@@ -43,23 +44,15 @@ from attentive_gym.attention.config import (
 )
 from attentive_gym.attention.features import (
     Spaces,
-    direction_goal_map,
     distance_map,
     goal_knots,
-    goal_map,
     label_columns,
-    majority_labels,
     motion_map,
     rarity_map,
 )
-from attentive_gym.attention.goals import Direction, Feature, Goal
-from attentive_gym.attention.kinematics import (
-    planar_displacement,
-    point_range_change,
-    predict_scan,
-    virtual_sonar,
-)
-from attentive_gym.attention.memory import SensorMemory
+from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
+from attentive_gym.attention.kinematics import ego_range_change, planar_displacement, scan_points
+from attentive_gym.attention.memory import SensorMemory, push_sample, slope_rates
 from attentive_gym.attention.regions import (
     FRONT_SONARS,
     LASER_BEAMS,
@@ -67,7 +60,7 @@ from attentive_gym.attention.regions import (
     Grid,
     front_sonar_bearings_rad,
     laser_bearings_rad,
-    sonar_cone_reduction,
+    sonar_cone_bounds,
 )
 
 __all__ = [
@@ -247,15 +240,27 @@ class AttentionModel:
             [np.full(FRONT_SONARS, config.sonar_max_range_m), np.full(LASER_BEAMS, config.laser_max_range_m)]
         )
         self._no_echo_from = self._max_ranges - config.no_echo_epsilon_m
+        self._limits = np.stack([self._max_ranges, self._no_echo_from])  # per channel, for the kernels (m)
         beams = laser_bearings_rad()
         self._beam_bearings, self._beam_cos, self._beam_sin = beams, np.cos(beams), np.sin(beams)
         sonars = front_sonar_bearings_rad()
         self._sonar_cos, self._sonar_sin = np.cos(sonars), np.sin(sonars)
-        self._cone_plan = sonar_cone_reduction(config.sonar_cone_half_width_deg)
+        # each sonar cone's beams (start, stop) and the places of its two edges in the
+        # increasing list of all cone edges (rad), as ego_range_change takes them
+        edges = sonars[:, None] + np.radians(config.sonar_cone_half_width_deg) * np.array([-1.0, 1.0])
+        order = np.argsort(edges, axis=None, kind="stable")
+        places = np.empty(order.size, dtype=np.intp)
+        places[order] = np.arange(order.size)
+        bounds = sonar_cone_bounds(config.sonar_cone_half_width_deg)
+        self._cone_plan = np.concatenate([bounds, places.reshape(edges.shape)], axis=1)
+        self._cone_edges = edges.ravel()[order]
         self._spaces = Spaces.make((FRONT_SONARS, LASER_BEAMS))
         self._row = np.zeros(_REAR.stop)
+        # ego-motion scratch: echo points x, y (m), their bearings (rad), the range change (m)
+        self._scan_x, self._scan_y, self._scan_angles = (np.empty(LASER_BEAMS) for _ in range(3))
+        self._ego = np.empty(_N_CHANNELS)
         self._goals: dict[Feature, Goal] = {}
-        self._td_plan: list[tuple[int, Feature, Goal, tuple | None]] = []
+        self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), _PLAN_COLUMNS))
         self._weights = np.asarray(config.weights, dtype=float)
         self._gain = config.gain
         self._active = np.zeros(len(MAP_NAMES))
@@ -332,7 +337,10 @@ class AttentionModel:
         elif weights is not None:
             if isinstance(weights, str):
                 raise ValueError(f"weights must be a mapping or 6 numbers, got the string {weights!r}")
-            values = list(weights)
+            try:
+                values = list(weights)
+            except TypeError:
+                raise ValueError(f"weights must be a mapping or 6 numbers (F1..F6), got {weights!r}") from None
             if len(values) != len(MAP_NAMES):
                 raise ValueError(f"a weight sequence needs 6 entries (F1..F6), got {len(values)}")
             pairs.extend(zip(MAP_NAMES, values))
@@ -360,18 +368,16 @@ class AttentionModel:
                 active[row] = 0.0
         self._active = active
         maxima = {Feature.SPEED: self.config.max_speed_mps, Feature.DISTANCE: self.config.max_distance_m}
-        # (row of F, feature, goal, goal-table knots) of every active top-down map
-        self._td_plan = [
-            (row, feature, self._goals[feature],
-             goal_knots(self._goals[feature], maxima[feature]) if feature in maxima else None)
-            for feature, row in GOAL_MAP_OF_FEATURE.items() if active[row] > 0.0
-        ]
-        self._active_td = active[list(TOP_DOWN_MAPS)]
+        # one row per top-down map (F4..F6) for the compiled goal maps, see _PLAN_COLUMNS
+        plan = np.zeros((len(TOP_DOWN_MAPS), _PLAN_COLUMNS))
+        for feature, row in GOAL_MAP_OF_FEATURE.items():
+            if active[row] > 0.0:
+                plan[row - TOP_DOWN_MAPS[0]] = _goal_plan_row(self._goals[feature], maxima.get(feature))
+        self._goal_plan = plan
         total = float(active.sum())
         normaliser = 1.0 / total if (self.config.normalise_combined and total > 0.0) else 1.0
-        # weights of C_BU = w_BU @ F[:3] and C_TD = w_TD @ F[3:], normaliser folded in
-        self._combine_bu = active[list(BOTTOM_UP_MAPS)] * normaliser
-        self._combine_td = self._active_td * normaliser
+        # weights of C_BU = w_BU @ F[:3] (row 0) and C_TD = w_TD @ F[3:] (row 1), normaliser folded in
+        self._combine = np.stack([active[list(BOTTOM_UP_MAPS)], active[list(TOP_DOWN_MAPS)]]) * normaliser
 
     # --- dynamics -----------------------------------------------------------------------
     def reset(self) -> None:
@@ -405,34 +411,43 @@ class AttentionModel:
         cfg = self.config
         grid = self.grid
         t = self._check_time(t)
-        readings = self._check_readings(sonar, laser)
+        row = self._check_readings(sonar, laser)
         motion = self._check_odometry(odometry)
-        np.minimum(readings, self._max_ranges, out=readings)
-        invalid = readings >= self._no_echo_from
-        ego = self._ego_change(t, motion) if motion is not None else None
-        memory = self._memory
-        memory.push(t, readings, invalid, ego)
+        if motion is not None and self._last_t is not None:
+            dt = t - self._last_t
+            if not (math.isfinite(motion[0] * dt) and math.isfinite(motion[1] * dt)):
+                raise ValueError(f"odometry {odometry!r} over the {dt:g} s since the last reading is not a finite "
+                                 "displacement; call reset() after a gap this long")
+        moved = motion is not None and self._ego_change(t, motion)
         self._last_t = t
 
-        # --- kinematics from memory (§3) --------------------------------------------------
-        rates = memory.range_rates(cfg.slope_samples)
-        valid = ~invalid
-        active = self._active
-        n_regions = grid.n_regions
-        F = np.zeros((len(MAP_NAMES), n_regions))
-        if not grid.is_laser:  # the sonar grid: one compiled call, same arithmetic
-            region_speed, sonar_labels, directions, nearest, distances = _sonar_grid_kernel(
-                rates, readings, invalid, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
-                cfg.max_distance_m, grid.beam_region, self._spaces.rarity_scale, self._spaces.rarity_shift,
-                active[0] > 0.0, active[1] > 0.0, active[2] > 0.0, cfg.laser_only, cfg.laser_max_range_m, F,
+        # fresh arrays for the output (users keep them), filled by the compiled kernels
+        J = grid.n_regions
+        empty = np.empty
+        F = np.zeros((len(MAP_NAMES), J))
+        C_BU, C_TD, C, M, L = empty(J), empty(J), empty(J), empty(J), empty(J)
+        region_speed, distances, nearest = empty(J), empty(J), empty(J)
+        readings, rates, valid = empty(_N_CHANNELS), empty(_N_CHANNELS), empty(_N_CHANNELS, np.bool_)
+        origins, directions, fulfilled = empty(J, np.int8), empty(J, np.int8), empty(J, np.bool_)
+        memory = self._memory.buffers
+        if not grid.is_laser:  # the sonar grid: §2–§6 in one compiled call
+            _sonar_grid_step(
+                row, self._limits, *memory, t, cfg.slope_samples, self._ego, moved,
+                cfg.max_speed_mps, cfg.direction_epsilon_mps, cfg.max_distance_m, cfg.laser_only,
+                cfg.laser_max_range_m, grid.beam_region, self._active, self._goal_plan, cfg.td_require_target,
+                self._combine,
+                readings, valid, rates, F, C_BU, C_TD, C, region_speed, distances, nearest, origins, directions,
+                fulfilled,
             )
-            echo = nearest < np.inf
         else:
+            # --- sensorial memory and kinematics (§2, §3) -----------------------------------
+            _sense(row, self._limits, *memory, t, cfg.slope_samples, self._ego, moved, readings, valid, rates)
+            active = self._active
             abs_rates = np.abs(rates)
             speed = np.minimum(abs_rates, cfg.max_speed_mps)
             labels = np.sign(rates) * (abs_rates > cfg.direction_epsilon_mps)
             columns = label_columns(labels)
-            o1, o2 = readings[_SONAR], readings[_LASER]
+            o2 = readings[_LASER]
             sonar_speed, sonar_labels8 = speed[_SONAR], labels[_SONAR]
 
             # --- bottom-up maps (§4) ----------------------------------------------------------
@@ -451,57 +466,31 @@ class AttentionModel:
 
             # --- region quantities --------------------------------------------------------------
             sonar_labels = grid.sonar_to_regions(sonar_labels8)
-            laser_labels = (labels[_LASER] if grid.is_laser
-                            else majority_labels(columns[_LASER], grid.beam_region, n_regions))
-            directions = np.where(sonar_labels != 0.0, sonar_labels, laser_labels)
+            region_labels = np.where(sonar_labels != 0.0, sonar_labels, labels[_LASER])
+            directions[:] = region_labels
             nearest_all = np.where(valid, readings, np.inf)
-            nearest = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
-                                 grid.sonar_to_regions(nearest_all[_SONAR]))
+            nearest[:] = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
+                                    grid.sonar_to_regions(nearest_all[_SONAR]))
             echo = nearest < np.inf
-            distances = np.minimum(nearest, cfg.max_distance_m)
-            region_speed = grid.sonar_to_regions(sonar_speed)
+            np.minimum(nearest, cfg.max_distance_m, out=distances)
+            region_speed[:] = grid.sonar_to_regions(sonar_speed)
+            speed_target = grid.sonar_to_regions(valid[_SONAR]) & (sonar_labels != 0.0)
 
-        # --- top-down maps and goal masks (§5) --------------------------------------------
-        fulfilled = None
-        for row, feature, goal, knots in self._td_plan:
-            if feature is Feature.SPEED:
-                values, ok = goal_map(region_speed, goal, cfg.max_speed_mps, knots)
-                target = grid.sonar_to_regions(valid[_SONAR]) & (sonar_labels != 0.0)
-            elif feature is Feature.DIRECTION:
-                values, ok = direction_goal_map(directions, goal)
-                target = echo
-            else:
-                values, ok = goal_map(distances, goal, cfg.max_distance_m, knots)
-                target = echo
-            if cfg.td_require_target:
-                values *= target
-                ok &= target
-            F[row] = values
-            fulfilled = ok if fulfilled is None else fulfilled & ok
-        if fulfilled is None:
-            fulfilled = np.zeros(n_regions, dtype=bool)
-
-        # --- combined map and origins (§6) ------------------------------------------------
-        C_BU = self._combine_bu @ F[:3]
-        C_TD = self._combine_td @ F[3:]
-        C = C_BU + C_TD
-        top_down = C_TD > C_BU
+            # --- top-down maps, goal masks (§5), combined map and origins (§6) -----------------
+            _goal_maps(F, region_speed, speed_target, region_labels, distances, echo, self._goal_plan,
+                       cfg.td_require_target, self._combine, C_BU, C_TD, C, origins, fulfilled)
 
         # --- attentional map, saliency, winner (§7, §8) -----------------------------------
         courses = self._courses
         courses.update_holds(t, fulfilled)
         gains = courses.centre_gains(t)
-        M = np.ones(n_regions) if gains is None else attentional_map(gains, self._spread)
-        L = M * C
-        if self._gain != 1.0:
-            L *= self._gain
-        winner = int(L.argmax())
+        winner = _saliency(_NO_GAINS if gains is None else np.array(gains), self._spread, C, self._gain, M, L)
         saliency = float(L[winner])
         focus = origin = None
         fired = False
         if saliency >= cfg.threshold:
             focus = winner
-            if top_down[winner]:
+            if origins[winner]:
                 origin = ORIGIN_TOP_DOWN
                 # a course is held while the goal holds, so one starts only where it holds
                 if fulfilled[winner] and not courses.top_down_held(winner):
@@ -512,12 +501,16 @@ class AttentionModel:
                 if not courses.bottom_up_active(winner, t):
                     courses.start_bottom_up(winner, t)
                     fired = True
-        return AttentionOutput(
+        # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
+        # them, in order) directly
+        output = object.__new__(AttentionOutput)
+        vars(output).update(
             t=t, focus=focus, fired=fired, origin=origin, saliency=saliency,
-            F=F, C=C, C_BU=C_BU, C_TD=C_TD, origins=top_down.view(np.int8), M=M, L=L, gain=self._gain,
-            goal_fulfilled=fulfilled, directions=directions.astype(np.int8), speeds_mps=region_speed,
-            distances_m=distances, _sources=(grid, readings.copy(), valid, rates, nearest),
+            F=F, C=C, C_BU=C_BU, C_TD=C_TD, origins=origins, M=M, L=L, gain=self._gain,
+            goal_fulfilled=fulfilled, directions=directions, speeds_mps=region_speed,
+            distances_m=distances, _sources=(grid, readings, valid, rates, nearest),
         )
+        return output
 
     # --- input checks and ego-motion -----------------------------------------------------
     def _check_time(self, t) -> float:
@@ -526,10 +519,10 @@ class AttentionModel:
         t = float(t)
         if not math.isfinite(t):
             raise ValueError(f"t must be a finite time in seconds, got {t}")
-        if self._last_t is not None and t <= self._last_t:
+        if self._last_t is not None and not t - self._last_t >= _MIN_TIME_STEP_S:
             raise ValueError(
-                f"t must increase from step to step (seconds); got t={t!r} after t={self._last_t!r}. "
-                "Call reset() to start a new run."
+                f"t must increase from step to step (seconds, by at least {_MIN_TIME_STEP_S:g} s); got t={t!r} "
+                f"after t={self._last_t!r}. Call reset() to start a new run."
             )
         return t
 
@@ -543,12 +536,7 @@ class AttentionModel:
             )
         if laser.shape != (LASER_BEAMS,):
             raise ValueError(f"laser must hold {LASER_BEAMS} ranges (m), got shape {laser.shape}")
-        row = self._row
-        row[_SONAR] = sonar[:FRONT_SONARS]
-        row[_LASER] = laser
-        row[_REAR] = sonar[FRONT_SONARS:] if sonar.shape[0] == SONAR_RING else 0.0
-        # a finite sum of values that are all >= 0 rules out NaN, inf and negatives
-        if not (row.min() >= 0.0 and math.isfinite(np.add.reduce(row))):
+        if not _load_row(sonar, laser, self._row):
             for name, values in (("sonar", sonar), ("laser", laser)):
                 bad = np.flatnonzero(~np.isfinite(values) | (values < 0.0))
                 if bad.size:
@@ -556,7 +544,7 @@ class AttentionModel:
                         f"{name} readings must be finite ranges >= 0 m (report 'no echo' as the maximum range, "
                         f"not inf); bad entries at indices {bad[:10].tolist()}: {values[bad[:10]].tolist()}"
                     )
-        return row[:_N_CHANNELS]
+        return self._row[:_N_CHANNELS]
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
@@ -571,27 +559,30 @@ class AttentionModel:
             raise ValueError(f"odometry must be 2 finite numbers (linear m/s, angular rad/s), got {odometry!r}")
         return motion
 
-    def _ego_change(self, t: float, motion: tuple[float, float]) -> np.ndarray | None:
-        """Range change a static world shows since the previous reading, per channel (m)."""
-        if self.config.ego_motion is None or self._memory.count == 0 or motion == (0.0, 0.0):
-            return None
-        dx, dy, dtheta = planar_displacement(motion[0], motion[1], t - self._memory.latest_time)
-        previous = self._memory.latest()
-        laser_prev = previous[_LASER]
-        predicted = predict_scan(laser_prev, self._beam_cos, self._beam_sin, self._beam_bearings, dx, dy, dtheta)
-        change = np.empty(_N_CHANNELS)
-        np.subtract(predicted, laser_prev, out=change[_LASER])
-        point = point_range_change(dx, dy, self._sonar_cos, self._sonar_sin)
-        if self.config.sonar_ego_model == "point":
-            change[_SONAR] = point
-        else:
-            # the laser's view of each cone, before and after the move; used where it
-            # sees what the sonar saw
-            before = virtual_sonar(laser_prev, self._beam_bearings, self._cone_plan)
-            after = virtual_sonar(predicted, self._beam_bearings, self._cone_plan)
-            seen = np.abs(before - previous[_SONAR]) <= self.config.sonar_ego_match_m
-            change[_SONAR] = np.where(seen, after - before, point)
-        return change
+    def _ego_change(self, t: float, motion: tuple[float, float]) -> bool:
+        """Write into ``self._ego`` the range change a static world shows since the previous
+        reading, per channel (m); False (nothing written) when there is none to compensate.
+
+        The laser scan is predicted as by ``kinematics.predict_scan``; a sonar's change is
+        the laser's view of its cone before and after the move where that view matches
+        the sonar's reading (``sonar_ego_match_m``), else ``point_range_change``.
+        """
+        memory = self._memory
+        if self.config.ego_motion is None or memory.count == 0 or motion == (0.0, 0.0):
+            return False
+        dx, dy, dtheta = planar_displacement(motion[0], motion[1], t - memory.latest_time)
+        previous = memory.latest()
+        x, y, angles = self._scan_x, self._scan_y, self._scan_angles
+        scan_points(previous[_LASER], self._beam_cos, self._beam_sin, dx, dy, x, y)
+        np.arctan2(y, x, out=angles)
+        ego_range_change(previous, angles, x, y, dtheta, dx, dy, self._beam_bearings, self._sonar_cos,
+                         self._sonar_sin, self._cone_plan, self._cone_edges, self.config.sonar_ego_match_m,
+                         self.config.sonar_ego_model == "point", self._ego)
+        return True
+
+#: The smallest time between two readings (s): closer readings would make the range-rate
+#: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).
+_MIN_TIME_STEP_S = 1e-9
 
 
 def _map_index(key: str) -> int:
@@ -603,77 +594,132 @@ def _map_index(key: str) -> int:
     raise ValueError(f"unknown feature map {key!r}; allowed: {allowed}")
 
 
+#: Array types the compiled kernels read as they are (others are converted to float64 first).
+_KERNEL_DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
+
+
 def _as_float_array(values, name: str) -> np.ndarray:
+    if type(values) is np.ndarray and values.dtype in _KERNEL_DTYPES:
+        return values  # float32 widens exactly in the kernel, as np.asarray(values, float) does
     try:
         return np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be an array of ranges in metres, got {type(values).__name__}") from None
 
 
-# --- the fused sonar-grid kernel (J = 8) -------------------------------------------------
-# One compiled call for §3's labels and speeds, F1–F3 and the region quantities on the sonar
-# grid. It repeats numpy's arithmetic operation for operation (sums in numpy's pairwise
-# order, see ``_pairwise_sum``), so its results are identical to the array expressions of
-# the general path, which still serves the laser grid.
+# --- compiled kernels ----------------------------------------------------------------------
+# A step is: ``_load_row`` (input check), ``_ego_change`` (kinematics.scan_points, numpy's
+# arctan2, kinematics.ego_range_change) when the robot moved, ``_sonar_grid_step`` (§2–§6;
+# on the laser grid ``_sense``, numpy F1–F3 and ``_goal_maps``), the courses in Python, then
+# ``_saliency``. The kernels repeat the arithmetic of the numpy expressions they replace
+# (features.py, kinematics.py, memory.py) operation for operation, with sums in numpy's
+# pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
+# the same floats. Outputs are arrays allocated per step by the caller (users keep them).
+# After editing a callee in another file, clear the numba cache (see ``_numerics``).
+
+#: The course gains of a step without courses (``_saliency`` then takes M = 1).
+_NO_GAINS = np.zeros(0)
+#: Columns of the goal plan, one row per top-down map (F4, F5, F6): the goal's kind
+#: (``_INACTIVE`` for an inactive map), its bounds and tolerance, and the knots of its
+#: graded table (``features.goal_knots``, at most 4).
+_KIND, _LO, _HI, _TOLERANCE, _N_KNOTS, _XP, _FP, _PLAN_COLUMNS = 0, 1, 2, 3, 4, 5, 9, 13
+_INACTIVE, _EQUAL, _BETWEEN, _GREATER, _SMALLER, _DIRECTION = 0, 1, 2, 3, 4, 5
+_KIND_OF_RELATION = {Relation.EQUAL: _EQUAL, Relation.BETWEEN: _BETWEEN, Relation.GREATER: _GREATER,
+                     Relation.SMALLER: _SMALLER}
+
+
+def _goal_plan_row(goal: Goal, max_value: float | None) -> np.ndarray:
+    """The goal plan row of an active top-down map (see ``_PLAN_COLUMNS``)."""
+    row = np.zeros(_PLAN_COLUMNS)
+    if goal.feature is Feature.DIRECTION:
+        row[_KIND], row[_LO] = _DIRECTION, float(goal.direction)
+        return row
+    row[_KIND] = _KIND_OF_RELATION[goal.relation]
+    row[_LO], row[_HI], row[_TOLERANCE] = goal.lo, goal.hi, goal.tolerance
+    xp, fp = goal_knots(goal, max_value)
+    row[_N_KNOTS] = len(xp)
+    row[_XP:_XP + len(xp)] = xp
+    row[_FP:_FP + len(fp)] = fp
+    return row
 
 
 @njit(cache=True)
-def _pairwise_block(a, lo, n):
-    """numpy's pairwise summation of ``a[lo:lo + n]`` for ``n <= 128`` (one block)."""
-    if n < 8:
-        res = 0.0
-        for i in range(n):
-            res += a[lo + i]
-        return res
-    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
-    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
-    i = 8
-    m = n - n % 8
-    while i < m:
-        r0 += a[lo + i]
-        r1 += a[lo + i + 1]
-        r2 += a[lo + i + 2]
-        r3 += a[lo + i + 3]
-        r4 += a[lo + i + 4]
-        r5 += a[lo + i + 5]
-        r6 += a[lo + i + 6]
-        r7 += a[lo + i + 7]
-        i += 8
-    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
-    while i < n:
-        res += a[lo + i]
-        i += 1
-    return res
+def _load_row(sonar, laser, row):
+    """Copy front sonars ``sonar[:8]``, the laser ``(180,)`` and rear sonars (``sonar[8:]``,
+    or 0 for 8 sonars) into ``row`` ``(196,)``; False if any reading is NaN, ±inf or < 0."""
+    n_front = 8
+    n_laser = laser.shape[0]
+    ok = True
+    for i in range(row.shape[0]):
+        if i < n_front:
+            value = sonar[i]
+        elif i < n_front + n_laser:
+            value = laser[i - n_front]
+        elif sonar.shape[0] > n_front:
+            value = sonar[i - n_laser]
+        else:
+            value = 0.0
+        row[i] = value
+        if not (value >= 0.0 and value < np.inf):
+            ok = False
+    return ok
 
 
 @njit(cache=True)
-def _pairwise_halves(a, lo, n):
-    """numpy's pairwise summation for ``n <= 256``: blocks, or two halves of blocks."""
-    if n <= 128:
-        return _pairwise_block(a, lo, n)
-    n2 = n // 2
-    n2 -= n2 % 8
-    return _pairwise_block(a, lo, n2) + _pairwise_block(a, lo + n2, n - n2)
+def _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, readings, valid,
+           rates):
+    """§2–§3: clip the new readings to each sensor's maximum, store them in the memory
+    (``SensorMemory.buffers``) and take the range rates.
+
+    Args:
+        row: ``(188,)`` new readings (m), sonars then beams.
+        limits: ``(2, 188)`` per channel: the maximum range, and the reading from which
+            on it means no echo (m).
+        t: time (s); slope_samples: K of the slope.
+        ego_change: ``(188,)`` the ego-motion range change (m), used only when ``moved``.
+        readings, valid, rates: ``(188,)`` outputs: clipped readings (m), echo flags, range
+            rates (m/s).
+    """
+    n = row.shape[0]
+    invalid_now = np.empty(n, np.bool_)
+    for c in range(n):
+        reading = min(row[c], limits[0, c])
+        readings[c] = reading
+        invalid_now[c] = reading >= limits[1, c]
+        valid[c] = not invalid_now[c]
+    push_sample(state, times, samples, ego_offset, t, readings, invalid_now, ego_change, moved)
+    slope_rates(state, times, samples, slope_samples, rates)
 
 
 @njit(cache=True)
-def _pairwise_sum(a, lo, n):
-    """``sum(a[lo:lo + n])`` in the order of numpy's pairwise summation (``np.add.reduce``
-    of a contiguous array), for ``n <= 496`` (two levels of halves; no recursion, which
-    numba does not cache reliably)."""
-    if n <= 128:
-        return _pairwise_block(a, lo, n)
-    n2 = n // 2
-    n2 -= n2 % 8
-    return _pairwise_halves(a, lo, n2) + _pairwise_halves(a, lo + n2, n - n2)
+def _sonar_grid_step(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, max_speed,
+                     epsilon, max_distance, laser_only, laser_max, beam_region, active, goal_plan, require_target,
+                     combine, readings, valid, rates, F, C_BU, C_TD, C, region_speed, distances, nearest, origins,
+                     directions, fulfilled):
+    """§2–§6 of a step on the sonar grid (J = 8): ``_sense``, F1–F3 with the region
+    quantities, then ``_goal_maps``. Every array after ``combine`` is an output."""
+    _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, readings, valid, rates)
+    labels, speed_target = _sonar_grid_features(
+        rates, readings, valid, limits[0], max_speed, epsilon, max_distance, beam_region, active[0] > 0.0,
+        active[1] > 0.0, active[2] > 0.0, laser_only, laser_max, F, region_speed, nearest, distances,
+    )
+    echo = nearest < np.inf
+    for j in range(labels.shape[0]):
+        directions[j] = np.int8(labels[j])
+    _goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan, require_target, combine,
+               C_BU, C_TD, C, origins, fulfilled)
 
 
 @njit(cache=True)
-def _sonar_grid_kernel(rates, readings, invalid, max_ranges, max_speed, epsilon, max_distance, beam_region,
-                       rarity_scale, rarity_shift, do_f1, do_f2, do_f3, laser_only, laser_max, F):
-    """Fill ``F[0:3]`` (active rows only) and return ``(sonar_speed, sonar_labels,
-    directions, nearest, distances)``, all ``(8,)``, for the sonar grid (8 front sonars
-    then 180 beams in the channel vectors)."""
+def _sonar_grid_features(rates, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region,
+                         do_f1, do_f2, do_f3, laser_only, laser_max, F, region_speed, nearest, distances):
+    """§3's labels and speeds, F1–F3 (active rows of ``F`` only) and the region quantities
+    on the sonar grid (8 front sonars then 180 beams in the channel vectors).
+
+    Writes ``F[0:3]`` and the ``(8,)`` speeds (m/s), nearest valid readings (m, inf where
+    none) and distances (m); returns the region direction labels ``(8,)`` (−1, 0, +1 as
+    floats) and the speed goal's target mask ``(8,)`` (an echo moving towards or away).
+    """
     n_sonar = 8
     n = rates.shape[0]
     n_laser = n - n_sonar
@@ -693,25 +739,31 @@ def _sonar_grid_kernel(rates, readings, invalid, max_ranges, max_speed, epsilon,
         labels[k] = label
         columns[k] = column
         counts[(0 if k < n_sonar else 3) + column] += 1
-    sonar_speed = np.empty(n_sonar)
     for j in range(n_sonar):
-        sonar_speed[j] = min(abs(rates[j]), max_speed)
+        region_speed[j] = min(abs(rates[j]), max_speed)
     if do_f1:
-        mean = _pairwise_sum(sonar_speed, 0, n_sonar) / n_sonar
+        mean = pairwise_sum(region_speed, 0, n_sonar) / n_sonar
         for j in range(n_sonar):
-            F[0, j] = abs(sonar_speed[j] - mean) / max_speed
+            F[0, j] = abs(region_speed[j] - mean) / max_speed
     if do_f2:
+        # rarity (N/count − 1)/(N − 1) as features.Spaces computes it, per (space, column)
+        rarity = np.empty(6)
+        for space, size in ((0, n_sonar), (1, n_laser)):
+            size_f = float(size)
+            scale, shift = size_f / (size_f - 1.0), 1.0 / (size_f - 1.0)
+            for column in range(3):
+                if counts[3 * space + column] > 0:
+                    rarity[3 * space + column] = scale / counts[3 * space + column] - shift
         for j in range(n_sonar):
-            F[1, j] = rarity_scale[j] / counts[columns[j]] - rarity_shift[j]
+            F[1, j] = rarity[columns[j]]
         for i in range(n_laser):
-            k = n_sonar + i
-            value = rarity_scale[k] / counts[3 + columns[k]] - rarity_shift[k]
+            value = rarity[3 + columns[n_sonar + i]]
             j = beam_region[i]
             if value > F[1, j]:
                 F[1, j] = value
     if do_f3:
         if laser_only:
-            mean = _pairwise_sum(readings, n_sonar, n_laser) / n_laser
+            mean = pairwise_sum(readings, n_sonar, n_laser) / n_laser
             first = np.full(n_sonar, -np.inf)
             for i in range(n_laser):
                 value = abs(readings[n_sonar + i] - mean) / laser_max
@@ -722,8 +774,8 @@ def _sonar_grid_kernel(rates, readings, invalid, max_ranges, max_speed, epsilon,
                 F[2, j] = first[j]
         else:
             # add.reduceat: the first element, then the pairwise sum of the rest
-            sonar_mean = (readings[0] + _pairwise_sum(readings, 1, n_sonar - 1)) / n_sonar
-            laser_mean = (readings[n_sonar] + _pairwise_sum(readings, n_sonar + 1, n_laser - 1)) / n_laser
+            sonar_mean = (readings[0] + pairwise_sum(readings, 1, n_sonar - 1)) / n_sonar
+            laser_mean = (readings[n_sonar] + pairwise_sum(readings, n_sonar + 1, n_laser - 1)) / n_laser
             laser_part = np.full(n_sonar, -np.inf)
             for i in range(n_laser):
                 k = n_sonar + i
@@ -733,28 +785,117 @@ def _sonar_grid_kernel(rates, readings, invalid, max_ranges, max_speed, epsilon,
                     laser_part[j] = value
             for j in range(n_sonar):
                 F[2, j] = max(laser_part[j], abs(readings[j] - sonar_mean) / max_ranges[j])
-    # region quantities
+    # region quantities: majority label of the beams where the sonar is static, nearest echo
     label_counts = np.zeros((n_sonar, 3), np.int64)
-    nearest = np.full(n_sonar, np.inf)
+    for j in range(n_sonar):
+        nearest[j] = np.inf
     for i in range(n_laser):
         k = n_sonar + i
         j = beam_region[i]
         label_counts[j, columns[k]] += 1
-        if not invalid[k] and readings[k] < nearest[j]:
+        if valid[k] and readings[k] < nearest[j]:
             nearest[j] = readings[k]
-    sonar_labels = labels[:n_sonar].copy()
     directions = np.empty(n_sonar)
-    distances = np.empty(n_sonar)
+    speed_target = np.empty(n_sonar, np.bool_)
     for j in range(n_sonar):
-        if sonar_labels[j] != 0.0:
-            directions[j] = sonar_labels[j]
+        if labels[j] != 0.0:
+            directions[j] = labels[j]
         else:
             best = 0
             for c in range(1, 3):
                 if label_counts[j, c] > label_counts[j, best]:
                     best = c
             directions[j] = -1.0 if best == 0 else (1.0 if best == 1 else 0.0)
-        if not invalid[j] and readings[j] < nearest[j]:
+        speed_target[j] = valid[j] and labels[j] != 0.0
+        if valid[j] and readings[j] < nearest[j]:
             nearest[j] = readings[j]
         distances[j] = min(nearest[j], max_distance)
-    return sonar_speed, sonar_labels, directions, nearest, distances
+    return directions, speed_target
+
+
+@njit(cache=True)
+def _goal_holds(kind, lo, hi, tolerance, x):
+    """``Goal.is_fulfilled`` for one value, the goal given by its plan row's columns."""
+    if kind == _EQUAL:
+        return abs(x - lo) <= tolerance
+    if kind == _BETWEEN:
+        return x >= lo and x <= hi
+    if kind == _GREATER:
+        return x >= lo
+    if kind == _SMALLER:
+        return x <= lo
+    return x == lo  # _DIRECTION: the label equals the wanted direction
+
+
+@njit(cache=True)
+def _goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan, require_target, combine,
+               C_BU, C_TD, C, origins, fulfilled):
+    """§5–§6 on any grid: the active top-down maps ``F[3:6]`` and the goal mask, then C.
+
+    Args:
+        F: ``(6, J)``; rows 3..5 of active maps are written (inactive ones stay 0).
+        region_speed: ``(J,)`` m/s; speed_target: ``(J,)`` bool, regions a speed goal may
+            hold at; labels: ``(J,)`` direction labels as floats; distances: ``(J,)`` m;
+            echo: ``(J,)`` bool, a valid reading in the region (the target of F5, F6).
+        goal_plan: ``(3, _PLAN_COLUMNS)``; require_target: ``td_require_target``.
+        combine: ``(2, 3)`` the weights of C_BU (row 0) and C_TD (row 1), normaliser included.
+        C_BU, C_TD, C: ``(J,)`` outputs; origins: ``(J,)`` int8, 1 where C_TD > C_BU;
+        fulfilled: ``(J,)`` bool, every active goal holds (False without goals).
+    """
+    n_regions = F.shape[1]
+    any_goal = False
+    for j in range(n_regions):
+        fulfilled[j] = True
+    for r in range(3):
+        kind = goal_plan[r, _KIND]
+        if kind == _INACTIVE:
+            continue
+        any_goal = True
+        lo, hi, tolerance = goal_plan[r, _LO], goal_plan[r, _HI], goal_plan[r, _TOLERANCE]
+        n_knots = int(goal_plan[r, _N_KNOTS])
+        xp, fp = goal_plan[r, _XP:_XP + n_knots], goal_plan[r, _FP:_FP + n_knots]
+        for j in range(n_regions):
+            if r == 0:
+                x, target = region_speed[j], speed_target[j]
+            elif r == 1:
+                x, target = labels[j], echo[j]
+            else:
+                x, target = distances[j], echo[j]
+            ok = _goal_holds(kind, lo, hi, tolerance, x)
+            if kind == _DIRECTION:
+                value = 1.0 if ok else 0.0
+            else:  # the graded table; 1 where the goal holds
+                value = max(interp(x, xp, fp), 1.0 if ok else 0.0)
+            if require_target:
+                value *= 1.0 if target else 0.0
+                ok = ok and target
+            F[3 + r, j] = value
+            fulfilled[j] = fulfilled[j] and ok
+    if not any_goal:
+        fulfilled[:] = False
+    vecmat(combine[0], F[:3], C_BU)
+    vecmat(combine[1], F[3:], C_TD)
+    for j in range(n_regions):
+        C[j] = C_BU[j] + C_TD[j]
+        origins[j] = 1 if C_TD[j] > C_BU[j] else 0
+
+
+@njit(cache=True)
+def _saliency(gains, spread, C, gain, M, L):
+    """§7–§8: ``M = max(0, 1 + gains @ G)`` (1 without courses: ``gains`` empty), then
+    ``L = M · C · g``, into ``M`` and ``L`` ``(J,)``; returns the winner ``argmax L`` (ties
+    to the lowest index)."""
+    if gains.shape[0] == 0:
+        M[:] = 1.0
+    else:
+        vecmat(gains, spread, M)
+        for j in range(M.shape[0]):
+            M[j] = max(1.0 + M[j], 0.0)
+    winner = 0
+    for j in range(M.shape[0]):
+        L[j] = M[j] * C[j]
+        if gain != 1.0:
+            L[j] *= gain
+        if L[j] > L[winner]:
+            winner = j
+    return winner
