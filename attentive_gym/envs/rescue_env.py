@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import numbers
 import os
 from pathlib import Path
 from typing import Any
@@ -62,7 +63,7 @@ _FLOAT_DTYPES = (np.dtype(np.float32), np.dtype(np.float64))
 
 
 def _check_number(name: str, value: Any, low: float, high: float, low_open: bool = False) -> float:
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    ok = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)) and math.isfinite(value)
     ok = ok and (value > low if low_open else value >= low) and value <= high
     if not ok:
         bracket = "(" if low_open else "["
@@ -150,7 +151,16 @@ class AttentiveRescueEnv(gym.Env):
         self.sensors = SensorSuite(sonar, laser, noise_std=_check_number("sensor_noise", sensor_noise, 0.0, 0.5))
         self.scenario_source = scenario
         self._fixed_scenario = resolve_scenario(scenario)
-        width, height = (arena_size_m, arena_size_m) if np.isscalar(arena_size_m) else tuple(arena_size_m)
+        if np.isscalar(arena_size_m):
+            width = height = arena_size_m.item() if isinstance(arena_size_m, np.generic) else arena_size_m
+        elif isinstance(arena_size_m, (tuple, list, np.ndarray)) and np.shape(arena_size_m) == (2,):
+            width, height = (v.item() if isinstance(v, np.generic) else v for v in arena_size_m)
+        else:
+            raise ValueError(f"arena_size_m must be a side in m or a (width, height) pair, got {arena_size_m!r}")
+        if isinstance(max_mover_speed_mps, bool) or not isinstance(max_mover_speed_mps, numbers.Real):
+            raise ValueError(f"max_mover_speed_mps must be a finite number > 0, got {max_mover_speed_mps!r}")
+        if goals is not None and (isinstance(goals, (Goal, str)) or not isinstance(goals, (tuple, list))):
+            raise TypeError(f"goals must be a tuple or list of Goal objects, got {goals!r}")
         self.arena = ArenaConfig(
             width_m=width,
             height_m=height,
@@ -257,6 +267,8 @@ class AttentiveRescueEnv(gym.Env):
             linear, angular = float(action[0]), float(action[1])  # fast path: a policy's usual output
             if math.isfinite(linear) and math.isfinite(angular):
                 return min(max(linear, -1.0), 1.0), min(max(angular, -1.0), 1.0)
+        if np.iscomplexobj(action):
+            raise ValueError(f"action must be real numbers with shape (2,), got complex {action!r}")
         try:
             command = np.asarray(action, dtype=np.float64)
         except (TypeError, ValueError):

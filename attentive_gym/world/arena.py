@@ -16,6 +16,7 @@ goals describe where the robot is, not which victim it wants, so they are refuse
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +46,10 @@ _SPEED_GRID_STEP_MPS = 0.05  # resolution of the speeds a mover can be given
 _PLACEMENT_ATTEMPTS = 200  # rejection-sampling tries per body before giving up
 _WALL_MARGIN_M = 0.6  # keep bodies this far from the enclosure's centre lines
 _PATROL_WAYPOINTS = 3
+_MAX_MOVER_SPEED_MPS = 20.0  # the largest speed a goal can name (the goal encoding's bound)
+_MAX_ARENA_SIDE_M = 10_000.0  # larger sides overflow the rubble count (width × height × density)
+_MAX_RUBBLE = 5000  # rubble pieces per arena: placement is quadratic in the count
+_MAX_RUBBLE_PER_100M2 = 50.0  # denser than this no longer fits (pieces are up to 1 m long, 0.3 m apart)
 
 
 @dataclass(frozen=True)
@@ -82,14 +87,26 @@ class ArenaConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"ArenaConfig.{name} must be a finite number > 0, got {value!r}")
+        if max(self.width_m, self.height_m) > _MAX_ARENA_SIDE_M:
+            raise ValueError(f"the arena must be at most {_MAX_ARENA_SIDE_M} m on each side, got {self.width_m} × {self.height_m}")
         if min(self.width_m, self.height_m) < 4.0:
             raise ValueError(f"the arena must be at least 4 m on each side, got {self.width_m} × {self.height_m}")
         for name in ("rubble_per_100m2", "speed_margin_mps", "pursue_stop_distance_m"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"ArenaConfig.{name} must be a finite number >= 0, got {value!r}")
-        if not (isinstance(self.num_distractors, int) and 0 <= self.num_distractors <= 20):
+        if not (isinstance(self.num_distractors, numbers.Integral) and not isinstance(self.num_distractors, (bool, np.bool_))
+                and 0 <= self.num_distractors <= 20):
             raise ValueError(f"ArenaConfig.num_distractors must be an integer in [0, 20], got {self.num_distractors!r}")
+        if self.max_mover_speed_mps > _MAX_MOVER_SPEED_MPS:
+            raise ValueError(f"ArenaConfig.max_mover_speed_mps must be <= {_MAX_MOVER_SPEED_MPS}, got {self.max_mover_speed_mps!r}")
+        if self.rubble_per_100m2 > _MAX_RUBBLE_PER_100M2:
+            raise ValueError(f"ArenaConfig.rubble_per_100m2 must be <= {_MAX_RUBBLE_PER_100M2}, got {self.rubble_per_100m2!r}")
+        if self.rubble_count > _MAX_RUBBLE:
+            raise ValueError(
+                f"ArenaConfig: rubble_per_100m2={self.rubble_per_100m2!r} over {self.width_m} × {self.height_m} m "
+                f"gives {self.rubble_count} rubble pieces; at most {_MAX_RUBBLE} are allowed"
+            )
         lo, hi = self.distractor_speed_range_mps
         if not (0 < lo <= hi <= self.max_mover_speed_mps):
             raise ValueError(
@@ -224,7 +241,7 @@ def _place_mover(layout: _Layout, config: ArenaConfig, robot_xy: np.ndarray, nam
         heading = float(layout.rng.uniform(-180.0, 180.0))
         start = Pose(round(float(p[0]), 6), round(float(p[1]), 6), round(heading, 6))
         return MoverSpec(name=name, kind=kind, start=start, behaviour=path)
-    raise RuntimeError(f"could not place mover {name!r} in a {config.width_m} × {config.height_m} m arena; lower the rubble density or the number of distractors")
+    raise ValueError(f"could not place mover {name!r} in a {config.width_m} × {config.height_m} m arena; lower the rubble density or the number of distractors")
 
 
 def generate_arena(config: ArenaConfig, rng: np.random.Generator, goal: Goal | None = None) -> Scenario:

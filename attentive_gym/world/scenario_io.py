@@ -106,7 +106,7 @@ def _build_tagged(options: list, data: Any, where: str) -> Any:
     by_kind = {typing.get_args(typing.get_type_hints(cls)["kind"])[0]: cls for cls in options}
     if not isinstance(data, Mapping) or "kind" not in data:
         raise ValueError(f"{where}: needs a 'kind' key, one of {sorted(by_kind)}")
-    if data["kind"] not in by_kind:
+    if not isinstance(data["kind"], str) or data["kind"] not in by_kind:
         raise ValueError(f"{where}.kind: unknown {data['kind']!r}; allowed: {sorted(by_kind)}")
     return _build_dataclass(by_kind[data["kind"]], data, where)
 
@@ -116,7 +116,7 @@ def _build_dataclass(cls: type, data: Any, where: str) -> Any:
         raise ValueError(f"{where}: expected a mapping with keys {[f.name for f in dataclasses.fields(cls)]}")
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls)}
-    unknown = sorted(set(data) - set(fields))
+    unknown = sorted(set(data) - set(fields), key=repr)
     if unknown:
         raise ValueError(f"{where}: unknown key {unknown[0]!r}; allowed: {sorted(fields)}")
     required = [
@@ -137,7 +137,7 @@ def _build_dataclass(cls: type, data: Any, where: str) -> Any:
 def _build_goal(data: Any, where: str) -> Goal:
     if not isinstance(data, Mapping):
         raise ValueError(f"{where}: a goal is a mapping with keys {list(_GOAL_KEYS)}")
-    unknown = sorted(set(data) - set(_GOAL_KEYS))
+    unknown = sorted(set(data) - set(_GOAL_KEYS), key=repr)
     if unknown:
         raise ValueError(f"{where}: unknown key {unknown[0]!r}; allowed: {list(_GOAL_KEYS)}")
     try:
@@ -184,7 +184,10 @@ def load_scenario(path: str | os.PathLike) -> Scenario:
     """Read a scenario from a ``.yaml``/``.yml``/``.json`` file."""
     path = Path(path)
     suffix = _check_suffix(path)
-    text = path.read_text(encoding="utf-8")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as error:
+        raise ValueError(f"scenario file {path} is not UTF-8 text: {error}") from None
     try:
         data = json.loads(text) if suffix == ".json" else yaml.safe_load(text)
     except (json.JSONDecodeError, yaml.YAMLError) as error:

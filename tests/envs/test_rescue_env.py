@@ -12,6 +12,7 @@ from attentive_gym.attention.goals import Goal
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.world.builtin import BUILTIN_SCENARIOS
 from attentive_gym.world.world import ROBOT_ID
+from support import assert_same
 
 SCENARIOS = ["rescue", *sorted(BUILTIN_SCENARIOS)]
 
@@ -27,19 +28,6 @@ def rollout(env, seed, steps=60, action_seed=0):
         if terminated or truncated:
             obs, info = env.reset()
     return trace
-
-
-def assert_same(a, b):
-    if isinstance(a, dict):
-        assert a.keys() == b.keys()
-        for key in a:
-            assert_same(a[key], b[key])
-    elif isinstance(a, (tuple, list)):
-        assert len(a) == len(b)
-        for x, y in zip(a, b):
-            assert_same(x, y)
-    else:
-        np.testing.assert_array_equal(a, b)
 
 
 @pytest.mark.parametrize("scenario", SCENARIOS)
