@@ -7,6 +7,10 @@ Subcommands (one small function each, registered in ``_SUBCOMMANDS``):
   ``DIR/trace.npz`` and ``DIR/trace.png``.
 - ``experiment NAME|all [--noise S] [--seed N] [--out DIR]``: reproduce the paper's
   experiments and print MODEL.md §9's checks (``attentive_gym.experiments.cli``).
+- ``train [--variant V] [--algo ppo|sac] [--steps N] [--seed S] [--n-envs K] [--out DIR]``,
+  ``evaluate MODEL [--episodes N] [--video DIR]`` and ``compare --variants A,B --seeds N
+  --steps N --out DIR [--backend process|ray] [--workers W] [--quick]``: SB3 agents on the
+  observation variants (``attentive_gym.agents.cli``; needs the ``agents`` extra).
 
 Errors in the user's input (a malformed log, an invalid goal, map list or configuration)
 print one line on stderr and exit with status 2; ``main`` returns the exit status.
@@ -20,6 +24,7 @@ import sys
 from pathlib import Path
 from typing import Callable, Sequence
 
+from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.experiments.cli import add_experiment_parser
 
 __all__ = ["main", "build_parser"]
@@ -95,6 +100,9 @@ def _parse_state_arg(text: str) -> str | float:
 _SUBCOMMANDS: dict[str, Callable] = {
     "attend": _add_attend,
     "experiment": add_experiment_parser,
+    "train": add_train,
+    "evaluate": add_evaluate,
+    "compare": add_compare,
 }
 
 

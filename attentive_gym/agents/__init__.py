@@ -1,0 +1,30 @@
+"""Train SB3 agents on the observation variants and compare them (GitHub issue 6).
+
+- ``RunSpec`` (``config``): one run — variant, algorithm, budget in env steps, seed, ...
+- ``train`` (``training``): one run with periodic evaluation, TensorBoard logs,
+  checkpoints/resume, ``final_model.zip``, ``metrics.json`` and a ``done`` marker.
+- ``evaluate_policy`` (``evaluation``): success rate, return, collisions, episode length.
+- ``compare.compare``: every (variant, seed) pair in a process pool or on Ray, then
+  ``results.csv``, ``learning_curves.png`` and ``summary.md``/``summary.csv``.
+- ``results``: atomic writes, t-based 95 % confidence intervals, summaries; ``plots``: the figure.
+
+Importing this package does not import torch or SB3 (the ``agents`` extra); the functions do.
+"""
+
+from attentive_gym.agents.config import ALGOS, RunSpec, parse_seeds, parse_variants
+from attentive_gym.agents.results import mean_ci, summarise, t_critical
+
+__all__ = ["ALGOS", "RunSpec", "parse_seeds", "parse_variants", "mean_ci", "summarise", "t_critical",
+           "train", "evaluate_policy", "load_model"]
+
+
+def __getattr__(name):
+    if name in ("train", "load_model"):
+        from attentive_gym.agents import training
+
+        return getattr(training, name)
+    if name == "evaluate_policy":
+        from attentive_gym.agents.evaluation import evaluate_policy
+
+        return evaluate_policy
+    raise AttributeError(name)

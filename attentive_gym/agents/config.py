@@ -1,0 +1,153 @@
+"""The run specification: one training run = one ``RunSpec`` (variant, algorithm, budget, seed).
+
+A ``RunSpec`` is a frozen dataclass that validates itself on construction (``ValueError``
+with the allowed values), round-trips through JSON (``to_dict`` / ``from_dict``) and names
+its run folder (``run_name``). Budgets are in **environment steps** (one step = one
+``env.step`` of one environment = ``dt`` = 0.05 s of simulated time by default).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+from attentive_gym.wrappers.variants import VARIANTS
+
+__all__ = ["ALGOS", "VEC_ENVS", "RunSpec", "parse_variants", "parse_seeds"]
+
+#: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``.
+ALGOS = ("ppo", "sac")
+#: Vectorisation of the training environments: SB3 ``DummyVecEnv`` or ``SubprocVecEnv``.
+VEC_ENVS = ("dummy", "subproc")
+
+
+def _check_int(name: str, value: Any, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """Everything that determines one training run (and nothing about where it is written).
+
+    Attributes:
+        variant: observation variant, one of ``attentive_gym.wrappers.VARIANTS``.
+        algo: ``"ppo"`` or ``"sac"``.
+        total_steps: training budget in environment steps (summed over the ``n_envs``).
+        seed: seeds SB3 (``seed=``), the training environments and, offset by 10 000,
+            the evaluation episodes.
+        n_envs: parallel training environments.
+        vec_env: ``"dummy"`` (one process) or ``"subproc"`` (one process per env).
+        eval_every: environment steps between evaluations (plus one at 0 and at the end).
+        eval_episodes: episodes per evaluation (the same episode seeds every time).
+        checkpoint_every: environment steps between checkpoints (an interrupted run loses
+            at most this many steps).
+        env_kwargs: keyword arguments of ``make_env`` (``arena_size_m``, ``num_distractors``, ...).
+        algo_kwargs: keyword arguments of the SB3 algorithm (override ``default_algo_kwargs``).
+        torch_threads: ``torch.set_num_threads`` in the training process (1 suits a pool).
+    """
+
+    variant: str = "focus"
+    algo: str = "ppo"
+    total_steps: int = 100_000
+    seed: int = 0
+    n_envs: int = 4
+    vec_env: str = "dummy"
+    eval_every: int = 10_000
+    eval_episodes: int = 20
+    checkpoint_every: int = 20_000
+    env_kwargs: Mapping[str, Any] = field(default_factory=dict)
+    algo_kwargs: Mapping[str, Any] = field(default_factory=dict)
+    torch_threads: int = 1
+
+    def __post_init__(self) -> None:
+        if self.variant not in VARIANTS:
+            raise ValueError(f"unknown variant {self.variant!r}; allowed: {list(VARIANTS)}")
+        if self.algo not in ALGOS:
+            raise ValueError(f"unknown algo {self.algo!r}; allowed: {list(ALGOS)}")
+        if self.vec_env not in VEC_ENVS:
+            raise ValueError(f"unknown vec_env {self.vec_env!r}; allowed: {list(VEC_ENVS)}")
+        _check_int("total_steps", self.total_steps, 1)
+        _check_int("seed", self.seed, 0)
+        _check_int("n_envs", self.n_envs, 1)
+        _check_int("eval_every", self.eval_every, 1)
+        _check_int("eval_episodes", self.eval_episodes, 1)
+        _check_int("checkpoint_every", self.checkpoint_every, 1)
+        _check_int("torch_threads", self.torch_threads, 1)
+        for name in ("env_kwargs", "algo_kwargs"):
+            value = getattr(self, name)
+            if not isinstance(value, Mapping):
+                raise ValueError(f"{name} must be a mapping, got {type(value).__name__}")
+            object.__setattr__(self, name, dict(value))
+
+    @property
+    def run_name(self) -> str:
+        """The run's folder name, e.g. ``"focus-seed3"``."""
+        return f"{self.variant}-seed{self.seed}"
+
+    def default_algo_kwargs(self) -> dict[str, Any]:
+        """Hyper-parameters used unless ``algo_kwargs`` overrides them.
+
+        PPO: rollouts of 256 steps per env, minibatch 256, 5 epochs, lr 3e-4, gamma 0.99,
+        a small ent_coef for exploration. SAC: SB3's defaults with a 100 000-step buffer
+        and 1 000 warm-up steps.
+        """
+        if self.algo == "ppo":
+            return {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4,
+                    "gamma": 0.99, "ent_coef": 0.005}
+        return {"buffer_size": 100_000, "learning_starts": 1_000, "batch_size": 256}
+
+    def merged_algo_kwargs(self) -> dict[str, Any]:
+        """``default_algo_kwargs`` updated with ``algo_kwargs``."""
+        return {**self.default_algo_kwargs(), **self.algo_kwargs}
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-serialisable dict (``from_dict`` inverts it)."""
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> "RunSpec":
+        """Build from ``to_dict``'s output; unknown keys raise ``ValueError``."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(data) - names)
+        if unknown:
+            raise ValueError(f"unknown RunSpec field(s) {unknown}; allowed: {sorted(names)}")
+        return cls(**data)
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2, sort_keys=True)
+
+    def replace(self, **changes: Any) -> "RunSpec":
+        """A copy with ``changes`` applied (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+
+def parse_variants(text: str) -> tuple[str, ...]:
+    """``"raw,raw-stack,focus"`` → ``("raw", "raw-stack", "focus")``; unknown names raise ``ValueError``."""
+    names = tuple(part.strip() for part in text.split(",") if part.strip())
+    if not names:
+        raise ValueError(f"no variant given; allowed: {list(VARIANTS)}")
+    for name in names:
+        if name not in VARIANTS:
+            raise ValueError(f"unknown variant {name!r}; allowed: {list(VARIANTS)}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"variant listed twice in {text!r}")
+    return names
+
+
+def parse_seeds(text: str | int) -> tuple[int, ...]:
+    """Seeds from a count (``"5"`` → 0..4) or a list (``"0,3,7"``); bad values raise ``ValueError``."""
+    text = str(text).strip()
+    try:
+        if "," in text:
+            seeds = tuple(int(part) for part in text.split(",") if part.strip())
+        else:
+            seeds = tuple(range(int(text)))
+    except ValueError:
+        raise ValueError(f"seeds must be a count (e.g. 5) or a comma list (e.g. 0,1,2), got {text!r}") from None
+    if not seeds or any(s < 0 for s in seeds) or len(set(seeds)) != len(seeds):
+        raise ValueError(f"seeds must be a positive count or distinct non-negative integers, got {text!r}")
+    return seeds

@@ -1,0 +1,268 @@
+"""Train one SB3 policy (PPO or SAC) on one observation variant, with evaluation and checkpoints.
+
+``train(spec, run_dir)`` writes into ``run_dir``:
+
+- ``spec.json``: the ``RunSpec`` (a rerun into the same folder must use the same spec);
+- ``eval.csv``: one row per evaluation (``results.EVAL_COLUMNS``), at 0, every
+  ``spec.eval_every`` env steps and at the end;
+- ``checkpoint/model.zip`` (+ ``replay_buffer.pkl`` for SAC, + ``meta.json``): the latest
+  checkpoint, every ``spec.checkpoint_every`` env steps;
+- ``tb/``: TensorBoard logs (SB3's ``train/``, ``rollout/`` and our ``eval/`` scalars);
+- ``final_model.zip``, ``metrics.json`` and, last of all, the ``done`` marker.
+
+Every file is written atomically (temp file + ``os.replace``). Calling ``train`` again on a
+folder without ``done`` resumes from the checkpoint: the step count continues, the saved
+model (and SAC's replay buffer) is loaded, and evaluation rows after the checkpoint are
+dropped, so an interrupted run loses at most one checkpoint interval. PPO's rollout buffer
+cannot be saved by SB3, so checkpoints are taken at rollout boundaries (after an update,
+before the next rollout) where it is empty; a resumed run therefore ends at exactly the
+step count of an uninterrupted one.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import time
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import gymnasium as gym
+
+from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
+from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
+from attentive_gym.wrappers.variants import make_env
+
+__all__ = ["train", "load_model", "env_factory", "eval_seed", "is_done", "DONE_MARKER", "RunResult"]
+
+DONE_MARKER = "done"
+_CHECKPOINT = "checkpoint"
+
+
+def env_factory(spec: RunSpec, **overrides: Any) -> Callable[..., gym.Env]:
+    """A picklable zero-argument builder of one environment of ``spec`` (Dict observation)."""
+    return functools.partial(make_env, spec.variant, **{**spec.env_kwargs, **overrides})
+
+
+def eval_seed(spec: RunSpec) -> int:
+    """Seed of a run's first evaluation episode: ``10 000 + 1 000·seed`` (disjoint from training's)."""
+    return EVAL_SEED_OFFSET + 1000 * spec.seed
+
+
+def is_done(run_dir: str | os.PathLike) -> bool:
+    """Whether ``run_dir`` holds a finished run (its ``done`` marker)."""
+    return (Path(run_dir) / DONE_MARKER).is_file()
+
+
+def _algo_class(algo: str):
+    from stable_baselines3 import PPO, SAC
+
+    return {"ppo": PPO, "sac": SAC}[algo]
+
+
+def _make_vec_env(spec: RunSpec):
+    from stable_baselines3.common.monitor import Monitor
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    factory = env_factory(spec)
+    fns = [functools.partial(_monitored, factory) for _ in range(spec.n_envs)]
+    if spec.vec_env == "subproc":
+        return SubprocVecEnv(fns, start_method="spawn")
+    return DummyVecEnv(fns)
+
+
+def _monitored(factory: Callable[[], gym.Env]) -> gym.Env:
+    from stable_baselines3.common.monitor import Monitor
+
+    return Monitor(factory(), info_keywords=("success",))
+
+
+class RunResult(dict):
+    """``metrics.json`` of a run as a dict (``env_steps``, ``final``: the last evaluation row, ...)."""
+
+
+def _save_atomic_zip(model, path: Path) -> None:
+    tmp = path.with_name(f".{path.stem}.tmp.zip")
+    model.save(tmp)
+    os.replace(tmp, path)
+
+
+def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool) -> None:
+    folder = run_dir / _CHECKPOINT
+    folder.mkdir(parents=True, exist_ok=True)
+    if is_off_policy:
+        tmp = folder / ".replay_buffer.tmp.pkl"
+        model.save_replay_buffer(tmp)
+        os.replace(tmp, folder / "replay_buffer.pkl")
+    _save_atomic_zip(model, folder / "model.zip")
+    write_json_atomic(folder / "meta.json", {"env_steps": int(model.num_timesteps), "wall_s": wall_s})
+
+
+def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: float, eval_envs: list[gym.Env]):
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class RunCallback(BaseCallback):
+        """Evaluates every ``eval_every`` and checkpoints every ``checkpoint_every`` env steps.
+
+        Both happen at rollout starts (after the previous update), where PPO's rollout
+        buffer is empty; the final evaluation and checkpoint happen at training end.
+        """
+
+        def __init__(self):
+            super().__init__()
+            self.t0 = time.perf_counter()
+            self.last_eval = rows[-1]["env_steps"] if rows else None
+            self.last_ckpt = None
+
+        def wall(self) -> float:
+            return start_wall + time.perf_counter() - self.t0
+
+        def _on_training_start(self) -> None:
+            self.last_ckpt = self.num_timesteps
+
+        def _on_rollout_start(self) -> None:
+            steps = self.num_timesteps
+            if self.last_eval is None or steps - self.last_eval >= spec.eval_every:
+                self.evaluate()
+            if steps - self.last_ckpt >= spec.checkpoint_every:
+                self.checkpoint()
+
+        def _on_step(self) -> bool:
+            return True
+
+        def _on_training_end(self) -> None:
+            if self.last_eval != self.num_timesteps:
+                self.evaluate()
+
+        def evaluate(self) -> None:
+            result = evaluate_policy(self.model, env_factory(spec), spec.eval_episodes, eval_seed(spec), envs=eval_envs)
+            row = {"variant": spec.variant, "seed": spec.seed, "env_steps": int(self.num_timesteps),
+                   **result.row(), "wall_s": self.wall()}
+            rows.append(row)
+            write_csv_atomic(run_dir / "eval.csv", rows, EVAL_COLUMNS)
+            for key in ("success_rate", "mean_return", "mean_collision_steps", "mean_episode_length"):
+                self.logger.record(f"eval/{key}", row[key])
+            self.last_eval = self.num_timesteps
+
+        def checkpoint(self) -> None:
+            _write_checkpoint(self.model, run_dir, self.wall(), spec.algo == "sac")
+            self.last_ckpt = self.num_timesteps
+
+    return RunCallback()
+
+
+def _check_spec_file(spec: RunSpec, run_dir: Path) -> None:
+    path = run_dir / "spec.json"
+    if path.is_file():
+        old = RunSpec.from_dict(json.loads(path.read_text()))
+        if old != spec:
+            raise ValueError(f"{run_dir} holds a run with a different spec ({path}); use another --out folder")
+    else:
+        write_text_atomic(path, spec.to_json() + "\n")
+
+
+def train(
+    spec: RunSpec,
+    run_dir: str | os.PathLike,
+    *,
+    progress_bar: bool = False,
+    tensorboard: bool = True,
+    verbose: int = 0,
+    callbacks: Sequence[Any] = (),
+) -> RunResult:
+    """Train (or resume, or skip if ``done``) the run ``spec`` into ``run_dir``.
+
+    Args:
+        spec: the run.
+        run_dir: its folder (created); see the module docstring for the files.
+        progress_bar: SB3's progress bar (tqdm + rich).
+        tensorboard: write TensorBoard logs under ``run_dir/tb``.
+        verbose: SB3's verbosity.
+        callbacks: extra SB3 callbacks (run after the evaluation/checkpoint one).
+
+    Returns:
+        The run's metrics (also in ``run_dir/metrics.json``).
+    """
+    import torch
+
+    run_dir = Path(run_dir)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    _check_spec_file(spec, run_dir)
+    if is_done(run_dir):
+        return RunResult(json.loads((run_dir / "metrics.json").read_text()))
+    torch.set_num_threads(spec.torch_threads)
+    algo_cls = _algo_class(spec.algo)
+    try:
+        eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
+    except TypeError as err:  # unknown env keyword: the user's input
+        raise ValueError(f"env_kwargs: {err}") from None
+    vec = _make_vec_env(spec)
+    try:
+        ckpt = run_dir / _CHECKPOINT / "model.zip"
+        tb = str(run_dir / "tb") if tensorboard else None
+        rows: list[dict] = []
+        start_wall = 0.0
+        if ckpt.is_file():
+            model = algo_cls.load(ckpt, env=vec, device="cpu", tensorboard_log=tb)
+            if spec.algo == "sac" and (run_dir / _CHECKPOINT / "replay_buffer.pkl").is_file():
+                model.load_replay_buffer(run_dir / _CHECKPOINT / "replay_buffer.pkl")
+            meta_path = run_dir / _CHECKPOINT / "meta.json"
+            start_wall = json.loads(meta_path.read_text())["wall_s"] if meta_path.is_file() else 0.0
+            model.set_random_seed(spec.seed + model.num_timesteps)
+            if (run_dir / "eval.csv").is_file():
+                rows = [r for r in read_csv(run_dir / "eval.csv") if r["env_steps"] <= model.num_timesteps]
+            resumed_from = int(model.num_timesteps)
+        else:
+            for leftover in ("eval.csv",):
+                (run_dir / leftover).unlink(missing_ok=True)
+            model = algo_cls("MultiInputPolicy", vec, seed=spec.seed, device="cpu", verbose=verbose,
+                             tensorboard_log=tb, **spec.merged_algo_kwargs())
+            resumed_from = 0
+        callback = _make_callback(spec, run_dir, rows, start_wall, eval_envs)
+        remaining = spec.total_steps - int(model.num_timesteps)
+        t0 = time.perf_counter()
+        if remaining > 0:
+            from stable_baselines3.common.callbacks import CallbackList
+
+            model.learn(remaining, callback=CallbackList([callback, *callbacks]), progress_bar=progress_bar,
+                        reset_num_timesteps=resumed_from == 0, tb_log_name="tb")
+        elif not rows or rows[-1]["env_steps"] != model.num_timesteps:
+            callback.init_callback(model)
+            callback.evaluate()
+        train_s = time.perf_counter() - t0
+        _write_checkpoint(model, run_dir, callback.wall(), spec.algo == "sac")
+        _save_atomic_zip(model, run_dir / "final_model.zip")
+        metrics = RunResult(
+            spec=spec.to_dict(), run_name=spec.run_name, env_steps=int(model.num_timesteps),
+            resumed_from=resumed_from, wall_s=callback.wall(), train_s_this_session=train_s,
+            steps_per_s_this_session=(model.num_timesteps - resumed_from) / train_s if train_s > 0 else None,
+            final=rows[-1] if rows else None, n_evals=len(rows),
+        )
+        write_json_atomic(run_dir / "metrics.json", metrics)
+        write_text_atomic(run_dir / DONE_MARKER, f"{int(model.num_timesteps)}\n")
+        return metrics
+    finally:
+        vec.close()
+        for env in eval_envs:
+            env.close()
+
+
+def find_spec(model_path: str | os.PathLike) -> tuple[Path, RunSpec]:
+    """(model zip, its run's ``RunSpec``) for a run folder or a ``.zip`` inside one (or its ``checkpoint/``)."""
+    path = Path(model_path)
+    if path.is_dir():
+        path = path / "final_model.zip"
+    if not path.is_file():
+        raise ValueError(f"no model at {model_path} (give a run folder or a .zip model)")
+    for folder in (path.parent, path.parent.parent):
+        if (folder / "spec.json").is_file():
+            return path, RunSpec.from_dict(json.loads((folder / "spec.json").read_text()))
+    raise ValueError(f"no spec.json next to {path} or in its parent folder; the model's run folder is needed")
+
+
+def load_model(model_path: str | os.PathLike):
+    """(SB3 model, ``RunSpec``) from a run folder or a ``.zip`` saved by ``train``."""
+    path, spec = find_spec(model_path)
+    return _algo_class(spec.algo).load(path, device="cpu"), spec

@@ -1,0 +1,135 @@
+"""PPO training speed on the attended environment against PPO on a trivial environment.
+
+Both runs use the same PPO set-up as ``attentive-gym train`` (``RunSpec`` defaults:
+``MultiInputPolicy``, 4 ``DummyVecEnv`` environments, 256-step rollouts, minibatch 256,
+5 epochs, one torch thread) and the same observation/action spaces; they differ only in
+the environment:
+
+- ``focus``: ``make_env("focus")``, the attended observation (49 numbers in a ``Dict``);
+- ``trivial``: a ``gym.Env`` with the same spaces that returns pre-drawn random
+  observations (800-step episodes, reward 0): what PPO alone costs.
+
+Prints env-steps per second of each (median over alternating rounds), the fraction of
+``focus`` training time spent inside the environment (measured with a timing wrapper
+around every ``step``/``reset``, and estimated as ``1 − t_trivial / t_focus``; target
+≤ 25 %), and a JSON line with all figures. Times are this process's **CPU time**
+(``time.process_time``; torch runs one thread), so other jobs on a busy machine do not
+distort the comparison; ``--clock wall`` uses wall time instead.
+
+Usage: ``python benchmarks/bench_training.py [--steps 20480] [--rounds 2] [--variant focus]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+
+import gymnasium as gym
+import numpy as np
+
+
+class TrivialEnv(gym.Env):
+    """Same spaces as ``like``; observations drawn up front from its space; 800-step episodes."""
+
+    def __init__(self, like: gym.Env, episode_steps: int = 800, pool: int = 256, seed: int = 0):
+        self.observation_space = like.observation_space
+        self.action_space = like.action_space
+        self.observation_space.seed(seed)
+        self._pool = [self.observation_space.sample() for _ in range(pool)]
+        self._episode_steps = episode_steps
+        self._t = 0
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self._t = 0
+        return self._pool[0], {}
+
+    def step(self, action):
+        self._t += 1
+        return self._pool[self._t % len(self._pool)], 0.0, False, self._t >= self._episode_steps, {}
+
+
+CLOCKS = {"cpu": time.process_time, "wall": time.perf_counter}
+
+
+class EnvTimer(gym.Wrapper):
+    """Adds the time of every ``step`` and ``reset`` (s, by ``clock``) to a shared one-element list."""
+
+    def __init__(self, env: gym.Env, total: list[float], clock=time.process_time):
+        super().__init__(env)
+        self.total = total
+        self.clock = clock
+
+    def step(self, action):
+        t0 = self.clock()
+        out = self.env.step(action)
+        self.total[0] += self.clock() - t0
+        return out
+
+    def reset(self, **kwargs):
+        t0 = self.clock()
+        out = self.env.reset(**kwargs)
+        self.total[0] += self.clock() - t0
+        return out
+
+
+def train_rate(make_one, steps: int, seed: int = 0, clock=time.process_time) -> tuple[float, float]:
+    """(env-steps/s of PPO.learn, fraction of that time inside the environments)."""
+    import torch
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from attentive_gym.agents.config import RunSpec
+
+    spec = RunSpec()
+    torch.set_num_threads(spec.torch_threads)
+    env_time = [0.0]
+    vec = DummyVecEnv([lambda: EnvTimer(make_one(), env_time, clock) for _ in range(spec.n_envs)])
+    model = PPO("MultiInputPolicy", vec, seed=seed, device="cpu", **spec.merged_algo_kwargs())
+    model.learn(spec.n_envs * spec.merged_algo_kwargs()["n_steps"])  # warm-up: numba, torch
+    env_time[0] = 0.0
+    t0 = clock()
+    model.learn(steps, reset_num_timesteps=False)
+    elapsed = clock() - t0
+    vec.close()
+    return steps / elapsed, env_time[0] / elapsed
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=20480, help="env steps per timed PPO.learn (default: 20480)")
+    parser.add_argument("--rounds", type=int, default=2, help="alternating rounds (default: 2)")
+    parser.add_argument("--variant", default="focus", help="observation variant (default: focus)")
+    parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu", help="cpu (process time, default) or wall")
+    args = parser.parse_args()
+
+    from attentive_gym.wrappers import make_env
+
+    probe = make_env(args.variant)
+    makers = {args.variant: lambda: make_env(args.variant), "trivial": lambda: TrivialEnv(probe)}
+    rates: dict[str, list[float]] = {name: [] for name in makers}
+    fractions: dict[str, list[float]] = {name: [] for name in makers}
+    for _ in range(args.rounds):
+        for name, make_one in makers.items():
+            rate, fraction = train_rate(make_one, args.steps, clock=CLOCKS[args.clock])
+            rates[name].append(rate)
+            fractions[name].append(fraction)
+    med = {name: statistics.median(values) for name, values in rates.items()}
+    frac = {name: statistics.median(values) for name, values in fractions.items()}
+    estimate = 1.0 - med["trivial"] ** -1 / med[args.variant] ** -1
+    print(f"== PPO env-steps per {args.clock} second, {args.steps} steps × {args.rounds} rounds (medians) ==")
+    print(f"{'environment':<12} {'steps/s':>9} {'µs/step':>9} {'time in env':>12}")
+    for name in makers:
+        print(f"{name:<12} {med[name]:9.0f} {1e6 / med[name]:9.1f} {100 * frac[name]:11.1f}%")
+    print(f"{args.variant} trains at {med[args.variant] / med['trivial']:.2f}x the trivial env's speed; "
+          f"time in env: {100 * frac[args.variant]:.1f}% measured, {100 * estimate:.1f}% from the speed ratio "
+          f"(target <= 25%)")
+    print(json.dumps({"variant": args.variant, "clock": args.clock, "steps": args.steps, "rounds": args.rounds,
+                      "steps_per_s": med, "env_fraction": frac, "env_fraction_from_ratio": estimate,
+                      "rates": rates}))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,42 @@
+"""RunSpec validation and the CLI's list parsers."""
+
+import pytest
+
+from attentive_gym.agents.config import RunSpec, parse_seeds, parse_variants
+
+
+def test_unknown_variant_lists_allowed_ones():
+    with pytest.raises(ValueError, match=r"unknown variant 'nope'; allowed: \['raw', 'raw-stack', 'focus'"):
+        RunSpec(variant="nope")
+    with pytest.raises(ValueError, match="allowed"):
+        parse_variants("raw,nope")
+
+
+@pytest.mark.parametrize("field, value", [
+    ("total_steps", 0), ("total_steps", -5), ("total_steps", 1.5), ("seed", -1), ("seed", "3"),
+    ("n_envs", 0), ("eval_episodes", 0), ("algo", "dqn"), ("vec_env", "threads"), ("env_kwargs", [1]),
+])
+def test_bad_values_raise(field, value):
+    with pytest.raises(ValueError, match=field if field not in ("algo", "vec_env") else "unknown"):
+        RunSpec(**{field: value})
+
+
+def test_roundtrip_and_names():
+    spec = RunSpec(variant="raw-stack", seed=3, env_kwargs={"arena_size_m": 8.0}, algo_kwargs={"n_steps": 64})
+    assert RunSpec.from_dict(spec.to_dict()) == spec
+    assert spec.run_name == "raw-stack-seed3"
+    assert spec.merged_algo_kwargs()["n_steps"] == 64 and spec.merged_algo_kwargs()["batch_size"] == 256
+    with pytest.raises(ValueError, match="unknown RunSpec field"):
+        RunSpec.from_dict({**spec.to_dict(), "colour": 1})
+
+
+def test_parsers():
+    assert parse_variants(" raw, focus ") == ("raw", "focus")
+    assert parse_seeds("3") == (0, 1, 2)
+    assert parse_seeds("4,7") == (4, 7)
+    for bad in ("0", "-1", "a", "1,1", "2,-3"):
+        with pytest.raises(ValueError):
+            parse_seeds(bad)
+    for bad in ("", "raw,raw"):
+        with pytest.raises(ValueError):
+            parse_variants(bad)

@@ -1,0 +1,70 @@
+"""The notebook runs end to end; the train/evaluate command lines and their input errors."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from attentive_gym.cli import main
+
+NOTEBOOK = Path(__file__).resolve().parents[2] / "notebooks" / "train_and_compare.ipynb"
+
+
+def test_notebook_executes():
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    notebook = nbformat.read(NOTEBOOK, as_version=4)
+    nbclient.NotebookClient(notebook, timeout=60, kernel_name="python3",
+                            resources={"metadata": {"path": str(NOTEBOOK.parent)}}).execute()
+    outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.get("outputs", [])]
+    assert not [o for o in outputs if o.get("output_type") == "error"]
+    assert any("image/png" in o.get("data", {}) for o in outputs)
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory, tiny):
+    out = tmp_path_factory.mktemp("train") / "run"
+    argv = ["train", "--variant", "focus", "--steps", "256", "--n-envs", "2", "--eval-episodes", "2",
+            "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs),
+            "--no-progress", "--out", str(out)]
+    assert main(argv) == 0
+    return out
+
+
+def test_train_and_evaluate_commands(trained, capsys):
+    assert (trained / "done").is_file() and (trained / "final_model.zip").is_file()
+    capsys.readouterr()
+    assert main(["evaluate", str(trained), "--episodes", "3", "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)
+    assert row["variant"] == "focus" and row["n_episodes"] == 3 and 0 <= row["success_rate"] <= 1
+    assert main(["evaluate", str(trained / "checkpoint" / "model.zip"), "--episodes", "1"]) == 0
+    assert "success rate" in capsys.readouterr().out
+
+
+def test_evaluate_records_a_video(trained, tmp_path):
+    pytest.importorskip("moviepy", reason="--video needs moviepy (the 'video' extra)")
+    assert main(["evaluate", str(trained), "--episodes", "1", "--video", str(tmp_path / "v")]) == 0
+    videos = list((tmp_path / "v").glob("*.mp4"))
+    assert videos and videos[0].stat().st_size > 0
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["train", "--variant", "nope"], "unknown variant 'nope'; allowed: ['raw'"),
+    (["train", "--env-kwargs", "[1]"], "must be a JSON object"),
+    (["train", "--env-kwargs", '{"bogus": 1}', "--steps", "64"], "unknown keyword argument"),
+    (["evaluate", "no/such/run"], "no model at no/such/run"),
+    (["compare", "--variants", "raw,nope"], "allowed"),
+    (["compare", "--seeds", "0"], "seeds must be"),
+    (["compare", "--threshold", "2"], "--threshold"),
+])
+def test_input_errors_exit_2_with_one_line(argv, message, capsys, tmp_path):
+    assert main(argv + ["--out", str(tmp_path / "o")] if argv[0] != "evaluate" else argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+def test_usage_errors_exit_2():
+    for argv in (["train", "--steps", "0"], ["train", "--seed", "-1"], ["train", "--algo", "dqn"]):
+        with pytest.raises(SystemExit) as exc:
+            main(argv)
+        assert exc.value.code == 2

@@ -1,0 +1,101 @@
+"""One run: outputs, determinism, evaluation rows, and resume after an interruption."""
+
+import json
+
+import numpy as np
+import pytest
+from stable_baselines3.common.callbacks import BaseCallback
+
+from attentive_gym.agents.evaluation import evaluate_policy
+from attentive_gym.agents.results import EVAL_COLUMNS, read_csv
+from attentive_gym.agents.training import env_factory, is_done, load_model, train
+
+
+class Interrupt(BaseCallback):
+    """Raises once the run has passed ``at`` env steps (a stand-in for a kill)."""
+
+    def __init__(self, at):
+        super().__init__()
+        self.at = at
+
+    def _on_step(self):
+        if self.num_timesteps > self.at:
+            raise KeyboardInterrupt(f"interrupted at {self.num_timesteps}")
+        return True
+
+
+def _eval_table(run_dir):
+    return [{k: v for k, v in row.items() if k != "wall_s"} for row in read_csv(run_dir / "eval.csv")]
+
+
+def test_run_writes_outputs_and_is_deterministic(tmp_path, tiny):
+    spec = tiny()
+    metrics = train(spec, tmp_path / "a")
+    for name in ("spec.json", "eval.csv", "final_model.zip", "metrics.json", "done", "checkpoint/model.zip"):
+        assert (tmp_path / "a" / name).is_file(), name
+    assert any((tmp_path / "a" / "tb").rglob("events.out.tfevents*"))
+    assert metrics["env_steps"] == 384 and json.loads((tmp_path / "a" / "metrics.json").read_text())["env_steps"] == 384
+    rows = read_csv(tmp_path / "a" / "eval.csv")
+    assert list(rows[0]) == list(EVAL_COLUMNS)
+    assert [r["env_steps"] for r in rows] == [0, 128, 256, 384]
+    for row in rows:
+        assert 0 <= row["success_rate"] <= 1 and row["n_episodes"] == 2 and 1 <= row["mean_episode_length"] <= 40
+    train(spec, tmp_path / "b")
+    assert _eval_table(tmp_path / "a") == _eval_table(tmp_path / "b")
+    model_a, loaded_spec = load_model(tmp_path / "a")
+    model_b, _ = load_model(tmp_path / "b" / "final_model.zip")
+    assert loaded_spec == spec
+    for pa, pb in zip(model_a.policy.parameters(), model_b.policy.parameters()):
+        assert np.array_equal(pa.detach().numpy(), pb.detach().numpy())
+    # a done run is not retrained; another spec into the same folder is refused
+    assert train(spec, tmp_path / "a")["env_steps"] == 384
+    with pytest.raises(ValueError, match="different spec"):
+        train(spec.replace(seed=1), tmp_path / "a")
+
+
+def test_resume_continues_the_step_count(tmp_path, tiny):
+    spec = tiny(total_steps=640, checkpoint_every=256, eval_every=256)
+    run_dir = tmp_path / "run"
+    with pytest.raises(KeyboardInterrupt):
+        train(spec, run_dir, callbacks=[Interrupt(at=400)])
+    assert not is_done(run_dir)
+    ckpt_steps = json.loads((run_dir / "checkpoint" / "meta.json").read_text())["env_steps"]
+    assert ckpt_steps == 256  # last checkpoint before the interruption: at most one interval lost
+    metrics = train(spec, run_dir)
+    assert metrics["resumed_from"] == 256
+    assert metrics["env_steps"] == train(spec, tmp_path / "straight")["env_steps"] == 640
+    steps = [r["env_steps"] for r in read_csv(run_dir / "eval.csv")]
+    assert steps == sorted(set(steps)) and steps[0] == 0 and steps[-1] == 640
+    model, _ = load_model(run_dir)
+    assert model.num_timesteps == 640
+    result = evaluate_policy(model, env_factory(spec), 2, seed=5)
+    assert result.n_episodes == 2
+
+
+def test_sac_resume_keeps_the_replay_buffer(tmp_path, tiny):
+    spec = tiny(algo="sac", variant="raw", total_steps=120, n_envs=1, checkpoint_every=50, eval_every=60,
+                algo_kwargs={"learning_starts": 20, "batch_size": 16, "buffer_size": 1000})
+    run_dir = tmp_path / "sac"
+    with pytest.raises(KeyboardInterrupt):
+        train(spec, run_dir, callbacks=[Interrupt(at=70)])
+    assert (run_dir / "checkpoint" / "replay_buffer.pkl").is_file()
+    metrics = train(spec, run_dir)
+    assert metrics["resumed_from"] == 50 and metrics["env_steps"] == 120
+    model, _ = load_model(run_dir)
+    assert type(model).__name__ == "SAC" and model.num_timesteps == 120
+
+
+def test_evaluate_policy_counts_episodes(tiny):
+    class Forward:
+        def predict(self, obs, deterministic=True):
+            n = len(obs["sonar"])
+            return np.tile(np.array([1.0, 0.0], np.float32), (n, 1)), None
+
+    spec = tiny()
+    result = evaluate_policy(Forward(), env_factory(spec), 5, seed=1, n_parallel=2)
+    again = evaluate_policy(Forward(), env_factory(spec), 5, seed=1, n_parallel=3)
+    assert result.n_episodes == 5 and len(result.returns) == 5
+    assert result.returns == pytest.approx(again.returns)  # episode i always gets seed + i
+    assert result.mean_episode_length <= 40
+    with pytest.raises(ValueError):
+        evaluate_policy(Forward(), env_factory(spec), 0, seed=1)
