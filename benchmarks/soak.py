@@ -169,13 +169,11 @@ def soak(steps: int = 1_000_000, workers: int | None = None, chunk: int | None =
     wall = time.perf_counter() - start
     per_config: dict[str, dict[str, float]] = {}
     for r in results:
-        c = per_config.setdefault(r["label"], {"steps": 0, "episodes": 0, "violations": 0,
-                                               "max_penetration_free_m": 0.0, "max_penetration_pushed_m": 0.0})
+        c = per_config.setdefault(r["label"], {"steps": 0, "episodes": 0, "violations": 0, "max_penetration_m": 0.0})
         c["steps"] += r["steps"]
         c["episodes"] += r["episodes"]
         c["violations"] += r["violations"]
-        c["max_penetration_free_m"] = max(c["max_penetration_free_m"], r["max_penetration_m"]["free"])
-        c["max_penetration_pushed_m"] = max(c["max_penetration_pushed_m"], r["max_penetration_m"]["pushed"])
+        c["max_penetration_m"] = max(c["max_penetration_m"], r["max_penetration_m"])
     total = sum(r["steps"] for r in results)
     return {
         "steps": total,
@@ -185,8 +183,7 @@ def soak(steps: int = 1_000_000, workers: int | None = None, chunk: int | None =
         "wall_s": wall,
         "steps_per_s": total / wall if wall > 0 else float("nan"),
         "workers": workers,
-        "max_penetration_free_m": max(c["max_penetration_free_m"] for c in per_config.values()),
-        "max_penetration_pushed_m": max(c["max_penetration_pushed_m"] for c in per_config.values()),
+        "max_penetration_m": max(c["max_penetration_m"] for c in per_config.values()),
         "per_config": per_config,
     }
 
@@ -207,11 +204,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"violations  {summary['violations']}")
     print(f"wall        {summary['wall_s']:.1f} s on {summary['workers']} workers")
     print(f"steps/s     {summary['steps_per_s']:.0f} (env + model + invariants)")
-    print(f"deepest wall/rubble overlap: {summary['max_penetration_free_m']:.4f} m free, "
-          f"{summary['max_penetration_pushed_m']:.4f} m while pushed by a mover")
+    print(f"deepest wall/rubble overlap: {summary['max_penetration_m']:.4f} m")
     for label, c in summary["per_config"].items():
         print(f"  {label:<26} {c['steps']:>8} steps {c['episodes']:>6} episodes {c['violations']:>4} violations "
-              f"overlap {c['max_penetration_free_m']:.3f}/{c['max_penetration_pushed_m']:.3f} m")
+              f"overlap {c['max_penetration_m']:.3f} m")
     for example in summary["examples"]:
         print("  VIOLATION", example)
     if args.json:

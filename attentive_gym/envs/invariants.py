@@ -3,16 +3,15 @@
 - ``check_invariants(env, obs, output=None)``: the list of violated invariants (empty = fine)
   of an unwrapped env right after ``reset``/``step``, its observation, and optionally the
   ``AttentionOutput`` of a model fed that observation.
-- ``InvariantChecker``: the same, remembering when the robot last touched a mover (the
-  tolerances are wider for a while after a push, see below). Call ``reset()`` per episode.
-- ``PENETRATION_TOL_M``, ``SQUEEZE_PENETRATION_TOL_M``, …: the tolerances, documented.
+- ``InvariantChecker``: the same, remembering when the robot last touched something (the
+  speed bounds are wider for a while after a contact, see below). Call ``reset()`` per
+  episode.
+- ``PENETRATION_TOL_M``, ``CONTACT_MEMORY_S``, …: the tolerances, documented.
 
 What is checked:
 
 1. **Nothing inside a wall or static shape**: the robot's penetration into any wall or
-   rubble (pymunk ``shape_query`` contact depth) is at most ``PENETRATION_TOL_M``, or
-   ``SQUEEZE_PENETRATION_TOL_M`` while the robot is being (or was within
-   ``PUSH_MEMORY_S``) pushed by a mover. Path movers (victims and robots on scripted legs)
+   rubble (pymunk ``shape_query`` contact depth) is at most ``PENETRATION_TOL_M``. Path movers (victims and robots on scripted legs)
    must not penetrate static shapes by more than ``PENETRATION_TOL_M`` either; pursuers and
    evaders steer straight at/away from the robot and, being scripted kinematic bodies, are
    allowed to pass through rubble (a documented property of ``World``), so they are
@@ -21,11 +20,10 @@ What is checked:
    laser in ``[0, max_range]``, odometry and goal finite and inside the observation space,
    every array float32 with the space's shape.
 3. **Robot speed within its limits**: ``|v| <= max_linear_mps`` and
-   ``|w| <= max_angular_rps`` (relative tolerance ``SPEED_REL_TOL``) while no mover pushes
-   it; while one does (kinematic movers push and are not pushed back), the bound is
-   ``max_linear_mps`` + the fastest mover's speed, and the angular bound adds that speed
-   over half the robot's width (a push on a corner spins the body). While the robot
-   touches (or touched within ``PUSH_MEMORY_S``) a wall or rubble, contact impulses may
+   ``|w| <= max_angular_rps`` (relative tolerance ``SPEED_REL_TOL``). Movers never push
+   the robot (``World`` stops a mover that touches it), so no allowance is made for
+   them. While the robot touches (or touched within ``CONTACT_MEMORY_S``) a wall, rubble
+   or a mover, contact impulses may
    add ``CONTACT_SPEED_REL`` to the linear bound and ``max_linear_mps`` over half the
    robot's width to the angular one (hitting a corner at full speed turns forward motion
    into spin: measured up to 2.50 rad/s against the drive's 2.44).
@@ -35,10 +33,9 @@ Tolerances — measured, not guessed: the world's pymunk space keeps the default
 ``collision_slop`` of 0.1 (pymunk's unit is the metre here, so contacts are allowed to
 overlap up to 10 cm before the solver pushes the shapes apart). Over a 1,000,000-step soak
 (``benchmarks/soak.py``, see ``docs/reliability.md``) the deepest robot-in-static overlap
-seen without a push was 0.080 m (the robot driving and turning into a wall at full speed)
-and 0.12 m right after a mover squeezed the robot against a wall. The tolerances sit above
-those figures with margin but far below any real tunnelling (a wall is 0.2 m thick, the
-robot 0.505 m wide).
+was 0.092 m (the robot driving and turning into a wall at full speed). The tolerance sits
+above that with margin but far below any real tunnelling (a wall is 0.2 m thick, the robot
+0.505 m wide).
 """
 
 from __future__ import annotations
@@ -51,22 +48,18 @@ __all__ = [
     "check_invariants",
     "InvariantChecker",
     "PENETRATION_TOL_M",
-    "SQUEEZE_PENETRATION_TOL_M",
-    "PUSH_MEMORY_S",
+    "CONTACT_MEMORY_S",
     "SPEED_REL_TOL",
     "CONTACT_SPEED_REL",
-    "touching_mover",
 ]
 
-#: Largest robot/mover overlap with a wall or rubble accepted without a push (m): pymunk's
-#: collision slop (0.1) plus 2 cm.
+#: Largest robot/mover overlap with a wall or rubble accepted (m): pymunk's collision
+#: slop (0.1) plus 2 cm.
 PENETRATION_TOL_M = 0.12
-#: Largest robot overlap with a wall or rubble accepted while a mover pushes the robot
-#: (a kinematic mover has infinite mass: it can squeeze the robot into a wall) (m).
-SQUEEZE_PENETRATION_TOL_M = 0.25
-#: How long after a mover's last touch the robot counts as pushed (s): the solver removes
-#: overlap beyond the slop at ``collision_bias`` = 0.9 per 1/60 s, so it is gone in ~1 s.
-PUSH_MEMORY_S = 1.5
+#: How long after its last contact the robot keeps the contact speed bounds (s): the
+#: solver removes overlap beyond the slop at ``collision_bias`` = 0.9 per 1/60 s, so the
+#: separation impulses are over in ~1 s.
+CONTACT_MEMORY_S = 1.5
 #: Extra linear speed (fraction of ``max_linear_mps``) a contact with a wall or rubble may add.
 CONTACT_SPEED_REL = 0.1
 #: Relative tolerance on the speed limits (floating-point slack of the joint solver).
@@ -91,24 +84,6 @@ def _penetration(space, shape, others: set) -> float:
     return worst
 
 
-def touching_mover(env) -> bool:
-    """Whether the robot is in contact with (or overlapping) a mover right now."""
-    world = env.world
-    movers = {m.shape for m in world.movers}
-    if not movers:
-        return False
-    arbiters: list = []
-    world.robot.body.each_arbiter(lambda arbiter, out: out.append(arbiter), arbiters)
-    if any(shape in movers for arbiter in arbiters for shape in arbiter.shapes):
-        return True
-    return any(hit.shape in movers for hit in world.space.shape_query(world.robot.shape))
-
-
-def _fastest_mover_mps(env) -> float:
-    velocities = env.world.mover_velocities()
-    return float(np.max(np.hypot(velocities[:, 0], velocities[:, 1]))) if len(velocities) else 0.0
-
-
 def _check_array(violations: list[str], name: str, value, space) -> np.ndarray | None:
     if not isinstance(value, np.ndarray):
         violations.append(f"obs[{name!r}] is a {type(value).__name__}, not an ndarray")
@@ -125,8 +100,7 @@ def _check_array(violations: list[str], name: str, value, space) -> np.ndarray |
     return value
 
 
-def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, pushed: bool | None = None,
-                     extra_speed_mps: float | None = None, contact: bool | None = None,
+def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, contact: bool | None = None,
                      _depth: list | None = None) -> list[str]:
     """The violated invariants (messages) of ``env`` after a step; empty when all hold.
 
@@ -134,10 +108,6 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, pushed: bo
         env: an unwrapped ``AttentiveRescueEnv`` after ``reset`` or ``step``.
         obs: the observation that call returned.
         output: an ``AttentionOutput`` computed from ``obs``, or None.
-        pushed: whether a mover pushes (or recently pushed) the robot; None: whether one
-            touches it now.
-        extra_speed_mps: the speed a push may add to the robot's; None: the fastest
-            mover's speed now.
         contact: whether the robot touches (or recently touched) anything; None: whether
             it touches something now.
     """
@@ -145,12 +115,8 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, pushed: bo
     world = env.world
     if world is None:
         return ["env has no world: reset() was not called"]
-    if pushed is None:
-        pushed = touching_mover(env)
-    if extra_speed_mps is None:
-        extra_speed_mps = _fastest_mover_mps(env)
     if contact is None:
-        contact = pushed or world.robot.in_contact()
+        contact = world.robot.in_contact()
 
     # --- 1. bodies finite and not inside static shapes ----------------------------------
     static = {shape for _, shape in world.static}
@@ -165,9 +131,8 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, pushed: bo
         depth = _penetration(world.space, world.robot.shape, static)
         if _depth is not None:
             _depth.append(depth)
-        limit = SQUEEZE_PENETRATION_TOL_M if pushed else PENETRATION_TOL_M
-        if depth > limit:
-            violations.append(f"robot is {depth:.3f} m inside a wall/rubble (tolerance {limit} m, pushed={pushed})")
+        if depth > PENETRATION_TOL_M:
+            violations.append(f"robot is {depth:.3f} m inside a wall/rubble (tolerance {PENETRATION_TOL_M} m)")
         from attentive_gym.world.scenario import PathBehaviour  # deferred: keeps this module light
 
         for mover in world.movers:
@@ -201,13 +166,10 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, pushed: bo
     if contact:
         linear_limit *= 1.0 + CONTACT_SPEED_REL
         angular_limit += config.max_linear_mps / (0.5 * min(config.length_m, config.width_m))
-    if pushed:
-        linear_limit += extra_speed_mps
-        angular_limit += (config.max_linear_mps + extra_speed_mps) / (0.5 * min(config.length_m, config.width_m))
     if not math.isfinite(speed) or speed > linear_limit * (1.0 + SPEED_REL_TOL) + 1e-9:
-        violations.append(f"robot speed {speed:.4f} m/s exceeds {linear_limit:.4f} m/s (pushed={pushed})")
+        violations.append(f"robot speed {speed:.4f} m/s exceeds {linear_limit:.4f} m/s (contact={contact})")
     if not math.isfinite(spin) or spin > angular_limit * (1.0 + SPEED_REL_TOL) + 1e-9:
-        violations.append(f"robot turn rate {spin:.4f} rad/s exceeds {angular_limit:.4f} rad/s (pushed={pushed})")
+        violations.append(f"robot turn rate {spin:.4f} rad/s exceeds {angular_limit:.4f} rad/s (contact={contact})")
 
     # --- 4. attention ------------------------------------------------------------------
     if output is not None:
@@ -223,7 +185,7 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, pushed: bo
 
 
 class InvariantChecker:
-    """``check_invariants`` over an episode, remembering the last push by a mover.
+    """``check_invariants`` over an episode, remembering the robot's last contact.
 
     Example:
         >>> checker = InvariantChecker()
@@ -233,14 +195,12 @@ class InvariantChecker:
 
     def __init__(self) -> None:
         self.reset()
-        #: Deepest robot overlap with a wall/rubble seen (m), without and with a push.
-        self.max_penetration_m = {"free": 0.0, "pushed": 0.0}
+        #: Deepest robot overlap with a wall/rubble seen (m).
+        self.max_penetration_m = 0.0
 
     def reset(self) -> None:
-        """Start a new episode (forget the last push)."""
-        self._last_push_s = -math.inf
+        """Start a new episode (forget the last contact)."""
         self._last_contact_s = -math.inf
-        self._extra_speed_mps = 0.0
 
     def check(self, env, obs: dict[str, np.ndarray], output=None, info: dict | None = None) -> list[str]:
         """The violated invariants after this step (see ``check_invariants``).
@@ -249,19 +209,11 @@ class InvariantChecker:
         while the contacts still present after the step may already have ended.
         """
         world = env.world
-        fastest = _fastest_mover_mps(env) if world is not None else 0.0
-        if world is not None and touching_mover(env):
-            self._last_push_s = world.time_s
-            self._extra_speed_mps = max(self._extra_speed_mps, fastest)
         if world is not None and ((info is not None and info.get("collision")) or world.robot.in_contact()):
             self._last_contact_s = world.time_s
-        pushed = world is not None and world.time_s - self._last_push_s <= PUSH_MEMORY_S
-        contact = pushed or (world is not None and world.time_s - self._last_contact_s <= PUSH_MEMORY_S)
+        contact = world is not None and world.time_s - self._last_contact_s <= CONTACT_MEMORY_S
         depth: list[float] = []
-        violations = check_invariants(env, obs, output, pushed=pushed,
-                                      extra_speed_mps=max(self._extra_speed_mps, fastest), contact=contact,
-                                      _depth=depth)
+        violations = check_invariants(env, obs, output, contact=contact, _depth=depth)
         if depth:
-            key = "pushed" if pushed else "free"
-            self.max_penetration_m[key] = max(self.max_penetration_m[key], depth[0])
+            self.max_penetration_m = max(self.max_penetration_m, depth[0])
         return violations

@@ -5,7 +5,9 @@
 - ``make_motion``: the motion law for a behaviour.
 
 Each law answers one question: which velocity (m/s, world frame) brings the body where it
-should be after ``h`` seconds. Path positions are exact functions of time, and the
+should be after ``h`` seconds. ``follows_clock`` tells whether the law is a schedule (a
+path, which a mover blocked by the robot resumes where it stopped) or a reaction to the
+robot (pursue, evade). Path positions are exact functions of time, and the
 velocity is computed from the body's *current* position, so rounding never accumulates
 and the positions at step boundaries do not depend on the step size. Laws run once per
 environment step, in plain Python floats (they are on the hot path).
@@ -28,6 +30,8 @@ class PathMotion:
         behaviour: the path.
         start_xy: the body's start position (m).
     """
+
+    follows_clock = True
 
     def __init__(self, behaviour: PathBehaviour, start_xy: tuple[float, float]) -> None:
         points = [(float(start_xy[0]), float(start_xy[1]))]
@@ -71,6 +75,7 @@ class PursueMotion:
     """Drive straight at the robot at ``speed_mps``, stopping ``stop_distance_m`` away."""
 
     face_motion = True
+    follows_clock = False
 
     def __init__(self, behaviour: PursueBehaviour) -> None:
         self._behaviour = behaviour
@@ -95,6 +100,7 @@ class EvadeMotion:
     """
 
     face_motion = True
+    follows_clock = False
 
     def __init__(self, behaviour: EvadeBehaviour, bounds: tuple[float, float, float, float], extent_m: float) -> None:
         self._behaviour = behaviour

@@ -8,8 +8,10 @@
 The space is public (``world.space``), as is the robot's body (``world.robot.body``), so
 users can add bodies and tests can check sensors against pymunk's own queries. Ids: the
 robot is 0, movers 1..M in scenario order, then walls (enclosure first) and rubble.
-Scripted movers are kinematic: they follow their scripts exactly, push the robot, and are
-not pushed back; walls and rubble are static.
+Scripted movers are kinematic: they follow their scripts exactly and are not pushed back;
+walls and rubble are static. A mover never pushes the attentive robot: one that touches it
+stops unless it is moving away (a path mover's schedule pauses, so it resumes where it
+stopped), as a real robot or person would, instead of crushing it against rubble.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import pymunk
 from attentive_gym.sensors import _pymunk_access as _body_state
 from attentive_gym.sensors.geometry import GeometryCache, SceneGeometry
 from attentive_gym.world.behaviours import make_motion
-from attentive_gym.world.robot import Robot, RobotConfig
+from attentive_gym.world.robot import ROBOT_COLLISION_TYPE, Robot, RobotConfig
 from attentive_gym.world.scenario import BoxRubble, CircleRubble, MoverSpec, Scenario, SegmentRubble, WallSpec
 
 __all__ = ["Entity", "Mover", "World", "ROBOT_ID", "MOVER_COLLISION_TYPE", "STATIC_COLLISION_TYPE"]
@@ -60,21 +62,63 @@ class Mover:
         self.shape.friction = _STATIC_FRICTION
         start = (spec.start.x_m, spec.start.y_m)
         self.motion = None if spec.behaviour is None else make_motion(spec.behaviour, start, bounds, spec.extent_m)
+        self.script_delay_s = 0.0  # how long a path's schedule has been paused by the robot (s)
+        self.touching_robot: tuple[float, float] | None = None  # unit vector towards the robot, while touching
+        self.blocked = False  # stopped by the robot during the last step
 
     def drive(self, t_s: float, h_s: float, robot_xy) -> None:
         """Set the velocity that follows the script over ``[t_s, t_s + h_s]``.
 
-        Called once per environment step: the body is exactly on its path at every step
-        boundary and moves in a straight line in between.
+        Called once per environment step: an unblocked body is exactly on its path at every
+        step boundary and moves in a straight line in between. A body that touches the robot
+        and would not move away from it waits instead, and a path's schedule is delayed by
+        the step.
         """
         motion = self.motion
         if motion is None:
             return
         body = self.body
-        vx, vy = motion.velocity(t_s, h_s, _body_state.position(body), robot_xy)
+        if self.blocked and motion.follows_clock:
+            self.script_delay_s += h_s  # stopped part-way through the last step: redo it
+        self.blocked = False
+        vx, vy = motion.velocity(t_s - self.script_delay_s, h_s, _body_state.position(body), robot_xy)
+        towards_robot = self.touching_robot
+        if towards_robot is not None:
+            self.touching_robot = None
+            if _not_leaving(vx, vy, towards_robot):
+                vx = vy = 0.0
+                if motion.follows_clock:
+                    self.script_delay_s += h_s
         _body_state.set_velocity(body, vx, vy)
         if motion.face_motion and (vx or vy):
             _body_state.set_angle(body, math.atan2(vy, vx))
+
+
+def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bool:
+    """Whether a mover moving at ``(vx, vy)`` m/s heads into, or slides along, the robot it
+    touches (sliding would drag the robot by friction): anything but moving away."""
+    return (vx != 0.0 or vy != 0.0) and vx * towards_robot[0] + vy * towards_robot[1] >= 0.0
+
+
+def _stop_mover_at_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, movers: dict) -> None:
+    """pre_solve of robot-mover contacts: a mover not moving away from the robot stops at once.
+
+    A stopped mover is then an obstacle like a wall; the contact with one moving away is
+    frictionless, so it cannot drag the robot along. Runs in every physics sub-step in
+    which the two touch (pymunk calls it only then), so an untouched world pays nothing.
+    ``movers`` maps a mover's shape to its ``Mover``.
+    """
+    robot_shape, mover_shape = arbiter.shapes
+    mover = movers[mover_shape]
+    normal = arbiter.normal  # from the robot (shape a) to the mover (shape b)
+    towards_robot = (-normal.x, -normal.y)
+    mover.touching_robot = towards_robot
+    vx, vy = _body_state.velocity(mover.body)
+    if _not_leaving(vx, vy, towards_robot):
+        _body_state.set_velocity(mover.body, 0.0, 0.0)
+        mover.blocked = True
+    elif vx or vy:
+        arbiter.friction = 0.0
 
 
 class World:
@@ -106,6 +150,11 @@ class World:
             mover = Mover(self._new_entity(spec.kind, spec.name), spec, scenario.bounds)
             self.space.add(mover.body, mover.shape)
             self.movers.append(mover)
+        if self.movers:
+            self.space.on_collision(
+                ROBOT_COLLISION_TYPE, MOVER_COLLISION_TYPE, pre_solve=_stop_mover_at_robot,
+                data={m.shape: m for m in self.movers},
+            )
         self.static: list[tuple[Entity, pymunk.Shape]] = []  # walls and rubble
         for i, wall in enumerate(self._enclosure() + list(scenario.walls)):
             self._add_static(self._new_entity("wall", f"wall {i}"), _wall_shape(self.space.static_body, wall))

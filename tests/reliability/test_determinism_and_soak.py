@@ -139,11 +139,11 @@ def test_invariants_hold_on_a_normal_episode_and_catch_planted_faults():
     body = env.world.robot.body
     body.position = (0.0, env.scenario.bounds[3] / 2)  # centred on the enclosure's left wall
     env.world.space.reindex_shapes_for_body(body)
-    assert any("inside a wall" in v for v in check_invariants(env, obs, pushed=False))
+    assert any("inside a wall" in v for v in check_invariants(env, obs))
     body.position = (5.0, 5.0)
     env.world.space.reindex_shapes_for_body(body)
     body.angular_velocity = 50.0
-    assert any("turn rate" in v for v in check_invariants(env, obs, pushed=False, contact=False))
+    assert any("turn rate" in v for v in check_invariants(env, obs, contact=False))
 
 
 def test_short_soak_has_no_violations():

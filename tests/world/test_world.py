@@ -1,6 +1,7 @@
 """The pymunk world: robot dynamics, collisions, scripted movers, overlap checks."""
 
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -126,6 +127,51 @@ def test_evader_moves_away_and_stays_inside_bounds():
     assert world.mover_positions()[0][0] == pytest.approx(4.0, abs=1e-6)
     run(world, 5.0, 0.0, 0.0)
     assert world.mover_positions()[0][0] == pytest.approx(5.0 - 0.25, abs=1e-6)
+
+
+def test_a_mover_stops_at_the_robot_instead_of_crushing_it_against_rubble():
+    # a 2 m/s robot drives straight through the parked robot, which has rubble right behind it
+    path = PathBehaviour(legs=(Leg((4.0, 0.0), 2.0),))
+    mover = MoverSpec("m", "robot", Pose(-3.0, 0.0), path)
+    world = open_world(movers=(mover,), rubble=(BoxRubble(0.6, 0.0, 0.3, 2.0),))
+    start = world.robot.pose.copy()
+    dt, max_robot_speed, mover_speeds = 0.1, 0.0, []
+    for _ in range(30):
+        world.step(dt, 0.0, 0.0)
+        max_robot_speed = max(max_robot_speed, float(np.hypot(*world.robot.body.velocity)))
+        mover_speeds.append(float(np.hypot(*world.mover_velocities()[0])))
+    assert max_robot_speed < 0.05, "the mover pushed the robot"
+    assert np.hypot(*(world.robot.pose[:2] - start[:2])) < 0.02
+    stop_x = world.mover_positions()[0][0]
+    assert -1.0 < stop_x < -0.2  # waiting in front of the robot, 3 s after it would have passed
+    assert mover_speeds[-1] == 0.0
+    # the robot leaves: the mover resumes where it stopped and never outruns its leg's speed
+    world.robot.body.position = (-10.0, -10.0)
+    arrival_s = None
+    for _ in range(40):
+        world.step(dt, 0.0, 0.0)
+        mover_speeds.append(float(np.hypot(*world.mover_velocities()[0])))
+        if arrival_s is None and world.mover_positions()[0][0] >= 4.0 - 1e-9:
+            arrival_s = world.time_s
+    assert max(mover_speeds) <= 2.0 + 1e-9
+    assert world.mover_positions()[0] == pytest.approx([4.0, 0.0], abs=1e-9)
+    # contact at ~1.2 s, release at 3.0 s: it waited ~1.8 s and arrives that much after 3.5 s
+    waited_s = world.movers[0].script_delay_s
+    assert 1.6 < waited_s < 2.1
+    assert arrival_s == pytest.approx(3.5 + waited_s, abs=dt + 1e-9)
+
+
+def test_a_pickled_world_keeps_stopping_movers_at_the_robot():
+    path = PathBehaviour(legs=(Leg((4.0, 0.0), 2.0),))
+    world = open_world(movers=(MoverSpec("m", "robot", Pose(-3.0, 0.0), path),))
+    run(world, 1.0, 0.0, 0.0, dt=0.1)  # not yet touching
+    copy = pickle.loads(pickle.dumps(world))
+    for _ in range(20):
+        world.step(0.1, 0.0, 0.0)
+        copy.step(0.1, 0.0, 0.0)
+        assert copy.mover_positions().tolist() == world.mover_positions().tolist()
+        assert copy.robot.pose.tolist() == world.robot.pose.tolist()
+    assert copy.movers[0].script_delay_s > 1.0 and np.hypot(*copy.robot.pose[:2]) < 0.02
 
 
 def test_overlapping_start_is_refused_with_names():
