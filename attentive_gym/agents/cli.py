@@ -82,7 +82,8 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int, defaults:
         eval_every=args.eval_every or defaults.get("eval_every", max(1, steps // 10)),
         eval_episodes=args.eval_episodes or defaults.get("eval_episodes", 20),
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
-        env_kwargs=parse_env_kwargs(args.env_kwargs), algo_kwargs=algo_kwargs,
+        env_kwargs=parse_env_kwargs(args.env_kwargs) if args.env_kwargs else dict(defaults.get("env_kwargs", {})),
+        algo_kwargs=algo_kwargs,
         torch_threads=getattr(args, "torch_threads", 1),
     )
 
@@ -169,8 +170,8 @@ def add_compare(subparsers) -> None:
     parser.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="runs in parallel (default: CPU count)")
     parser.add_argument("--threshold", type=float, default=0.5, help="success rate for 'steps to threshold' (default: 0.5)")
     parser.add_argument("--quick", action="store_true",
-                        help="a ~10-minute budget on 2 cores: raw,raw-stack,focus × 2 seeds × 150k steps "
-                             "(explicit options still win)")
+                        help="a ~6-minute budget on 2 cores: raw,raw-stack,focus × 3 seeds × 150k steps in an "
+                             "8 m arena (explicit options still win)")
     _add_run_options(parser, steps_default=None)
     parser.set_defaults(handler=_run_compare)
 

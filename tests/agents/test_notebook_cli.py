@@ -68,3 +68,28 @@ def test_usage_errors_exit_2():
         with pytest.raises(SystemExit) as exc:
             main(argv)
         assert exc.value.code == 2
+
+
+def _captured_compare(monkeypatch, argv):
+    import attentive_gym.agents.compare as compare_module
+
+    calls = []
+    monkeypatch.setattr(compare_module, "compare", lambda *args, **kwargs: calls.append((args, kwargs)) or
+                        compare_module.CompareResult(Path("."), None, None, None, None))
+    assert main(argv) == 0
+    (variants, seeds, base, out), kwargs = calls[0]
+    return variants, seeds, base, out
+
+
+def test_compare_quick_uses_the_quick_budget_and_explicit_options_win(monkeypatch, tmp_path):
+    from attentive_gym.agents.compare import QUICK
+
+    variants, seeds, base, out = _captured_compare(monkeypatch, ["compare", "--quick", "--out", str(tmp_path)])
+    assert tuple(variants) == QUICK["variants"] and tuple(seeds) == QUICK["seeds"]
+    assert (base.total_steps, base.eval_every, base.eval_episodes, base.checkpoint_every) == (
+        QUICK["total_steps"], QUICK["eval_every"], QUICK["eval_episodes"], QUICK["checkpoint_every"])
+    assert base.env_kwargs == QUICK["env_kwargs"]
+    variants, seeds, base, out = _captured_compare(
+        monkeypatch, ["compare", "--quick", "--seeds", "1", "--steps", "1000", "--env-kwargs", '{"num_distractors": 1}',
+                      "--out", str(tmp_path)])
+    assert tuple(seeds) == (0,) and base.total_steps == 1000 and base.env_kwargs == {"num_distractors": 1}
