@@ -1,4 +1,4 @@
-"""Train SB3 agents on the observation variants and compare them (GitHub issue 6).
+"""Train SB3 agents on the observation variants and compare them.
 
 - ``RunSpec`` (``config``): one run — variant, algorithm, budget in env steps, seed, ...
 - ``train`` (``training``): one run with periodic evaluation, TensorBoard logs,

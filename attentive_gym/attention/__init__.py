@@ -1,4 +1,5 @@
-"""The attentional model as a standalone, pure-numpy library (no gymnasium, no pymunk).
+"""The attentional model as a standalone library: numpy arrays and numba-compiled kernels,
+no gymnasium, no pymunk.
 
 - ``AttentionModel`` / ``AttentionConfig`` / ``AttentionOutput`` / ``FocusView``: the
   model of MODEL.md, stepped with timestamped (seconds) sonar and laser readings (metres).

@@ -1,4 +1,4 @@
-"""Determinism across processes, pickling and vector envs; invariants; a short soak (issue 7).
+"""Determinism across processes, pickling and vector envs; invariants; a short soak.
 
 Complements tests/envs: those compare two in-process rollouts, pickle a fresh-ish env once,
 and compare make_vec to single envs on a few observation keys. Here: a spawned process

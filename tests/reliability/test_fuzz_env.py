@@ -1,4 +1,4 @@
-"""Fuzzing AttentiveRescue-v0: actions, keyword arguments and reset options (issue 7).
+"""Fuzzing AttentiveRescue-v0: actions, keyword arguments and reset options.
 
 Every case ends in a correct result (finite observation inside the space) or a clear
 ValueError/TypeError raised by attentive_gym's own validation that names the problem.

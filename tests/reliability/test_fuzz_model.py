@@ -1,4 +1,4 @@
-"""Fuzzing goals, map weights, attentive states and AttentionModel inputs (issue 7).
+"""Fuzzing goals, map weights, attentive states and AttentionModel inputs.
 
 Every case ends in a correct result (finite, non-negative M and L) or a clear
 ValueError/TypeError raised by attentive_gym's validation that names the problem; an

@@ -1,4 +1,4 @@
-"""Fuzzing scenario data and files (issue 7): mutated dicts, bad YAML/JSON, impossible geometry.
+"""Fuzzing scenario data and files: mutated dicts, bad YAML/JSON, impossible geometry.
 
 Every case ends in a Scenario that builds a working env (finite observations) or a clear
 ValueError/TypeError raised by attentive_gym's validation that names the problem.
