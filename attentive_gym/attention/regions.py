@@ -134,6 +134,10 @@ class Grid:
         region_sonar: ``(J,)`` the front sonar that covers each region.
         beam_slices: for each region, the ``slice`` of laser beams it holds.
         beam_indices: for each region, the ``(n,)`` indices of its laser beams.
+
+    A grid is an immutable value (its arrays are read-only), so copies share it: every
+    ``AttentionOutput`` refers to its model's grid, and deep-copying an output (as SB3's
+    ``DummyVecEnv`` does with each step's ``info``) does not rebuild the grid.
     """
 
     name: str
@@ -145,6 +149,16 @@ class Grid:
     beam_indices: tuple[np.ndarray, ...]
     _beam_order: slice
     _starts: np.ndarray
+
+    def __post_init__(self) -> None:
+        for array in (self.bearings_rad, self.beam_region, self.region_sonar, self._starts, *self.beam_indices):
+            array.flags.writeable = False
+
+    def __copy__(self) -> "Grid":
+        return self
+
+    def __deepcopy__(self, memo: dict) -> "Grid":
+        return self
 
     @classmethod
     def make(cls, name: str) -> "Grid":
