@@ -1,9 +1,12 @@
 """AttentionModel: API, input validation, outputs and short scenarios (MODEL.md §6–§8)."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, Direction, Goal
+from support import assert_same
 
 
 def _target_run(model, speed=0.7, start=4.0, steps=40, dt=0.05, stop_at=None):
@@ -168,3 +171,27 @@ def test_laser_grid_has_180_regions():
     assert out.F.shape == (6, 180) and out.focus == 40
     assert out.view.laser_beams.tolist() == [40] and out.view.bearing_rad == pytest.approx(np.radians(-49.5))
     assert out.M.shape == (180,)
+
+
+def test_deep_copies_of_outputs_are_equal_and_independent():
+    import copy
+
+    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model.set_weights(F1=1.0)
+    out = _target_run(model, speed=0.5, steps=2)[1]
+    assert out.view is not None  # cached on first access; the copy rebuilds its own
+    clone = copy.deepcopy(out)
+    assert clone == out and clone is not out
+    assert clone.view is not out.view
+    assert_same(dataclasses.astuple(clone.view), dataclasses.astuple(out.view))
+    for name in ("F", "C", "C_BU", "C_TD", "origins", "M", "L", "goal_fulfilled", "directions", "speeds_mps",
+                 "distances_m"):
+        assert not np.shares_memory(getattr(clone, name), getattr(out, name)), name
+    for mine, theirs in zip(clone._sources[1:], out._sources[1:]):
+        assert not np.shares_memory(mine, theirs)
+    clone.L[:] = -1.0
+    assert np.all(out.L >= 0.0)
+    grid = out._sources[0]
+    assert clone._sources[0] is grid and copy.deepcopy(grid) is grid
+    with pytest.raises(ValueError, match="read-only"):
+        grid.beam_region[0] = 3
