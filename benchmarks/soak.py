@@ -11,6 +11,7 @@ steps/s, and the deepest wall/rubble overlap seen; ``--json PATH`` writes the sa
 
     python benchmarks/soak.py                     # 1,000,000 steps
     python benchmarks/soak.py --steps 5000        # a quick check (the test suite runs this)
+    python benchmarks/soak.py --steps 3000000 --first-seed 1000   # other episodes
 """
 
 from __future__ import annotations
@@ -129,10 +130,11 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
     }
 
 
-def make_tasks(steps: int, chunk: int) -> list[tuple[int, int, int]]:
-    """Chunks of at most ``chunk`` steps, round-robin over the configurations."""
+def make_tasks(steps: int, chunk: int, first_seed: int = 0) -> list[tuple[int, int, int]]:
+    """Chunks of at most ``chunk`` steps, round-robin over the configurations, one chunk
+    seed each from ``first_seed`` on."""
     tasks = []
-    remaining, seed = steps, 0
+    remaining, seed = steps, first_seed
     while remaining > 0:
         n = min(chunk, remaining)
         tasks.append((seed % len(CONFIGS), seed, n))
@@ -142,11 +144,11 @@ def make_tasks(steps: int, chunk: int) -> list[tuple[int, int, int]]:
 
 
 def soak(steps: int = 1_000_000, workers: int | None = None, chunk: int | None = None,
-         progress: bool = False) -> dict[str, Any]:
+         progress: bool = False, first_seed: int = 0) -> dict[str, Any]:
     """Run the soak; returns the summary (see the module docstring)."""
     workers = workers or os.cpu_count() or 1
     chunk = chunk or max(200, min(5000, steps // (2 * len(CONFIGS)) or 1))
-    tasks = make_tasks(steps, chunk)
+    tasks = make_tasks(steps, chunk, first_seed)
     start = time.perf_counter()
     results = []
     if workers == 1:
@@ -193,12 +195,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=1_000_000, help="environment steps in all (default 1,000,000)")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
     parser.add_argument("--chunk", type=int, default=None, help="steps per task (default: up to 5000)")
+    parser.add_argument("--first-seed", type=int, default=0, help="seed of the first chunk (default 0): another "
+                        "value soaks episodes no earlier run saw")
     parser.add_argument("--json", default=None, help="also write the summary to this file")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
     if args.steps < 1:
         parser.error("--steps must be >= 1")
-    summary = soak(args.steps, args.workers, args.chunk, progress=not args.quiet)
+    if args.first_seed < 0:
+        parser.error("--first-seed must be >= 0")
+    summary = soak(args.steps, args.workers, args.chunk, progress=not args.quiet, first_seed=args.first_seed)
     print(f"steps       {summary['steps']}")
     print(f"episodes    {summary['episodes']}")
     print(f"violations  {summary['violations']}")
