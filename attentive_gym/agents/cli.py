@@ -180,7 +180,7 @@ def _run_compare(args: argparse.Namespace) -> int:
     from attentive_gym.agents.compare import QUICK, compare
     from attentive_gym.agents.config import parse_seeds, parse_variants
 
-    defaults = dict(QUICK) if args.quick else {"total_steps": 100_000}
+    defaults = dict(QUICK) if args.quick else {}  # _spec_from_args holds the plain defaults
     variants = parse_variants(args.variants) if args.variants else tuple(defaults.get("variants", ("raw", "raw-stack", "focus")))
     seeds = parse_seeds(args.seeds) if args.seeds else tuple(defaults.get("seeds", range(5)))
     if not 0.0 <= args.threshold <= 1.0:
