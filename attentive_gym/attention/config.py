@@ -28,6 +28,7 @@ __all__ = [
     "GRIDS",
     "EGO_MOTION_MODES",
     "SONAR_EGO_MODELS",
+    "KINEMATICS_MODES",
     "parse_state",
 ]
 
@@ -55,6 +56,10 @@ GRIDS = ("sonar", "laser")
 EGO_MOTION_MODES = ("odometry", None)
 #: How a sonar reading of a static world is predicted after the robot moved (§3).
 SONAR_EGO_MODELS = ("laser", "point")
+#: How motion is estimated (§3, §10): "tracker" (objects tracked in the laser scan, the
+#: default), "window" (K-sample least-squares range rate), "literal" (the paper's
+#: two-sample difference).
+KINEMATICS_MODES = ("tracker", "window", "literal")
 
 
 def parse_state(state: str | float) -> float:
@@ -88,7 +93,12 @@ def parse_state(state: str | float) -> float:
 class AttentionConfig:
     """Every parameter of the attentional model (MODEL.md), with defaults and units.
 
-    Sensorial memory and kinematics (§2, §3):
+    Sensorial memory and kinematics (§2, §3, §10):
+        kinematics: "tracker" (default): objects segmented from each laser scan and
+            tracked with a constant-velocity Kalman filter in an odometry-fixed frame,
+            sonars filtered for what the laser does not see; "window": the K-sample
+            least-squares range rate per reading; "literal": the paper's two-sample
+            difference (K = 2).
         memory_window: W, readings kept per observation space (samples, >= 2).
         slope_samples: K, samples of the least-squares range-rate slope (2 <= K <= W);
             K = 2 is the paper's literal two-sample difference.
@@ -107,6 +117,34 @@ class AttentionConfig:
             nearest echo in its cone agrees with the sonar's previous reading to within
             this (m); otherwise the sonar sees something the laser does not and the
             "point" model applies.
+
+    Tracker (§10; ``kinematics="tracker"`` only):
+        range_noise_rel: relative standard deviation of a range reading that the filters
+            assume (dimensionless; 0.05 = 5 % Gaussian; a uniform ±a noise has σ = a/√3).
+        range_noise_floor_m: the smallest range σ assumed for one reading (m).
+        segment_jump_m: fixed part of the range jump that breaks a scan segment (m).
+        segment_jump_sigmas: range-dependent part of that threshold, in σ of the
+            difference of two neighbouring readings (``√2 · range_noise_rel · r``).
+        segment_min_beams: segments with fewer beams are not tracked (beams).
+        max_object_extent_m: segments longer than this (end to end, m) are static
+            structure (walls): never tracked, their speed is 0.
+        track_accel_psd_m2ps3: spectral density ``q`` of the white-noise acceleration of
+            the constant-velocity model (m²/s³); smaller is smoother, larger follows
+            turns sooner.
+        track_static_drift_m2ps: how fast the measured centre of a static body may wander
+            as the view changes (m²/s), the process noise of the static hypothesis.
+        track_switch_rate_hz: how often a body is assumed to start or stop moving (1/s),
+            the prior that blurs the probability that a track moves, per second.
+        track_position_sigma_m: σ of a new track's position beyond its measurement (m).
+        track_initial_speed_sigma_mps: σ of a new track's velocity, per axis (m/s).
+        track_surface_sigma_m: σ of where on its surface a segment's centroid lies,
+            across the line of sight (m): visible extent and shape change with the view.
+        track_gate_chi2: Mahalanobis gate of an association (χ² with 2 degrees of
+            freedom; 13.8 keeps 99.9 % of true matches).
+        track_confirm_hits: a track counts once it has been matched this many times.
+        track_delete_misses: a track is deleted after this many scans without a match.
+        max_tracks: the most tracks kept at once.
+        sonar_accel_psd_m2ps3: ``q`` of each front sonar's range/rate filter (m²/s³).
 
     Sensors (§1):
         sonar_max_range_m, sonar_min_range_m: sonar range (m).
@@ -146,6 +184,7 @@ class AttentionConfig:
     """
 
     # --- sensorial memory and kinematics -----------------------------------------
+    kinematics: str = "tracker"
     memory_window: int = 10
     slope_samples: int = 5
     max_speed_mps: float = 1.0
@@ -154,6 +193,24 @@ class AttentionConfig:
     sonar_ego_model: str = "laser"
     sonar_cone_half_width_deg: float = 15.0
     sonar_ego_match_m: float = 0.25
+    # --- tracker -------------------------------------------------------------------
+    range_noise_rel: float = 0.05
+    range_noise_floor_m: float = 0.01
+    segment_jump_m: float = 0.3
+    segment_jump_sigmas: float = 3.0
+    segment_min_beams: int = 2
+    max_object_extent_m: float = 1.2
+    track_accel_psd_m2ps3: float = 0.02
+    track_static_drift_m2ps: float = 0.0025
+    track_switch_rate_hz: float = 0.4
+    track_position_sigma_m: float = 0.1
+    track_initial_speed_sigma_mps: float = 1.0
+    track_surface_sigma_m: float = 0.05
+    track_gate_chi2: float = 13.8
+    track_confirm_hits: int = 3
+    track_delete_misses: int = 3
+    max_tracks: int = 64
+    sonar_accel_psd_m2ps3: float = 0.5
     # --- sensors -------------------------------------------------------------------
     sonar_max_range_m: float = 5.0
     sonar_min_range_m: float = 0.15
@@ -193,6 +250,12 @@ class AttentionConfig:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 2:
                 raise ValueError(f"AttentionConfig.{name} must be an int >= 2 (samples), got {value!r}")
+        if self.kinematics not in KINEMATICS_MODES:
+            raise ValueError(f"AttentionConfig.kinematics must be one of {KINEMATICS_MODES}, got {self.kinematics!r}")
+        for name in ("segment_min_beams", "track_confirm_hits", "track_delete_misses", "max_tracks"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise ValueError(f"AttentionConfig.{name} must be an int >= 1, got {value!r}")
         if self.slope_samples > self.memory_window:
             raise ValueError(
                 f"AttentionConfig.slope_samples must be <= memory_window={self.memory_window}, "
@@ -204,6 +267,16 @@ class AttentionConfig:
             ("laser_max_range_m", "m"),
             ("max_distance_m", "m"),
             ("sonar_ego_match_m", "m"),
+            ("range_noise_floor_m", "m"),
+            ("max_object_extent_m", "m"),
+            ("track_accel_psd_m2ps3", "m²/s³"),
+            ("track_static_drift_m2ps", "m²/s"),
+            ("track_switch_rate_hz", "1/s"),
+            ("track_position_sigma_m", "m"),
+            ("track_initial_speed_sigma_mps", "m/s"),
+            ("track_surface_sigma_m", "m"),
+            ("track_gate_chi2", "χ² units"),
+            ("sonar_accel_psd_m2ps3", "m²/s³"),
             ("threshold", "saliency units"),
             ("preactivation_s", "s"),
             ("excitation_s", "s"),
@@ -220,6 +293,9 @@ class AttentionConfig:
             _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=False)
         non_negative = (
             ("direction_epsilon_mps", "m/s"),
+            ("range_noise_rel", "fraction of the range"),
+            ("segment_jump_m", "m"),
+            ("segment_jump_sigmas", "σ"),
             ("sonar_min_range_m", "m"),
             ("no_echo_epsilon_m", "m"),
             ("A_exc", "gain units"),

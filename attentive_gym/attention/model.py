@@ -53,6 +53,7 @@ from attentive_gym.attention.features import (
 from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
 from attentive_gym.attention.kinematics import ego_range_change, planar_displacement, scan_points
 from attentive_gym.attention.memory import SensorMemory, push_sample, slope_rates
+from attentive_gym.attention.tracker import EMPTY_TRACKS, Tracker, TrackTable
 from attentive_gym.attention.regions import (
     FRONT_SONARS,
     LASER_BEAMS,
@@ -105,6 +106,11 @@ class FocusView:
         direction: the region's direction label.
         distance_m: nearest valid sonar or laser reading in the region (m), None if none.
         features: ``(6,)`` F1..F6 at the region.
+        track_id: the tracked body the region's motion comes from (``kinematics=
+            "tracker"``: the region's fastest confirmed track), None for none.
+        track_position_m: ``(2,)`` its centre in the robot frame (m), None for none.
+        track_velocity_mps: ``(2,)`` its ground velocity in the robot's axes (m/s).
+        track_speed_mps: its speed (m/s); track_age_s: time since it was first seen (s).
     """
 
     region: int
@@ -117,6 +123,11 @@ class FocusView:
     direction: Direction
     distance_m: float | None
     features: np.ndarray
+    track_id: int | None = None
+    track_position_m: np.ndarray | None = None
+    track_velocity_mps: np.ndarray | None = None
+    track_speed_mps: float | None = None
+    track_age_s: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -142,6 +153,8 @@ class AttentionOutput:
         speeds_mps: ``(J,)`` speed of each region's sonar echo (m/s).
         distances_m: ``(J,)`` nearest valid reading per region (m); ``max_distance_m``
             where nothing is in range.
+        tracks: the tracked bodies (``TrackTable``, robot frame); empty unless
+            ``kinematics="tracker"``.
         view: (property) what the sensors see at the focus (``FocusView``), None
             without focus; built on first access.
     """
@@ -163,15 +176,18 @@ class AttentionOutput:
     directions: np.ndarray
     speeds_mps: np.ndarray
     distances_m: np.ndarray
+    tracks: TrackTable = field(default_factory=lambda: EMPTY_TRACKS)
     # (grid, clipped readings (188,), their validity (188,), range rates (188,),
-    #  nearest valid reading per region (J,), inf where none)
+    #  nearest valid reading per region (J,), inf where none, row in ``tracks`` of the
+    #  track behind each front sonar's channel (8,), −1 for none)
     _sources: tuple = field(repr=False, default=())
 
     def __eq__(self, other: object) -> bool:
         """Equal when every public field is equal (arrays element-wise, exactly)."""
         if not isinstance(other, AttentionOutput):
             return NotImplemented
-        return all(np.array_equal(getattr(self, f), getattr(other, f)) for f in _OUTPUT_FIELDS)
+        return all(getattr(self, f) == getattr(other, f) if f == "tracks" else np.array_equal(getattr(self, f), getattr(other, f))
+                   for f in _OUTPUT_FIELDS)
 
     __hash__ = None  # holds arrays: mutable in practice, so not hashable
 
@@ -188,7 +204,7 @@ class AttentionOutput:
                 state[name] = (value[0], *(array.copy() for array in value[1:])) if value else value
             elif isinstance(value, np.ndarray):
                 state[name] = value.copy()
-            elif name != "view":  # numbers, strings, None: immutable
+            elif name != "view":  # numbers, strings, None, the read-only track table: immutable
                 state[name] = value
         vars(clone).update(state)
         memo[id(self)] = clone
@@ -199,11 +215,13 @@ class AttentionOutput:
         """What the sensors see at the focus, None without focus."""
         if self.focus is None:
             return None
-        grid, readings, valid, rates, nearest = self._sources
+        grid, readings, valid, rates, nearest, region_track = self._sources
         j = self.focus
         sonar_index = int(grid.region_sonar[j])
         beams = grid.beam_indices[j]
         sonar_range = float(readings[sonar_index])
+        row = int(region_track[sonar_index])
+        tracks = self.tracks
         return FocusView(
             region=j,
             bearing_rad=float(grid.bearings_rad[j]),
@@ -215,6 +233,11 @@ class AttentionOutput:
             direction=Direction(int(self.directions[j])),
             distance_m=float(nearest[j]) if np.isfinite(nearest[j]) else None,
             features=self.F[:, j].copy(),
+            track_id=None if row < 0 else int(tracks.id[row]),
+            track_position_m=None if row < 0 else tracks.position_m[row].copy(),
+            track_velocity_mps=None if row < 0 else tracks.velocity_mps[row].copy(),
+            track_speed_mps=None if row < 0 else float(tracks.speed_mps[row]),
+            track_age_s=None if row < 0 else float(tracks.age_s[row]),
         )
 
 
@@ -278,6 +301,12 @@ class AttentionModel:
         # ego-motion scratch: echo points x, y (m), their bearings (rad), the range change (m)
         self._scan_x, self._scan_y, self._scan_angles = (np.empty(LASER_BEAMS) for _ in range(3))
         self._ego = np.empty(_N_CHANNELS)
+        # K of the range-rate slope: the configured window, the paper's two samples, or none
+        # (the tracker estimates motion)
+        self._slope_samples = {"window": config.slope_samples, "literal": 2, "tracker": 0}[config.kinematics]
+        self._tracker = Tracker(config) if config.kinematics == "tracker" else None
+        self._sonar_time: float | None = None  # times (s) of the latest sonar and laser scans
+        self._laser_time: float | None = None
         self._goals: dict[Feature, Goal] = {}
         self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), _PLAN_COLUMNS))
         self._weights = np.asarray(config.weights, dtype=float)
@@ -403,9 +432,12 @@ class AttentionModel:
         """Forget the sensorial memory and every course; goals, weights and state are kept."""
         self._memory.reset()
         self._courses.reset()
-        self._last_t = None
+        if self._tracker is not None:
+            self._tracker.reset()
+        self._last_t = self._sonar_time = self._laser_time = None
 
-    def step(self, t: float, sonar, laser, odometry=None) -> AttentionOutput:
+    def step(self, t: float, sonar, laser, odometry=None, *, sonar_time_s: float | None = None,
+             laser_time_s: float | None = None) -> AttentionOutput:
         """Process one reading and select the focus.
 
         Args:
@@ -415,17 +447,23 @@ class AttentionModel:
                 maximum range are clipped to it; at (or within ``no_echo_epsilon_m`` of)
                 the maximum they mean "no echo".
             laser: ``(180,)`` ranges (m), beam 0 rightmost.
-            odometry: ``(linear m/s, angular rad/s)``, the robot's velocity over the
-                interval since the previous reading, for ego-motion compensation;
-                None means the robot did not move (the paper's immobile robot).
+            odometry: ``(linear m/s, angular rad/s)``, the robot's velocity at this
+                reading, for ego-motion compensation; None means the robot did not move
+                (the paper's immobile robot).
+            sonar_time_s, laser_time_s: the time (s) of the scan each reading comes from,
+                for sensors that scan less often than the model steps (default ``t``: a
+                fresh scan). A reading whose scan time has not advanced is a held one: it
+                is not stored again, and the tracker does not see it again. Scan times
+                must not exceed ``t`` nor go back.
 
         Returns:
             The step's ``AttentionOutput``.
 
         Raises:
             ValueError: for a time that is not finite or not after the previous one, a
-                reading of the wrong length, NaN, inf or negative, or a malformed odometry.
-                The model's state is unchanged then.
+                reading of the wrong length, NaN, inf or negative, a malformed odometry, or
+                a scan time after ``t`` or before the previous scan's. The model's state
+                is unchanged then.
         """
         cfg = self.config
         grid = self.grid
@@ -437,8 +475,17 @@ class AttentionModel:
             if not (math.isfinite(motion[0] * dt) and math.isfinite(motion[1] * dt)):
                 raise ValueError(f"odometry {odometry!r} over the {dt:g} s since the last reading is not a finite "
                                  "displacement; call reset() after a gap this long")
-        moved = motion is not None and self._ego_change(t, motion)
+        sonar_new, laser_new = self._check_scan_times(t, sonar_time_s, laser_time_s)
+        push = sonar_new or laser_new
+        moved = push and motion is not None and self._ego_change(t, motion)
+        if self._tracker is not None:
+            self._tracker.advance(0.0 if self._last_t is None else t - self._last_t,
+                                  None if cfg.ego_motion is None else motion)
         self._last_t = t
+        if sonar_new:
+            self._sonar_time = sonar_time_s
+        if laser_new:
+            self._laser_time = laser_time_s
 
         # fresh arrays for the output (users keep them), filled by the compiled kernels
         J = grid.n_regions
@@ -447,27 +494,29 @@ class AttentionModel:
         C_BU, C_TD, C, M, L = empty(J), empty(J), empty(J), empty(J), empty(J)
         region_speed, distances, nearest = empty(J), empty(J), empty(J)
         readings, rates, valid = empty(_N_CHANNELS), empty(_N_CHANNELS), empty(_N_CHANNELS, np.bool_)
+        speeds, moving = empty(_N_CHANNELS), empty(_N_CHANNELS, np.bool_)
         origins, directions, fulfilled = empty(J, np.int8), empty(J, np.int8), empty(J, np.bool_)
         memory = self._memory.buffers
-        if not grid.is_laser:  # the sonar grid: §2–§6 in one compiled call
-            _sonar_grid_step(
-                row, self._limits, *memory, t, cfg.slope_samples, self._ego, moved,
-                cfg.max_speed_mps, cfg.direction_epsilon_mps, cfg.max_distance_m, cfg.laser_only,
-                cfg.laser_max_range_m, grid.beam_region, self._active, self._goal_plan, cfg.td_require_target,
-                self._combine,
-                readings, valid, rates, F, C_BU, C_TD, C, region_speed, distances, nearest, origins, directions,
-                fulfilled,
+        # --- sensorial memory and kinematics (§2, §3, §10) ------------------------------------
+        _sense(row, self._limits, *memory, t, self._slope_samples, self._ego, moved, push, readings, valid, rates)
+        if self._tracker is None:
+            _window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
+            tracks, region_track = EMPTY_TRACKS, _NO_REGION_TRACKS
+        else:
+            tracks, region_track = self._track(t, sonar_new, laser_new, readings, valid, rates, speeds, moving)
+        if not grid.is_laser:  # the sonar grid: §4–§6 in one compiled call
+            _sonar_grid_maps(
+                readings, valid, rates, speeds, moving, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
+                cfg.max_distance_m, cfg.laser_only, cfg.laser_max_range_m, grid.beam_region, self._active,
+                self._goal_plan, cfg.td_require_target, self._combine,
+                F, C_BU, C_TD, C, region_speed, distances, nearest, origins, directions, fulfilled,
             )
         else:
-            # --- sensorial memory and kinematics (§2, §3) -----------------------------------
-            _sense(row, self._limits, *memory, t, cfg.slope_samples, self._ego, moved, readings, valid, rates)
             active = self._active
-            abs_rates = np.abs(rates)
-            speed = np.minimum(abs_rates, cfg.max_speed_mps)
-            labels = np.sign(rates) * (abs_rates > cfg.direction_epsilon_mps)
+            labels = np.sign(rates) * (np.abs(rates) > cfg.direction_epsilon_mps)
             columns = label_columns(labels)
             o2 = readings[_LASER]
-            sonar_speed, sonar_labels8 = speed[_SONAR], labels[_SONAR]
+            sonar_speed, sonar_labels8 = speeds[_SONAR], labels[_SONAR]
 
             # --- bottom-up maps (§4) ----------------------------------------------------------
             if active[0] > 0.0:
@@ -493,7 +542,7 @@ class AttentionModel:
             echo = nearest < np.inf
             np.minimum(nearest, cfg.max_distance_m, out=distances)
             region_speed[:] = grid.sonar_to_regions(sonar_speed)
-            speed_target = grid.sonar_to_regions(valid[_SONAR]) & (sonar_labels != 0.0)
+            speed_target = grid.sonar_to_regions(moving[_SONAR])
 
             # --- top-down maps, goal masks (§5), combined map and origins (§6) -----------------
             _goal_maps(F, region_speed, speed_target, region_labels, distances, echo, self._goal_plan,
@@ -527,7 +576,7 @@ class AttentionModel:
             t=t, focus=focus, fired=fired, origin=origin, saliency=saliency,
             F=F, C=C, C_BU=C_BU, C_TD=C_TD, origins=origins, M=M, L=L, gain=self._gain,
             goal_fulfilled=fulfilled, directions=directions, speeds_mps=region_speed,
-            distances_m=distances, _sources=(grid, readings, valid, rates, nearest),
+            distances_m=distances, tracks=tracks, _sources=(grid, readings, valid, rates, nearest, region_track),
         )
         return output
 
@@ -565,6 +614,38 @@ class AttentionModel:
                     )
         return self._row[:_N_CHANNELS]
 
+    def _check_scan_times(self, t: float, sonar_time_s, laser_time_s) -> tuple[bool, bool]:
+        """Whether the sonar and the laser readings are new scans (see ``step``)."""
+        fresh = []
+        for name, value, previous in (("sonar_time_s", sonar_time_s, self._sonar_time),
+                                      ("laser_time_s", laser_time_s, self._laser_time)):
+            if value is None:
+                fresh.append(True)
+                continue
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+                raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
+            if value > t:
+                raise ValueError(f"{name}={value!r} is after the reading's time t={t!r}; a scan cannot come from the future")
+            if previous is not None and value < previous:
+                raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
+            fresh.append(previous is None or value > previous)
+        return fresh[0], fresh[1]
+
+    def _track(self, t: float, sonar_new: bool, laser_new: bool, readings: np.ndarray, valid: np.ndarray,
+               rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray) -> tuple[TrackTable, np.ndarray]:
+        """§10: feed the new scans to the tracker and fill the channels' ``rates``, ``speeds``
+        and ``moving`` from it; returns the step's tracks and, per front sonar channel, the
+        row of its track in them (−1 for none)."""
+        tracker = self._tracker
+        if laser_new:
+            tracker.scan(t, readings[_LASER])
+        if sonar_new:
+            state, _, samples, _ = self._memory.buffers
+            tracker.sonar(t, samples[1, state[0], _SONAR], readings[_SONAR], valid[_SONAR])
+        region_slot = tracker.channels(t, valid, rates, speeds, moving)
+        tracks, row_of_slot = tracker.table(t)
+        return tracks, np.where(region_slot >= 0, row_of_slot[region_slot], -1)
+
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
         if odometry is None:
@@ -598,6 +679,10 @@ class AttentionModel:
                          self._sonar_sin, self._cone_plan, self._cone_edges, self.config.sonar_ego_match_m,
                          self.config.sonar_ego_model == "point", self._ego)
         return True
+
+#: The rows of the tracks behind the sonar channels in the modes without a tracker.
+_NO_REGION_TRACKS = np.full(FRONT_SONARS, -1, np.int64)
+_NO_REGION_TRACKS.flags.writeable = False
 
 #: The smallest time between two readings (s): closer readings would make the range-rate
 #: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).
@@ -685,7 +770,7 @@ def _load_row(sonar, laser, row):
 
 
 @njit(cache=True)
-def _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, readings, valid,
+def _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, push, readings, valid,
            rates):
     """§2–§3: clip the new readings to each sensor's maximum, store them in the memory
     (``SensorMemory.buffers``) and take the range rates.
@@ -694,8 +779,10 @@ def _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego
         row: ``(188,)`` new readings (m), sonars then beams.
         limits: ``(2, 188)`` per channel: the maximum range, and the reading from which
             on it means no echo (m).
-        t: time (s); slope_samples: K of the slope.
+        t: time (s); slope_samples: K of the slope, 0 to leave ``rates`` alone (the
+            tracker fills them).
         ego_change: ``(188,)`` the ego-motion range change (m), used only when ``moved``.
+        push: store the readings (False when no sensor has scanned since the last step).
         readings, valid, rates: ``(188,)`` outputs: clipped readings (m), echo flags, range
             rates (m/s).
     """
@@ -706,38 +793,49 @@ def _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego
         readings[c] = reading
         invalid_now[c] = reading >= limits[1, c]
         valid[c] = not invalid_now[c]
-    push_sample(state, times, samples, ego_offset, t, readings, invalid_now, ego_change, moved)
-    slope_rates(state, times, samples, slope_samples, rates)
+    if push:
+        push_sample(state, times, samples, ego_offset, t, readings, invalid_now, ego_change, moved)
+    if slope_samples > 0:
+        slope_rates(state, times, samples, slope_samples, rates)
 
 
 @njit(cache=True)
-def _sonar_grid_step(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, max_speed,
-                     epsilon, max_distance, laser_only, laser_max, beam_region, active, goal_plan, require_target,
-                     combine, readings, valid, rates, F, C_BU, C_TD, C, region_speed, distances, nearest, origins,
-                     directions, fulfilled):
-    """§2–§6 of a step on the sonar grid (J = 8): ``_sense``, F1–F3 with the region
-    quantities, then ``_goal_maps``. Every array after ``combine`` is an output."""
-    _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, readings, valid, rates)
-    labels, speed_target = _sonar_grid_features(
-        rates, readings, valid, limits[0], max_speed, epsilon, max_distance, beam_region, active[0] > 0.0,
+def _window_kinematics(rates, valid, max_speed, epsilon, speeds, moving):
+    """§3 from the window's range rates ``(188,)`` (m/s): speeds ``min(|v|, MAX_SPEED)``
+    and moving flags (an echo whose ``|v| > ε``), into ``speeds``, ``moving`` ``(188,)``."""
+    for c in range(rates.shape[0]):
+        a = abs(rates[c])
+        speeds[c] = min(a, max_speed)
+        moving[c] = valid[c] and a > epsilon
+
+
+@njit(cache=True)
+def _sonar_grid_maps(readings, valid, rates, speeds, moving, max_ranges, max_speed, epsilon, max_distance, laser_only,
+                     laser_max, beam_region, active, goal_plan, require_target, combine, F, C_BU, C_TD, C,
+                     region_speed, distances, nearest, origins, directions, fulfilled):
+    """§4–§6 of a step on the sonar grid (J = 8): F1–F3 with the region quantities, then
+    ``_goal_maps``. Every array after ``combine`` is an output."""
+    labels = _sonar_grid_features(
+        rates, speeds, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region, active[0] > 0.0,
         active[1] > 0.0, active[2] > 0.0, laser_only, laser_max, F, region_speed, nearest, distances,
     )
     echo = nearest < np.inf
     for j in range(labels.shape[0]):
         directions[j] = np.int8(labels[j])
-    _goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan, require_target, combine,
-               C_BU, C_TD, C, origins, fulfilled)
+    _goal_maps(F, region_speed, moving[:labels.shape[0]], labels, distances, echo, goal_plan, require_target,
+               combine, C_BU, C_TD, C, origins, fulfilled)
 
 
 @njit(cache=True)
-def _sonar_grid_features(rates, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region,
+def _sonar_grid_features(rates, speeds, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region,
                          do_f1, do_f2, do_f3, laser_only, laser_max, F, region_speed, nearest, distances):
-    """§3's labels and speeds, F1–F3 (active rows of ``F`` only) and the region quantities
-    on the sonar grid (8 front sonars then 180 beams in the channel vectors).
+    """§3's labels, F1–F3 (active rows of ``F`` only) and the region quantities on the
+    sonar grid (8 front sonars then 180 beams in the channel vectors ``rates`` and
+    ``speeds``, m/s).
 
-    Writes ``F[0:3]`` and the ``(8,)`` speeds (m/s), nearest valid readings (m, inf where
-    none) and distances (m); returns the region direction labels ``(8,)`` (−1, 0, +1 as
-    floats) and the speed goal's target mask ``(8,)`` (an echo moving towards or away).
+    Writes ``F[0:3]`` and the ``(8,)`` region speeds (m/s), nearest valid readings (m, inf
+    where none) and distances (m); returns the region direction labels ``(8,)`` (−1, 0, +1
+    as floats).
     """
     n_sonar = 8
     n = rates.shape[0]
@@ -759,7 +857,7 @@ def _sonar_grid_features(rates, readings, valid, max_ranges, max_speed, epsilon,
         columns[k] = column
         counts[(0 if k < n_sonar else 3) + column] += 1
     for j in range(n_sonar):
-        region_speed[j] = min(abs(rates[j]), max_speed)
+        region_speed[j] = speeds[j]
     if do_f1:
         mean = pairwise_sum(region_speed, 0, n_sonar) / n_sonar
         for j in range(n_sonar):
@@ -815,7 +913,6 @@ def _sonar_grid_features(rates, readings, valid, max_ranges, max_speed, epsilon,
         if valid[k] and readings[k] < nearest[j]:
             nearest[j] = readings[k]
     directions = np.empty(n_sonar)
-    speed_target = np.empty(n_sonar, np.bool_)
     for j in range(n_sonar):
         if labels[j] != 0.0:
             directions[j] = labels[j]
@@ -825,11 +922,10 @@ def _sonar_grid_features(rates, readings, valid, max_ranges, max_speed, epsilon,
                 if label_counts[j, c] > label_counts[j, best]:
                     best = c
             directions[j] = -1.0 if best == 0 else (1.0 if best == 1 else 0.0)
-        speed_target[j] = valid[j] and labels[j] != 0.0
         if valid[j] and readings[j] < nearest[j]:
             nearest[j] = readings[j]
         distances[j] = min(nearest[j], max_distance)
-    return directions, speed_target
+    return directions
 
 
 @njit(cache=True)

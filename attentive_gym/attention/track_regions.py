@@ -1,0 +1,147 @@
+"""From tracks to the model's per-reading and per-region kinematics (MODEL.md §10).
+
+- ``track_channels``: range rates, speeds and moving flags for every channel of the
+  model (8 front sonars, then 180 laser beams), from the ``Tracker``'s state: a beam
+  takes the values of the confirmed track its segment was matched to; a front sonar's
+  channel those of the region's fastest confirmed track, or, where the region's beams
+  see nothing, its own range/rate filter. The F1–F6 stages read these as they read the
+  window's range rates.
+- ``track_table``: the live tracks in the robot frame, the rows of a ``TrackTable``.
+
+A track's range rate is its own ground velocity along the line of sight (m/s, + away):
+the robot's motion is already compensated, as in MODEL.md §3. Its speed is the norm of
+its 2-D ground velocity, so a body crossing in front of the robot has a speed (the
+paper's Δs/Δt sees only radial motion).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["track_channels", "track_table"]
+
+_HALF_PI = 0.5 * math.pi
+#: A track whose motion probability exceeds this is labelled moving.
+MOVING_PROBABILITY = 0.5
+
+
+@njit(cache=True)
+def _region_of(x_m, y_m, beam_step_rad, beam_region):
+    """Region of a point in the robot frame (that of the laser beam on its bearing), −1 behind."""
+    bearing = math.atan2(y_m, x_m)
+    if abs(bearing) > _HALF_PI:
+        return -1
+    beam = int((bearing + _HALF_PI) / beam_step_rad)
+    beam = min(max(beam, 0), beam_region.shape[0] - 1)
+    return beam_region[beam]
+
+
+@njit(cache=True)
+def _relative(k, t_s, pose, cv_x, filter_t):
+    """Track ``k`` predicted to ``t_s`` relative to the robot, in the odometry frame's axes (m)."""
+    dt = t_s - filter_t[k]
+    return cv_x[k, 0] + dt * cv_x[k, 2] - pose[0], cv_x[k, 1] + dt * cv_x[k, 3] - pose[1]
+
+
+@njit(cache=True)
+def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, beam_region, valid, cv_x, p_moving,
+                   alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits, rates, speeds, moving,
+                   region_track):
+    """Per-channel kinematics from the tracks (see the module docstring).
+
+    Args:
+        t_s: the step's time (s); pose: ``(3,)`` the robot in the odometry frame.
+        confirm_hits: hits that confirm a track; max_speed: speeds are clipped to it
+            (m/s); epsilon: a channel moves when its speed exceeds it (m/s).
+        beam_step_rad, beam_region: ``(180,)`` the region of each beam.
+        valid: ``(188,)`` bool, echo flags of the readings.
+        cv_x … bounds: the ``Tracker``'s arrays; sonar_x, sonar_hits: its sonar filters.
+        rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output;
+        region_track: ``(8,)`` int64 output, the track slot behind each front sonar's
+            channel, −1 for none.
+    """
+    n_sonar = region_track.shape[0]
+    rates[:] = 0.0
+    speeds[:] = 0.0
+    moving[:] = False
+    region_track[:] = -1
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    for k in range(alive.shape[0]):
+        if not alive[k] or hits[k] < confirm_hits:
+            continue
+        dx, dy = _relative(k, t_s, pose, cv_x, filter_t)
+        vx, vy = p_moving[k] * cv_x[k, 2], p_moving[k] * cv_x[k, 3]
+        speed = min(math.hypot(vx, vy), max_speed)
+        distance = math.hypot(dx, dy)
+        rate = (dx * vx + dy * vy) / distance if distance > 0.0 else 0.0
+        is_moving = p_moving[k] > MOVING_PROBABILITY and speed > epsilon
+        m = segment_of[k]
+        if m >= 0:
+            for i in range(bounds[m, 0], bounds[m, 1]):
+                rates[n_sonar + i], speeds[n_sonar + i], moving[n_sonar + i] = rate, speed, is_moving
+        j = _region_of(c * dx + s * dy, -s * dx + c * dy, beam_step_rad, beam_region)
+        if j >= 0 and (region_track[j] < 0 or speed > speeds[j]):
+            region_track[j] = k
+            rates[j], speeds[j], moving[j] = rate, speed, is_moving
+    laser_echo = np.zeros(n_sonar, np.bool_)
+    for i in range(beam_region.shape[0]):
+        if valid[n_sonar + i]:
+            laser_echo[beam_region[i]] = True
+    for j in range(n_sonar):
+        if region_track[j] < 0 and not laser_echo[j] and valid[j] and sonar_hits[j] >= confirm_hits:
+            rate = sonar_x[j, 1]
+            rates[j], speeds[j], moving[j] = rate, min(abs(rate), max_speed), abs(rate) > epsilon
+
+
+@njit(cache=True)
+def track_table(t_s, pose, confirm_hits, beam_step_rad, beam_region, cv_x, cv_P, p_moving, alive, ids, hits, born_s,
+                filter_t, table, covariance):
+    """The live tracks in the robot frame: one row of ``tracker.TRACK_TABLE_FIELDS`` each in
+    ``table`` ``(capacity, 11)`` and their covariances in ``covariance`` ``(capacity, 4, 4)``;
+    returns the number of rows written (slot order)."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    n = 0
+    for k in range(alive.shape[0]):
+        if not alive[k]:
+            continue
+        dx, dy = _relative(k, t_s, pose, cv_x, filter_t)
+        x, y = c * dx + s * dy, -s * dx + c * dy
+        vx, vy = p_moving[k] * cv_x[k, 2], p_moving[k] * cv_x[k, 3]
+        table[n, 0] = ids[k]
+        table[n, 1], table[n, 2] = x, y
+        table[n, 3], table[n, 4] = c * vx + s * vy, -s * vx + c * vy
+        table[n, 5] = math.hypot(vx, vy)
+        table[n, 6] = p_moving[k]
+        table[n, 7] = t_s - born_s[k]
+        table[n, 8] = 1.0 if hits[k] >= confirm_hits else 0.0
+        table[n, 9] = _region_of(x, y, beam_step_rad, beam_region)
+        table[n, 10] = k
+        # T P Tᵀ with T = diag(Rot(−θ), Rot(−θ))
+        for i in range(4):
+            for j in range(4):
+                total = 0.0
+                for a in range(4):
+                    ta = _rotation_entry(i, a, c, s)
+                    if ta == 0.0:
+                        continue
+                    for b in range(4):
+                        tb = _rotation_entry(j, b, c, s)
+                        if tb != 0.0:
+                            total += ta * cv_P[k, a, b] * tb
+                covariance[n, i, j] = total
+        n += 1
+    return n
+
+
+@njit(cache=True)
+def _rotation_entry(i, j, c, s):
+    """Entry (i, j) of ``diag(Rot(−θ), Rot(−θ))`` for ``c = cos θ``, ``s = sin θ``."""
+    if i // 2 != j // 2:
+        return 0.0
+    a, b = i % 2, j % 2
+    if a == b:
+        return c
+    return s if a == 0 else -s

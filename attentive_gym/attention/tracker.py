@@ -1,0 +1,400 @@
+"""Tracked kinematics (MODEL.md §10): objects of the laser scan tracked over time.
+
+- ``Tracker``: the state of every track and of the sonar filters, as plain arrays
+  (struct of arrays, one row per track slot), and the robot's pose in a frame that
+  odometry keeps fixed to the world. ``scan`` processes a laser scan, ``sonar`` a sonar
+  reading, ``advance`` integrates odometry; ``tracks`` reports them.
+- ``TrackTable``: the tracks of one step, as the model outputs them (robot frame).
+- ``track_scan``: the compiled kernel of one scan: segment (``segmentation``), predict,
+  gate and assign (``association``), update (``kalman``), confirm, delete, give birth.
+
+Each track runs two filters on the same measurements: a constant-velocity Kalman filter
+and a static one (the body does not move; its measured centre may wander slowly as the
+view changes). Their likelihoods give the probability that the body moves
+(``kalman.motion_probability``); the reported velocity is the constant-velocity
+estimate weighted by it, so walls' and rubble's tracks report speeds near 0 while a
+moving body's is unbiased once it is clearly moving. Because the filters live in the
+odometry-fixed frame, the robot's own motion is compensated by construction.
+
+Units: seconds, metres, m/s, radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from attentive_gym.attention.association import gated_assignment
+from attentive_gym.attention.config import AttentionConfig
+from attentive_gym.attention.kalman import (
+    cv_predict,
+    cv_update,
+    motion_probability,
+    rate_predict,
+    rate_update,
+    static_predict,
+    static_update,
+)
+from attentive_gym.attention.kinematics import planar_displacement
+from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, LASER_FOV_DEG, Grid, laser_bearings_rad
+from attentive_gym.attention.segmentation import SEGMENT_FIELDS, measure_segments, segment_scan
+from attentive_gym.attention.track_regions import track_channels, track_table
+
+__all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "TRACK_TABLE_FIELDS"]
+
+#: The probability that a new track moves, before any evidence.
+_MOTION_PRIOR = 0.5
+#: Bounds of that probability, so that either hypothesis can always win back.
+_MOTION_FLOOR = 1e-3
+# parameter vector of the kernels, built once from the configuration
+(_NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _JUMP, _JUMP_SIGMAS, _MIN_BEAMS, _MAX_EXTENT, _SURFACE, _Q, _DRIFT,
+ _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _N_PARAMS) = range(18)
+_X, _Y, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "r_xx", "r_xy", "r_yy",
+                                                                        "candidate"))
+
+
+@dataclass(frozen=True, eq=False)
+class TrackTable:
+    """The tracks of one step (n rows), in the robot frame at the step's time.
+
+    Attributes:
+        id: ``(n,)`` int64 track ids, unique within a run (from 0, never reused).
+        position_m: ``(n, 2)`` centre of each body (x forward, y left, m), predicted to
+            the step's time.
+        velocity_mps: ``(n, 2)`` its velocity over the ground, in the robot's axes (m/s):
+            the constant-velocity estimate weighted by ``moving_probability``.
+        speed_mps: ``(n,)`` the norm of ``velocity_mps`` (m/s).
+        moving_probability: ``(n,)`` the probability that the body moves, in [0, 1].
+        covariance: ``(n, 4, 4)`` covariance of (x, y, vx, vy) of the constant-velocity
+            filter, in the robot's axes (m², m²/s, m²/s²).
+        age_s: ``(n,)`` time since each track was born (s).
+        confirmed: ``(n,)`` bool, matched at least ``track_confirm_hits`` times.
+        region: ``(n,)`` int64 attention region of the body's bearing (sonar grid), −1
+            behind the robot.
+    """
+
+    id: np.ndarray
+    position_m: np.ndarray
+    velocity_mps: np.ndarray
+    speed_mps: np.ndarray
+    moving_probability: np.ndarray
+    covariance: np.ndarray
+    age_s: np.ndarray
+    confirmed: np.ndarray
+    region: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.id.shape[0])
+
+    def __eq__(self, other: object) -> bool:
+        """Equal when every array is equal, element-wise and exactly."""
+        if not isinstance(other, TrackTable):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, f), getattr(other, f)) for f in _TABLE_ATTRIBUTES)
+
+    __hash__ = None
+
+    def row(self, track_id: int) -> int | None:
+        """The row of the track with ``track_id``, None if it is not in the table."""
+        rows = np.flatnonzero(self.id == track_id)
+        return int(rows[0]) if rows.size else None
+
+
+#: Columns of the compiled table behind ``TrackTable`` (one row per track).
+TRACK_TABLE_FIELDS = ("id", "x", "y", "vx", "vy", "speed", "p_moving", "age", "confirmed", "region", "slot")
+_N_TABLE = len(TRACK_TABLE_FIELDS)
+_TABLE_ATTRIBUTES = ("id", "position_m", "velocity_mps", "speed_mps", "moving_probability", "covariance", "age_s",
+                     "confirmed", "region")
+
+
+def _table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
+    """A read-only ``TrackTable`` from compiled rows ``(n, 11)`` and covariances ``(n, 4, 4)``."""
+    arrays = (rows[:, 0].astype(np.int64), rows[:, 1:3], rows[:, 3:5], rows[:, 5], rows[:, 6], covariance, rows[:, 7],
+              rows[:, 8] > 0.0, rows[:, 9].astype(np.int64))
+    for array in arrays:
+        array.flags.writeable = False
+    table = object.__new__(TrackTable)  # the frozen dataclass's fields, without its __init__
+    vars(table).update(zip(_TABLE_ATTRIBUTES, arrays))
+    return table
+
+
+#: The table of a step without tracks (every mode but "tracker").
+EMPTY_TRACKS = _table_from_rows(np.zeros((0, _N_TABLE)), np.zeros((0, 4, 4)))
+
+
+class Tracker:
+    """Tracks of the laser's objects and range/rate filters of the front sonars.
+
+    Args:
+        config: the model's configuration (the tracker's fields, §10).
+
+    The robot's pose is dead-reckoned from odometry (``advance``) in a frame fixed to
+    the world at the first reading; tracks live in that frame. ``reset`` forgets all.
+    """
+
+    def __init__(self, config: AttentionConfig) -> None:
+        self.config = config
+        capacity = config.max_tracks
+        self.cv_x = np.zeros((capacity, 4))
+        self.cv_P = np.zeros((capacity, 4, 4))
+        self.static_x = np.zeros((capacity, 2))
+        self.static_P = np.zeros((capacity, 2, 2))
+        self.p_moving = np.zeros(capacity)
+        self.alive = np.zeros(capacity, np.bool_)
+        self.ids = np.zeros(capacity, np.int64)
+        self.hits = np.zeros(capacity, np.int64)
+        self.misses = np.zeros(capacity, np.int64)
+        self.born_s = np.zeros(capacity)
+        self.filter_t = np.zeros(capacity)
+        self.segment_of = np.full(capacity, -1, np.int64)  # segment matched at the last scan
+        self.counters = np.zeros(2, np.int64)  # next id, segments of the last scan
+        self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
+        self.segments = np.zeros((LASER_BEAMS, len(SEGMENT_FIELDS)))
+        self.sonar_x = np.zeros((FRONT_SONARS, 2))
+        self.sonar_P = np.zeros((FRONT_SONARS, 2, 2))
+        self.sonar_hits = np.zeros(FRONT_SONARS, np.int64)
+        self.sonar_t = np.zeros(FRONT_SONARS)
+        self.pose = np.zeros(3)  # x, y (m), heading (rad) in the odometry frame
+        self._odometry: tuple[float, float] | None = None  # the previous reading's (v, ω)
+        bearings = laser_bearings_rad()
+        self.beam_cos, self.beam_sin = np.cos(bearings), np.sin(bearings)
+        self.beam_step_rad = math.radians(LASER_FOV_DEG / LASER_BEAMS)
+        params = np.zeros(_N_PARAMS)
+        params[_NO_ECHO] = config.laser_max_range_m - config.no_echo_epsilon_m
+        params[_NOISE_REL], params[_NOISE_FLOOR] = config.range_noise_rel, config.range_noise_floor_m
+        params[_JUMP], params[_JUMP_SIGMAS] = config.segment_jump_m, config.segment_jump_sigmas
+        params[_MIN_BEAMS], params[_MAX_EXTENT] = config.segment_min_beams, config.max_object_extent_m
+        params[_SURFACE], params[_Q] = config.track_surface_sigma_m, config.track_accel_psd_m2ps3
+        params[_DRIFT], params[_SWITCH_RATE] = config.track_static_drift_m2ps, config.track_switch_rate_hz
+        params[_POSITION_SIGMA] = config.track_position_sigma_m
+        params[_SPEED_SIGMA] = config.track_initial_speed_sigma_mps
+        params[_GATE] = config.track_gate_chi2
+        params[_CONFIRM], params[_DELETE] = config.track_confirm_hits, config.track_delete_misses
+        params[_SONAR_Q] = config.sonar_accel_psd_m2ps3
+        self.params = params
+        self._beam_region = Grid.make("sonar").beam_region
+        self._rows = np.zeros((capacity, _N_TABLE))
+        self._covariance = np.zeros((capacity, 4, 4))
+
+    def reset(self) -> None:
+        """Forget every track, the sonar filters and the pose."""
+        self.alive[:] = False
+        self.segment_of[:] = -1
+        self.counters[:] = 0
+        self.sonar_hits[:] = 0
+        self.pose[:] = 0.0
+        self._odometry = None
+
+    def advance(self, dt_s: float, odometry: tuple[float, float] | None) -> None:
+        """Dead-reckon the pose over ``dt_s`` seconds.
+
+        ``odometry`` is the robot's ``(linear m/s, angular rad/s)`` at this reading (None:
+        standing still). The motion over the interval uses the mean of this reading's and
+        the previous reading's velocities (the trapezoid rule: exact while the velocity
+        ramps linearly, as a drive under acceleration limits does).
+        """
+        now = (0.0, 0.0) if odometry is None else odometry
+        before = now if self._odometry is None else self._odometry
+        self._odometry = now
+        linear, angular = 0.5 * (before[0] + now[0]), 0.5 * (before[1] + now[1])
+        if dt_s <= 0.0 or (linear == 0.0 and angular == 0.0):
+            return
+        dx, dy, dtheta = planar_displacement(linear, angular, dt_s)
+        x, y, heading = self.pose
+        c, s = math.cos(heading), math.sin(heading)
+        self.pose[:] = (x + c * dx - s * dy, y + s * dx + c * dy, heading + dtheta)
+
+    def scan(self, t_s: float, ranges_m: np.ndarray) -> None:
+        """Process a laser scan ``(180,)`` (m, clipped to the laser's maximum) taken at ``t_s`` (s)."""
+        track_scan(t_s, self.pose, ranges_m, self.beam_cos, self.beam_sin, self.beam_step_rad, self.params,
+                   self.bounds, self.segments, self.cv_x, self.cv_P, self.static_x, self.static_P, self.p_moving,
+                   self.alive, self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.segment_of,
+                   self.counters)
+
+    def channels(self, t_s: float, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
+                 moving: np.ndarray) -> np.ndarray:
+        """Write the kinematics of every reading channel at ``t_s`` (``track_regions.track_channels``).
+
+        Args:
+            valid: ``(188,)`` echo flags (8 front sonars, then 180 beams).
+            rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output.
+
+        Returns:
+            ``(8,)`` int64 the track slot behind each front sonar's channel, −1 for none.
+        """
+        cfg = self.config
+        region_slot = np.empty(FRONT_SONARS, np.int64)
+        track_channels(t_s, self.pose, cfg.track_confirm_hits, cfg.max_speed_mps, cfg.direction_epsilon_mps,
+                       self.beam_step_rad, self._beam_region, valid, self.cv_x, self.p_moving, self.alive, self.hits,
+                       self.filter_t, self.segment_of, self.bounds, self.sonar_x, self.sonar_hits, rates, speeds,
+                       moving, region_slot)
+        return region_slot
+
+    def table(self, t_s: float) -> tuple[TrackTable, np.ndarray]:
+        """The live tracks at ``t_s`` (s) in the robot frame, and the row of each slot
+        in that table ``(capacity,)`` (−1 for free slots)."""
+        n = track_table(t_s, self.pose, self.config.track_confirm_hits, self.beam_step_rad, self._beam_region,
+                        self.cv_x, self.cv_P, self.p_moving, self.alive, self.ids, self.hits, self.born_s,
+                        self.filter_t, self._rows, self._covariance)
+        rows = self._rows[:n].copy()
+        row_of_slot = np.full(self.alive.shape[0], -1, np.int64)
+        row_of_slot[rows[:, 10].astype(np.int64)] = np.arange(n)
+        return _table_from_rows(rows, self._covariance[:n].copy()), row_of_slot
+
+    def sonar(self, t_s: float, compensated_m: np.ndarray, readings_m: np.ndarray, valid: np.ndarray) -> None:
+        """Update the front sonars' range/rate filters with a reading taken at ``t_s`` (s).
+
+        Args:
+            compensated_m: ``(8,)`` ranges minus the range change the robot's own motion
+                made (m; the sensorial memory's compensated values).
+            readings_m: ``(8,)`` the raw ranges (m), for their noise.
+            valid: ``(8,)`` bool, the sonar has an echo; a sonar without one restarts.
+        """
+        sonar_filters(t_s, compensated_m, readings_m, valid, self.params, self.sonar_x, self.sonar_P,
+                      self.sonar_hits, self.sonar_t)
+
+
+@njit(cache=True)
+def sonar_filters(t_s, compensated_m, readings_m, valid, params, x, P, hits, filter_t):
+    """One reading of each front sonar into its ``(r, ṙ)`` filter (see ``Tracker.sonar``)."""
+    for j in range(x.shape[0]):
+        if not valid[j]:
+            hits[j] = 0
+            continue
+        sigma = max(params[_NOISE_REL] * readings_m[j], params[_NOISE_FLOOR])
+        if hits[j] == 0:
+            x[j, 0], x[j, 1] = compensated_m[j], 0.0
+            P[j, 0, 0], P[j, 0, 1], P[j, 1, 0] = sigma * sigma, 0.0, 0.0
+            P[j, 1, 1] = params[_SPEED_SIGMA] ** 2
+        else:
+            rate_predict(x[j], P[j], t_s - filter_t[j], params[_SONAR_Q])
+            rate_update(x[j], P[j], compensated_m[j], sigma * sigma)
+        hits[j] += 1
+        filter_t[j] = t_s
+
+
+@njit(cache=True)
+def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds, segments, cv_x, cv_P, static_x,
+               static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, segment_of, counters):
+    """One laser scan into the tracks, in place (the arrays of ``Tracker``).
+
+    1. Segment the scan and measure each segment (robot frame), then move the
+       candidates' measurements into the odometry frame with ``pose`` ``(3,)``.
+    2. Predict every live track to ``t_s``.
+    3. Cost of each (track, candidate) pair: the squared Mahalanobis distance of the
+       candidate from the track's predicted position; assign by least total cost with
+       the gate ``params[_GATE]`` (``association.gated_assignment``).
+    4. Update matched tracks (both filters, then the motion probability); count a miss
+       for the others and delete tentative tracks at their first miss, confirmed ones
+       after ``params[_DELETE]`` misses in a row.
+    5. Give each unmatched candidate a new track in a free slot (none when full).
+    """
+    no_echo = params[_NO_ECHO]
+    n_segments = segment_scan(ranges_m, no_echo, params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP],
+                              params[_JUMP_SIGMAS], bounds)
+    measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, bounds, n_segments, params[_NOISE_REL],
+                     params[_NOISE_FLOOR], params[_SURFACE], params[_MAX_EXTENT], int(params[_MIN_BEAMS]),
+                     segments)
+    counters[1] = n_segments
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    candidate = np.empty(n_segments, np.int64)
+    z = np.empty((n_segments, 2))
+    r = np.empty((n_segments, 2, 2))
+    n_candidates = 0
+    for m in range(n_segments):
+        if segments[m, _CANDIDATE] == 0.0:
+            continue
+        x, y = segments[m, _X], segments[m, _Y]
+        k = n_candidates
+        candidate[k] = m
+        z[k, 0], z[k, 1] = pose[0] + c * x - s * y, pose[1] + s * x + c * y
+        # R_world = Rot R Rotᵀ
+        rxx, rxy, ryy = segments[m, _RXX], segments[m, _RXY], segments[m, _RYY]
+        r[k, 0, 0] = c * c * rxx - 2.0 * c * s * rxy + s * s * ryy
+        r[k, 0, 1] = c * s * (rxx - ryy) + (c * c - s * s) * rxy
+        r[k, 1, 0] = r[k, 0, 1]
+        r[k, 1, 1] = s * s * rxx + 2.0 * c * s * rxy + c * c * ryy
+        n_candidates += 1
+    capacity = alive.shape[0]
+    rows = np.empty(capacity, np.int64)
+    dts = np.zeros(capacity)
+    n_rows = 0
+    for k in range(capacity):
+        segment_of[k] = -1
+        if alive[k]:
+            dt = t_s - filter_t[k]
+            if dt > 0.0:
+                cv_predict(cv_x[k], cv_P[k], dt, params[_Q])
+                static_predict(static_x[k], static_P[k], dt, params[_DRIFT])
+                filter_t[k] = t_s
+            dts[k] = dt
+            rows[n_rows] = k
+            n_rows += 1
+    cost = np.empty((n_rows, n_candidates))
+    for a in range(n_rows):
+        k = rows[a]
+        for b in range(n_candidates):
+            s00 = cv_P[k, 0, 0] + r[b, 0, 0]
+            s01 = cv_P[k, 0, 1] + r[b, 0, 1]
+            s11 = cv_P[k, 1, 1] + r[b, 1, 1]
+            y0, y1 = z[b, 0] - cv_x[k, 0], z[b, 1] - cv_x[k, 1]
+            det = s00 * s11 - s01 * s01
+            cost[a, b] = (s11 * y0 * y0 - 2.0 * s01 * y0 * y1 + s00 * y1 * y1) / det
+    assignment = np.empty(n_rows, np.int64)
+    gated_assignment(cost, params[_GATE], assignment)
+    taken = np.zeros(n_candidates, np.bool_)
+    for a in range(n_rows):
+        k = rows[a]
+        b = assignment[a]
+        if b >= 0:
+            moving = cv_update(cv_x[k], cv_P[k], z[b, 0], z[b, 1], r[b])
+            static = static_update(static_x[k], static_P[k], z[b, 0], z[b, 1], r[b])
+            switch = 1.0 - math.exp(-params[_SWITCH_RATE] * dts[k])
+            p_moving[k] = motion_probability(p_moving[k], moving, static, switch, _MOTION_FLOOR)
+            hits[k] += 1
+            misses[k] = 0
+            segment_of[k] = candidate[b]
+            taken[b] = True
+        else:
+            misses[k] += 1
+            if hits[k] < params[_CONFIRM] or misses[k] >= params[_DELETE]:
+                alive[k] = False
+    slot = 0
+    for b in range(n_candidates):
+        if taken[b]:
+            continue
+        while slot < capacity and alive[slot]:
+            slot += 1
+        if slot == capacity:
+            break
+        _birth(slot, t_s, z[b], r[b], params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses,
+               born_s, filter_t, counters)
+        segment_of[slot] = candidate[b]
+
+
+@njit(cache=True)
+def _birth(k, t_s, z, r, params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s,
+           filter_t, counters):
+    """Start track slot ``k`` at the measurement ``z`` ``(2,)`` with covariance ``r`` ``(2, 2)``."""
+    position_var = params[_POSITION_SIGMA] ** 2
+    cv_x[k, 0], cv_x[k, 1], cv_x[k, 2], cv_x[k, 3] = z[0], z[1], 0.0, 0.0
+    static_x[k, 0], static_x[k, 1] = z[0], z[1]
+    cv_P[k] = 0.0
+    for i in range(2):
+        for j in range(2):
+            cv_P[k, i, j] = r[i, j]
+            static_P[k, i, j] = r[i, j]
+        cv_P[k, i, i] += position_var
+        static_P[k, i, i] += position_var
+        cv_P[k, i + 2, i + 2] = params[_SPEED_SIGMA] ** 2
+    p_moving[k] = _MOTION_PRIOR
+    alive[k] = True
+    ids[k] = counters[0]
+    counters[0] += 1
+    hits[k] = 1
+    misses[k] = 0
+    born_s[k] = t_s
+    filter_t[k] = t_s
