@@ -53,7 +53,7 @@ from attentive_gym.attention.features import (
 from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
 from attentive_gym.attention.kinematics import ego_range_change, planar_displacement, scan_points
 from attentive_gym.attention.memory import SensorMemory, push_sample, slope_rates
-from attentive_gym.attention.tracker import EMPTY_TRACKS, Tracker, TrackTable
+from attentive_gym.attention.tracker import TRACK_TABLE_FIELDS, Tracker, TrackTable, table_from_rows
 from attentive_gym.attention.regions import (
     FRONT_SONARS,
     LASER_BEAMS,
@@ -153,8 +153,8 @@ class AttentionOutput:
         speeds_mps: ``(J,)`` speed of each region's sonar echo (m/s).
         distances_m: ``(J,)`` nearest valid reading per region (m); ``max_distance_m``
             where nothing is in range.
-        tracks: the tracked bodies (``TrackTable``, robot frame); empty unless
-            ``kinematics="tracker"``.
+        tracks: (property) the tracked bodies (``TrackTable``, robot frame); empty
+            unless ``kinematics="tracker"``; built on first access.
         view: (property) what the sensors see at the focus (``FocusView``), None
             without focus; built on first access.
     """
@@ -176,23 +176,24 @@ class AttentionOutput:
     directions: np.ndarray
     speeds_mps: np.ndarray
     distances_m: np.ndarray
-    tracks: TrackTable = field(default_factory=lambda: EMPTY_TRACKS)
     # (grid, clipped readings (188,), their validity (188,), range rates (188,),
-    #  nearest valid reading per region (J,), inf where none, row in ``tracks`` of the
-    #  track behind each front sonar's channel (8,), −1 for none)
+    #  nearest valid reading per region (J,), inf where none, the tracker's slot behind
+    #  each front sonar's channel (8,), −1 for none, the tracks' rows (n, 11) and
+    #  covariances (n, 4, 4) of ``Tracker.snapshot``)
     _sources: tuple = field(repr=False, default=())
 
     def __eq__(self, other: object) -> bool:
         """Equal when every public field is equal (arrays element-wise, exactly)."""
         if not isinstance(other, AttentionOutput):
             return NotImplemented
-        return all(getattr(self, f) == getattr(other, f) if f == "tracks" else np.array_equal(getattr(self, f), getattr(other, f))
-                   for f in _OUTPUT_FIELDS)
+        return self.tracks == other.tracks and all(
+            np.array_equal(getattr(self, f), getattr(other, f)) for f in _OUTPUT_FIELDS)
 
     __hash__ = None  # holds arrays: mutable in practice, so not hashable
 
     def __deepcopy__(self, memo: dict) -> "AttentionOutput":
-        """A copy with copied arrays, sharing the immutable grid; ``view`` is rebuilt on demand.
+        """A copy with copied arrays, sharing the immutable grid; ``view`` and ``tracks`` are
+        rebuilt on demand.
 
         Four times cheaper than the generic deep copy (SB3's ``DummyVecEnv`` deep-copies
         every step's ``info``, which holds the output).
@@ -204,23 +205,29 @@ class AttentionOutput:
                 state[name] = (value[0], *(array.copy() for array in value[1:])) if value else value
             elif isinstance(value, np.ndarray):
                 state[name] = value.copy()
-            elif name != "view":  # numbers, strings, None, the read-only track table: immutable
+            elif name not in ("view", "tracks"):  # numbers, strings, None: immutable
                 state[name] = value
         vars(clone).update(state)
         memo[id(self)] = clone
         return clone
 
     @functools.cached_property
+    def tracks(self) -> TrackTable:
+        """The tracked bodies of the step (``TrackTable``), empty without a tracker."""
+        return table_from_rows(*self._sources[6:8])
+
+    @functools.cached_property
     def view(self) -> FocusView | None:
         """What the sensors see at the focus, None without focus."""
         if self.focus is None:
             return None
-        grid, readings, valid, rates, nearest, region_track = self._sources
+        grid, readings, valid, rates, nearest, region_slot, track_rows, _ = self._sources
         j = self.focus
         sonar_index = int(grid.region_sonar[j])
         beams = grid.beam_indices[j]
         sonar_range = float(readings[sonar_index])
-        row = int(region_track[sonar_index])
+        rows = np.flatnonzero(track_rows[:, _SLOT] == region_slot[sonar_index])
+        row = int(rows[0]) if region_slot[sonar_index] >= 0 and rows.size else -1
         tracks = self.tracks
         return FocusView(
             region=j,
@@ -501,9 +508,9 @@ class AttentionModel:
         _sense(row, self._limits, *memory, t, self._slope_samples, self._ego, moved, push, readings, valid, rates)
         if self._tracker is None:
             _window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
-            tracks, region_track = EMPTY_TRACKS, _NO_REGION_TRACKS
+            region_slot, track_rows = _NO_REGION_TRACKS, _NO_TRACK_ROWS
         else:
-            tracks, region_track = self._track(t, sonar_new, laser_new, readings, valid, rates, speeds, moving)
+            region_slot, track_rows = self._track(t, sonar_new, laser_new, readings, valid, rates, speeds, moving)
         if not grid.is_laser:  # the sonar grid: §4–§6 in one compiled call
             _sonar_grid_maps(
                 readings, valid, rates, speeds, moving, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
@@ -576,7 +583,7 @@ class AttentionModel:
             t=t, focus=focus, fired=fired, origin=origin, saliency=saliency,
             F=F, C=C, C_BU=C_BU, C_TD=C_TD, origins=origins, M=M, L=L, gain=self._gain,
             goal_fulfilled=fulfilled, directions=directions, speeds_mps=region_speed,
-            distances_m=distances, tracks=tracks, _sources=(grid, readings, valid, rates, nearest, region_track),
+            distances_m=distances, _sources=(grid, readings, valid, rates, nearest, region_slot, *track_rows),
         )
         return output
 
@@ -632,19 +639,17 @@ class AttentionModel:
         return fresh[0], fresh[1]
 
     def _track(self, t: float, sonar_new: bool, laser_new: bool, readings: np.ndarray, valid: np.ndarray,
-               rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray) -> tuple[TrackTable, np.ndarray]:
+               rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray) -> tuple[np.ndarray, tuple]:
         """§10: feed the new scans to the tracker and fill the channels' ``rates``, ``speeds``
-        and ``moving`` from it; returns the step's tracks and, per front sonar channel, the
-        row of its track in them (−1 for none)."""
+        and ``moving`` from it; returns, per front sonar channel, the slot of its track (−1
+        for none), and the step's tracks (``Tracker.snapshot``)."""
         tracker = self._tracker
         if laser_new:
             tracker.scan(t, readings[_LASER])
         if sonar_new:
             state, _, samples, _ = self._memory.buffers
             tracker.sonar(t, samples[1, state[0], _SONAR], readings[_SONAR], valid[_SONAR])
-        region_slot = tracker.channels(t, valid, rates, speeds, moving)
-        tracks, row_of_slot = tracker.table(t)
-        return tracks, np.where(region_slot >= 0, row_of_slot[region_slot], -1)
+        return tracker.channels(t, readings, valid, rates, speeds, moving), tracker.snapshot(t)
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
@@ -680,9 +685,11 @@ class AttentionModel:
                          self.config.sonar_ego_model == "point", self._ego)
         return True
 
-#: The rows of the tracks behind the sonar channels in the modes without a tracker.
+#: The track slots behind the sonar channels, and the tracks, in the modes without a tracker.
 _NO_REGION_TRACKS = np.full(FRONT_SONARS, -1, np.int64)
-_NO_REGION_TRACKS.flags.writeable = False
+_NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
+#: The column of ``Tracker.snapshot``'s rows that holds a track's slot.
+_SLOT = TRACK_TABLE_FIELDS.index("slot")
 
 #: The smallest time between two readings (s): closer readings would make the range-rate
 #: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).

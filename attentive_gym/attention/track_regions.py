@@ -24,6 +24,7 @@ from numba import njit
 __all__ = ["track_channels", "track_table"]
 
 _HALF_PI = 0.5 * math.pi
+_SQRT2 = math.sqrt(2.0)
 #: A track whose motion probability exceeds this is labelled moving.
 MOVING_PROBABILITY = 0.5
 
@@ -47,9 +48,9 @@ def _relative(k, t_s, pose, cv_x, filter_t):
 
 
 @njit(cache=True)
-def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, beam_region, valid, cv_x, p_moving,
-                   alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits, rates, speeds, moving,
-                   region_track):
+def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, beam_region, cone_bounds, match_m,
+                   match_sigmas, noise_rel, noise_floor_m, readings, valid, cv_x, p_moving, alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits,
+                   rates, speeds, moving, region_track):
     """Per-channel kinematics from the tracks (see the module docstring).
 
     Args:
@@ -57,7 +58,11 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, b
         confirm_hits: hits that confirm a track; max_speed: speeds are clipped to it
             (m/s); epsilon: a channel moves when its speed exceeds it (m/s).
         beam_step_rad, beam_region: ``(180,)`` the region of each beam.
-        valid: ``(188,)`` bool, echo flags of the readings.
+        cone_bounds: ``(8, 2)`` the beams ``start <= i < stop`` inside each sonar's cone.
+        match_m, match_sigmas, noise_rel, noise_floor_m: a laser echo in a sonar's cone
+            within ``match_m + match_sigmas · √2 · σ(r)`` of its reading ``r`` (σ(r) =
+            max(noise_rel · r, noise_floor_m)) is what the sonar sees (m).
+        readings, valid: ``(188,)`` the clipped readings (m) and their echo flags.
         cv_x … bounds: the ``Tracker``'s arrays; sonar_x, sonar_hits: its sonar filters.
         rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output;
         region_track: ``(8,)`` int64 output, the track slot behind each front sonar's
@@ -86,12 +91,17 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, b
         if j >= 0 and (region_track[j] < 0 or speed > speeds[j]):
             region_track[j] = k
             rates[j], speeds[j], moving[j] = rate, speed, is_moving
-    laser_echo = np.zeros(n_sonar, np.bool_)
-    for i in range(beam_region.shape[0]):
-        if valid[n_sonar + i]:
-            laser_echo[beam_region[i]] = True
     for j in range(n_sonar):
-        if region_track[j] < 0 and not laser_echo[j] and valid[j] and sonar_hits[j] >= confirm_hits:
+        if region_track[j] >= 0 or not valid[j] or sonar_hits[j] < confirm_hits:
+            continue
+        laser_sees_it = False
+        tolerance = match_m + match_sigmas * _SQRT2 * max(noise_rel * readings[j], noise_floor_m)
+        for i in range(cone_bounds[j, 0], cone_bounds[j, 1]):
+            k = n_sonar + i
+            if valid[k] and abs(readings[k] - readings[j]) <= tolerance:
+                laser_sees_it = True
+                break
+        if not laser_sees_it:
             rate = sonar_x[j, 1]
             rates[j], speeds[j], moving[j] = rate, min(abs(rate), max_speed), abs(rate) > epsilon
 

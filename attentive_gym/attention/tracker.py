@@ -39,11 +39,18 @@ from attentive_gym.attention.kalman import (
     static_update,
 )
 from attentive_gym.attention.kinematics import planar_displacement
-from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, LASER_FOV_DEG, Grid, laser_bearings_rad
+from attentive_gym.attention.regions import (
+    FRONT_SONARS,
+    LASER_BEAMS,
+    LASER_FOV_DEG,
+    Grid,
+    laser_bearings_rad,
+    sonar_cone_bounds,
+)
 from attentive_gym.attention.segmentation import SEGMENT_FIELDS, measure_segments, segment_scan
 from attentive_gym.attention.track_regions import track_channels, track_table
 
-__all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "TRACK_TABLE_FIELDS"]
+__all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "table_from_rows", "TRACK_TABLE_FIELDS"]
 
 #: The probability that a new track moves, before any evidence.
 _MOTION_PRIOR = 0.5
@@ -110,8 +117,9 @@ _TABLE_ATTRIBUTES = ("id", "position_m", "velocity_mps", "speed_mps", "moving_pr
                      "confirmed", "region")
 
 
-def _table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
-    """A read-only ``TrackTable`` from compiled rows ``(n, 11)`` and covariances ``(n, 4, 4)``."""
+def table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
+    """A read-only ``TrackTable`` from the rows of ``Tracker.snapshot`` ``(n, 11)`` (columns
+    ``TRACK_TABLE_FIELDS``) and their covariances ``(n, 4, 4)``."""
     arrays = (rows[:, 0].astype(np.int64), rows[:, 1:3], rows[:, 3:5], rows[:, 5], rows[:, 6], covariance, rows[:, 7],
               rows[:, 8] > 0.0, rows[:, 9].astype(np.int64))
     for array in arrays:
@@ -122,7 +130,7 @@ def _table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
 
 
 #: The table of a step without tracks (every mode but "tracker").
-EMPTY_TRACKS = _table_from_rows(np.zeros((0, _N_TABLE)), np.zeros((0, 4, 4)))
+EMPTY_TRACKS = table_from_rows(np.zeros((0, _N_TABLE)), np.zeros((0, 4, 4)))
 
 
 class Tracker:
@@ -176,6 +184,7 @@ class Tracker:
         params[_SONAR_Q] = config.sonar_accel_psd_m2ps3
         self.params = params
         self._beam_region = Grid.make("sonar").beam_region
+        self._cone_bounds = sonar_cone_bounds(config.sonar_cone_half_width_deg).astype(np.int64)
         self._rows = np.zeros((capacity, _N_TABLE))
         self._covariance = np.zeros((capacity, 4, 4))
 
@@ -214,12 +223,13 @@ class Tracker:
                    self.alive, self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.segment_of,
                    self.counters)
 
-    def channels(self, t_s: float, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
+    def channels(self, t_s: float, readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
                  moving: np.ndarray) -> np.ndarray:
         """Write the kinematics of every reading channel at ``t_s`` (``track_regions.track_channels``).
 
         Args:
-            valid: ``(188,)`` echo flags (8 front sonars, then 180 beams).
+            readings, valid: ``(188,)`` clipped readings (m) and echo flags (8 front
+                sonars, then 180 beams).
             rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output.
 
         Returns:
@@ -228,21 +238,21 @@ class Tracker:
         cfg = self.config
         region_slot = np.empty(FRONT_SONARS, np.int64)
         track_channels(t_s, self.pose, cfg.track_confirm_hits, cfg.max_speed_mps, cfg.direction_epsilon_mps,
-                       self.beam_step_rad, self._beam_region, valid, self.cv_x, self.p_moving, self.alive, self.hits,
+                       self.beam_step_rad, self._beam_region, self._cone_bounds, cfg.sonar_ego_match_m,
+                       cfg.segment_jump_sigmas, cfg.range_noise_rel, cfg.range_noise_floor_m, readings,
+                       valid, self.cv_x, self.p_moving, self.alive, self.hits,
                        self.filter_t, self.segment_of, self.bounds, self.sonar_x, self.sonar_hits, rates, speeds,
                        moving, region_slot)
         return region_slot
 
-    def table(self, t_s: float) -> tuple[TrackTable, np.ndarray]:
-        """The live tracks at ``t_s`` (s) in the robot frame, and the row of each slot
-        in that table ``(capacity,)`` (−1 for free slots)."""
+    def snapshot(self, t_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """The live tracks at ``t_s`` (s) in the robot frame: rows ``(n, 11)`` (columns
+        ``TRACK_TABLE_FIELDS``, slot order) and covariances ``(n, 4, 4)``, new arrays
+        (``table_from_rows`` makes them a ``TrackTable``)."""
         n = track_table(t_s, self.pose, self.config.track_confirm_hits, self.beam_step_rad, self._beam_region,
                         self.cv_x, self.cv_P, self.p_moving, self.alive, self.ids, self.hits, self.born_s,
                         self.filter_t, self._rows, self._covariance)
-        rows = self._rows[:n].copy()
-        row_of_slot = np.full(self.alive.shape[0], -1, np.int64)
-        row_of_slot[rows[:, 10].astype(np.int64)] = np.arange(n)
-        return _table_from_rows(rows, self._covariance[:n].copy()), row_of_slot
+        return self._rows[:n].copy(), self._covariance[:n].copy()
 
     def sonar(self, t_s: float, compensated_m: np.ndarray, readings_m: np.ndarray, valid: np.ndarray) -> None:
         """Update the front sonars' range/rate filters with a reading taken at ``t_s`` (s).

@@ -9,6 +9,7 @@ a goal was chosen with ``set_goal`` (e.g. by ``GoalActionWrapper``).
 
 from __future__ import annotations
 
+import math
 from typing import Any, Mapping
 
 import gymnasium as gym
@@ -32,11 +33,16 @@ class AttentionWrapper(gym.Wrapper):
         env: an environment with ``AttentiveRescue-v0``'s observation (a ``Dict`` with
             ``"sonar"``, ``"laser"``, ``"odometry"``, ``"goal"``) and ``info["time_s"]``.
         mode: ``"focus"`` (default), ``"saliency"`` or ``"masked"`` (see the encoders).
-        config: the model's ``AttentionConfig`` (default parameters when None).
+        config: the model's ``AttentionConfig``. When None: the default parameters, with
+            ``range_noise_rel`` set to the relative noise σ of the base environment's
+            sensors (``env.unwrapped.sensor_noise``; a uniform ±a noise has σ = a/√3),
+            so that the tracker's filters assume the noise the sensors have.
         weights: map weights for ``AttentionModel.set_weights`` (default: the config's).
         state: the Global Attentive State ("drowsy", "alert", "vigilant" or a gain).
 
-    The model is reset with the environment. ``info["attention"]`` carries the step's
+    The model is reset with the environment and fed the time of each sensor's scan
+    (``info["sonar_time_s"]``, ``info["laser_time_s"]``), so that readings held between
+    scans are not taken for new ones. ``info["attention"]`` carries the step's
     ``AttentionOutput``. ``render()`` draws the focus and each region's saliency over
     the world's picture.
     """
@@ -56,7 +62,7 @@ class AttentionWrapper(gym.Wrapper):
         if not isinstance(base, gym.spaces.Dict) or any(k not in base.spaces for k in _REQUIRED_KEYS):
             raise ValueError(f"AttentionWrapper needs a Dict observation with keys {list(_REQUIRED_KEYS)}, got {base}")
         self.mode = mode
-        self.model = AttentionModel(config)
+        self.model = AttentionModel(_config_for(env) if config is None else config)
         if weights is not None:
             self.model.set_weights(weights)
         if state is not None:
@@ -101,7 +107,8 @@ class AttentionWrapper(gym.Wrapper):
         return observation, reward, terminated, truncated, info
 
     def _attend(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        output = self.model.step(info["time_s"], raw["sonar"], raw["laser"], raw["odometry"])
+        output = self.model.step(info["time_s"], raw["sonar"], raw["laser"], raw["odometry"],
+                                 sonar_time_s=info.get("sonar_time_s"), laser_time_s=info.get("laser_time_s"))
         self.last_output = output
         info["attention"] = output
         return self._encoder.encode(raw, output)
@@ -110,3 +117,17 @@ class AttentionWrapper(gym.Wrapper):
         """Draw the latest focus and saliency (called by the base environment's renderer)."""
         if self.last_output is not None:
             draw_attention(renderer, surface, self.env.unwrapped.world.robot.pose, self.model.grid, self.last_output)
+
+
+#: σ of a uniform noise on [−a, a], in units of a.
+_UNIFORM_SIGMA_PER_HALF_WIDTH = 1.0 / math.sqrt(3.0)
+
+
+def _config_for(env: gym.Env) -> AttentionConfig:
+    """The default configuration, assuming the range noise of ``env``'s sensors."""
+    base = env.unwrapped
+    noise = getattr(base, "sensor_noise", None)
+    if noise is None:
+        return AttentionConfig()
+    sigma = noise * (_UNIFORM_SIGMA_PER_HALF_WIDTH if getattr(base, "noise_model", "gaussian") == "uniform" else 1.0)
+    return AttentionConfig(range_noise_rel=float(sigma))

@@ -24,7 +24,7 @@ def _target_run(model, speed=0.7, start=4.0, steps=40, dt=0.05, stop_at=None):
 
 
 def test_exp01_like_first_winner_is_the_moving_region_and_it_does_not_refire_within_600_ms():
-    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model = AttentionModel(AttentionConfig(ego_motion=None, kinematics="window"))
     model.set_weights(F1=1.0)
     outs = _target_run(model, speed=0.5)
     fired = [(round(o.t, 2), o.focus, o.origin) for o in outs if o.fired]
@@ -41,7 +41,7 @@ def test_exp01_like_first_winner_is_the_moving_region_and_it_does_not_refire_wit
 
 
 def test_exp04_like_top_down_course_without_ior_and_fast_release():
-    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model = AttentionModel(AttentionConfig(ego_motion=None, kinematics="window"))
     model.set_goals(Goal.between("speed", 0.5, 0.9))
     model.set_weights(F1=1.0, F4=1.0)
     outs = _target_run(model, speed=0.7, steps=60, stop_at=1.5)
@@ -176,7 +176,7 @@ def test_laser_grid_has_180_regions():
 def test_deep_copies_of_outputs_are_equal_and_independent():
     import copy
 
-    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model = AttentionModel(AttentionConfig(ego_motion=None, kinematics="window"))
     model.set_weights(F1=1.0)
     out = _target_run(model, speed=0.5, steps=2)[1]
     assert out.view is not None  # cached on first access; the copy rebuilds its own

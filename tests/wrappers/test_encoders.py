@@ -38,7 +38,7 @@ def test_focus_observation_carries_nothing_from_outside_the_focus(exp01_focus_en
     encoder = env._encoder
     raw = {"odometry": obs["odometry"], "goal": obs["goal"]}
     others = np.arange(out.F.shape[1]) != j
-    grid, readings, valid, rates, nearest = out._sources
+    grid, readings, valid, rates, nearest, *tracker_sources = out._sources
     readings, rates, nearest = readings.copy(), rates.copy(), nearest.copy()
     outside = np.ones(readings.shape, bool)
     outside[int(grid.region_sonar[j])] = False
@@ -48,7 +48,7 @@ def test_focus_observation_carries_nothing_from_outside_the_focus(exp01_focus_en
     nearest[others] = 0.1
     F, L, M = out.F.copy(), out.L.copy(), out.M.copy()
     F[:, others], L[others], M[others] = 0.77, 0.0, 2.0
-    perturbed = dataclasses.replace(out, F=F, L=L, M=M, _sources=(grid, readings, valid, rates, nearest))
+    perturbed = dataclasses.replace(out, F=F, L=L, M=M, _sources=(grid, readings, valid, rates, nearest, *tracker_sources))
     again = encoder.encode(raw, perturbed)
     for key in obs:
         np.testing.assert_array_equal(again[key], obs[key], err_msg=key)
