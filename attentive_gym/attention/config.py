@@ -142,7 +142,10 @@ class AttentionConfig:
         track_gate_chi2: Mahalanobis gate of an association (χ² with 2 degrees of
             freedom; 13.8 keeps 99.9 % of true matches).
         track_confirm_hits: a track counts once it has been matched this many times.
-        track_delete_misses: a track is deleted after this many scans without a match.
+        track_delete_misses: a confirmed track is deleted after this many scans in a row
+            in which the laser should have seen it but did not match it.
+        track_coast_s: a confirmed track hidden from the laser (outside its field of view
+            or behind something nearer) coasts on its velocity for at most this long (s).
         max_tracks: the most tracks kept at once.
         sonar_accel_psd_m2ps3: ``q`` of each front sonar's range/rate filter (m²/s³).
 
@@ -209,6 +212,7 @@ class AttentionConfig:
     track_gate_chi2: float = 13.8
     track_confirm_hits: int = 3
     track_delete_misses: int = 3
+    track_coast_s: float = 1.5
     max_tracks: int = 64
     sonar_accel_psd_m2ps3: float = 0.5
     # --- sensors -------------------------------------------------------------------
@@ -276,6 +280,7 @@ class AttentionConfig:
             ("track_initial_speed_sigma_mps", "m/s"),
             ("track_surface_sigma_m", "m"),
             ("track_gate_chi2", "χ² units"),
+            ("track_coast_s", "s"),
             ("sonar_accel_psd_m2ps3", "m²/s³"),
             ("threshold", "saliency units"),
             ("preactivation_s", "s"),

@@ -58,7 +58,7 @@ _MOTION_PRIOR = 0.5
 _MOTION_FLOOR = 1e-3
 # parameter vector of the kernels, built once from the configuration
 (_NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _JUMP, _JUMP_SIGMAS, _MIN_BEAMS, _MAX_EXTENT, _SURFACE, _Q, _DRIFT,
- _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _N_PARAMS) = range(18)
+ _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _COAST, _N_PARAMS) = range(19)
 _X, _Y, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "r_xx", "r_xy", "r_yy",
                                                                         "candidate"))
 
@@ -157,6 +157,7 @@ class Tracker:
         self.misses = np.zeros(capacity, np.int64)
         self.born_s = np.zeros(capacity)
         self.filter_t = np.zeros(capacity)
+        self.seen_s = np.zeros(capacity)  # time of the track's last match (s)
         self.segment_of = np.full(capacity, -1, np.int64)  # segment matched at the last scan
         self.counters = np.zeros(2, np.int64)  # next id, segments of the last scan
         self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
@@ -182,6 +183,7 @@ class Tracker:
         params[_GATE] = config.track_gate_chi2
         params[_CONFIRM], params[_DELETE] = config.track_confirm_hits, config.track_delete_misses
         params[_SONAR_Q] = config.sonar_accel_psd_m2ps3
+        params[_COAST] = config.track_coast_s
         self.params = params
         self._beam_region = Grid.make("sonar").beam_region
         self._cone_bounds = sonar_cone_bounds(config.sonar_cone_half_width_deg).astype(np.int64)
@@ -220,8 +222,8 @@ class Tracker:
         """Process a laser scan ``(180,)`` (m, clipped to the laser's maximum) taken at ``t_s`` (s)."""
         track_scan(t_s, self.pose, ranges_m, self.beam_cos, self.beam_sin, self.beam_step_rad, self.params,
                    self.bounds, self.segments, self.cv_x, self.cv_P, self.static_x, self.static_P, self.p_moving,
-                   self.alive, self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.segment_of,
-                   self.counters)
+                   self.alive, self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.seen_s,
+                   self.segment_of, self.counters)
 
     def channels(self, t_s: float, readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
                  moving: np.ndarray) -> np.ndarray:
@@ -288,7 +290,7 @@ def sonar_filters(t_s, compensated_m, readings_m, valid, params, x, P, hits, fil
 
 @njit(cache=True)
 def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds, segments, cv_x, cv_P, static_x,
-               static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, segment_of, counters):
+               static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, segment_of, counters):
     """One laser scan into the tracks, in place (the arrays of ``Tracker``).
 
     1. Segment the scan and measure each segment (robot frame), then move the
@@ -297,9 +299,11 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
     3. Cost of each (track, candidate) pair: the squared Mahalanobis distance of the
        candidate from the track's predicted position; assign by least total cost with
        the gate ``params[_GATE]`` (``association.gated_assignment``).
-    4. Update matched tracks (both filters, then the motion probability); count a miss
-       for the others and delete tentative tracks at their first miss, confirmed ones
-       after ``params[_DELETE]`` misses in a row.
+    4. Update matched tracks (both filters, then the motion probability). Delete an
+       unmatched tentative track at once. An unmatched confirmed track counts a miss
+       only where the laser should have seen it (in the field of view and not behind a
+       nearer echo); it is deleted after ``params[_DELETE]`` misses in a row, or once it
+       has gone unseen for ``params[_COAST]`` seconds (hidden bodies coast meanwhile).
     5. Give each unmatched candidate a new track in a free slot (none when full).
     """
     no_echo = params[_NO_ECHO]
@@ -366,11 +370,15 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
             p_moving[k] = motion_probability(p_moving[k], moving, static, switch, _MOTION_FLOOR)
             hits[k] += 1
             misses[k] = 0
+            seen_s[k] = t_s
             segment_of[k] = candidate[b]
             taken[b] = True
+        elif hits[k] < params[_CONFIRM]:
+            alive[k] = False
         else:
-            misses[k] += 1
-            if hits[k] < params[_CONFIRM] or misses[k] >= params[_DELETE]:
+            if not _hidden(cv_x[k], pose, ranges_m, beam_step_rad, 0.5 * params[_MAX_EXTENT]):
+                misses[k] += 1
+            if misses[k] >= params[_DELETE] or t_s - seen_s[k] > params[_COAST]:
                 alive[k] = False
     slot = 0
     for b in range(n_candidates):
@@ -382,7 +390,23 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
             break
         _birth(slot, t_s, z[b], r[b], params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses,
                born_s, filter_t, counters)
+        seen_s[slot] = t_s
         segment_of[slot] = candidate[b]
+
+
+@njit(cache=True)
+def _hidden(state, pose, ranges_m, beam_step_rad, margin_m):
+    """Whether the laser could not have seen a track at ``state[:2]`` (odometry frame, m):
+    outside its field of view, or behind an echo more than ``margin_m`` nearer."""
+    dx, dy = state[0] - pose[0], state[1] - pose[1]
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    x, y = c * dx + s * dy, -s * dx + c * dy
+    bearing = math.atan2(y, x)
+    half_fov = 0.5 * beam_step_rad * ranges_m.shape[0]
+    if abs(bearing) >= half_fov:
+        return True
+    beam = min(int((bearing + half_fov) / beam_step_rad), ranges_m.shape[0] - 1)
+    return ranges_m[beam] < math.hypot(x, y) - margin_m
 
 
 @njit(cache=True)

@@ -1,0 +1,235 @@
+"""Tracked kinematics (MODEL.md §10): segmentation, assignment, filters and the tracker in the model."""
+
+import math
+
+import numpy as np
+import pytest
+
+from attentive_gym.attention import AttentionConfig, AttentionModel
+from attentive_gym.attention.association import gated_assignment, min_cost_assignment
+from attentive_gym.attention.kalman import cv_predict, cv_update
+from attentive_gym.attention.regions import laser_bearings_rad
+from attentive_gym.attention.segmentation import SEGMENT_FIELDS, measure_segments, segment_scan
+
+DT_S = 0.05
+RADIUS_M = 0.25  # a victim
+CANDIDATE = SEGMENT_FIELDS.index("candidate")
+BEAMS = laser_bearings_rad()
+
+
+def _noisy(rng, ranges, sigma, max_range):
+    out = ranges * (1.0 + sigma * rng.standard_normal(ranges.shape))
+    return np.where(ranges >= max_range, max_range, np.clip(out, 0.0, max_range))
+
+
+def _run(scene, discs_at, steps, *, sigma=0.0, seed=0, robot_at=lambda t: ((0.0, 0.0), 0.0), walls=(),
+         odometry=lambda t: None, config=None):
+    """Step a model through a scene of moving discs; returns the outputs.
+
+    ``discs_at(t)`` gives the discs' centres ``[(x, y), ...]`` (m, world frame) at time t.
+    """
+    rng = np.random.default_rng(seed)
+    model = AttentionModel(config or AttentionConfig(range_noise_rel=max(sigma, 0.01)))
+    outs = []
+    for k in range(steps):
+        t = k * DT_S
+        origin, heading = robot_at(t)
+        circles = [(x, y, RADIUS_M) for x, y in discs_at(t)]
+        sonar, laser = scene.readings(origin, heading, segments=walls, circles=circles)
+        sonar, laser = _noisy(rng, sonar, sigma, scene.SONAR_MAX_M), _noisy(rng, laser, sigma, scene.LASER_MAX_M)
+        outs.append(model.step(t, sonar, laser, odometry(t)))
+    return outs
+
+
+def _nearest_track(out, xy, max_m=0.75):
+    tracks = out.tracks
+    if not len(tracks):
+        return None
+    d = np.hypot(*(tracks.position_m - np.asarray(xy)).T)
+    i = int(np.argmin(d))
+    return i if d[i] < max_m and tracks.confirmed[i] else None
+
+
+# --- segmentation ---------------------------------------------------------------------------------
+def test_segments_break_at_no_echo_and_range_jumps(scene):
+    laser = scene.cast((0, 0), 0.0, BEAMS, segments=[(6.0, -10, 6.0, 10)], circles=[(3.0, 0.0, RADIUS_M)])
+    laser[40:45] = 20.0  # no echo on the right
+    bounds = np.zeros((180, 2), np.int64)
+    n = segment_scan(laser, 19.99, 0.05, 0.01, 0.3, 3.0, bounds)
+    # the wall beyond 20 m on the far right is no echo; wall, wall, disc, wall
+    first = int(np.argmax(laser < 20.0))
+    assert n == 4
+    assert bounds[:4].tolist() == [[first, 40], [45, bounds[1, 1]], [bounds[1, 1], bounds[2, 1]], [bounds[2, 1], 180 - first]]
+    table = np.zeros((180, len(SEGMENT_FIELDS)))
+    cos_b, sin_b = np.cos(BEAMS), np.sin(BEAMS)
+    measure_segments(laser, cos_b, sin_b, math.radians(1.0), 19.99, bounds, n, 0.05, 0.01, 0.05, 1.2, 2, table)
+    assert table[:4, CANDIDATE].tolist() == [0.0, 0.0, 1.0, 0.0]  # the walls are structure, the disc an object
+    x, y = table[2, 2], table[2, 3]
+    assert math.hypot(x - 3.0, y) < 0.05  # the centre, not the visible surface (0.25 m nearer)
+
+
+def test_noise_rarely_splits_a_far_wall():
+    rng = np.random.default_rng(3)
+    wall = 10.0 / np.cos(BEAMS[45:135])  # a wall 10 m ahead, seen over ±45°
+    bounds = np.zeros((180, 2), np.int64)
+    splits = [segment_scan(_noisy(rng, wall, 0.05, 20.0), 19.99, 0.05, 0.01, 0.3, 3.0, bounds) - 1
+              for _ in range(200)]
+    assert np.mean(splits) < 0.2  # noise of σ = 0.5 m per beam: the threshold grows with range
+
+
+# --- assignment and filters -----------------------------------------------------------------------
+def test_assignment_matches_scipy_on_random_rectangular_matrices():
+    scipy_optimize = pytest.importorskip("scipy.optimize")
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        n, m = rng.integers(1, 9, 2)
+        cost = rng.random((n, m)) * 10.0
+        mine = np.empty(n, np.int64)
+        min_cost_assignment(cost, mine)
+        rows, cols = scipy_optimize.linear_sum_assignment(cost)
+        used = mine >= 0
+        assert used.sum() == min(n, m)
+        assert cost[np.flatnonzero(used), mine[used]].sum() == pytest.approx(cost[rows, cols].sum(), abs=1e-9)
+
+
+def test_gated_assignment_prefers_the_pair_inside_the_gate():
+    # greedy would give row 0 its nearest column 0 and leave row 1 beyond the gate
+    cost = np.array([[1.0, 2.0], [1.5, 50.0]])
+    rows = np.empty(2, np.int64)
+    gated_assignment(cost, 13.8, rows)
+    assert rows.tolist() == [1, 0]
+    gated_assignment(np.array([[20.0, 30.0]]), 13.8, rows[:1])
+    assert rows[0] == -1  # nothing inside the gate
+
+
+def test_constant_velocity_filter_is_exact_without_noise():
+    x, P = np.zeros(4), np.diag([0.01, 0.01, 1.0, 1.0])
+    R = np.eye(2) * 0.05**2
+    velocity = np.array([0.6, -0.25])
+    for k in range(1, 400):
+        cv_predict(x, P, DT_S, 0.02)
+        z = velocity * k * DT_S
+        cv_update(x, P, z[0], z[1], R)
+    assert np.max(np.abs(x[2:] - velocity)) < 1e-9
+    assert np.max(np.abs(x[:2] - velocity * 399 * DT_S)) < 1e-9
+    assert np.allclose(P, P.T) and np.all(np.linalg.eigvalsh(P) > 0)
+
+
+# --- the tracker in the model ---------------------------------------------------------------------
+def test_constant_velocity_target_meets_the_speed_bound_under_5_percent_noise(scene):
+    velocity = np.array([-0.3, 0.55])  # 0.63 m/s, mostly across the line of sight
+    outs = _run(scene, lambda t: [(3.0 + velocity[0] * t, -1.5 + velocity[1] * t)], 80, sigma=0.05)
+    errors, ids = [], set()
+    for k, out in enumerate(outs[20:], start=20):  # tracked for >= 1 s
+        i = _nearest_track(out, (3.0 + velocity[0] * k * DT_S, -1.5 + velocity[1] * k * DT_S))
+        assert i is not None
+        ids.add(int(out.tracks.id[i]))
+        errors.append(np.linalg.norm(out.tracks.velocity_mps[i] - velocity))
+    assert len(ids) == 1  # one track all along
+    assert np.median(errors) < 0.1 and np.median(np.abs([o.tracks.speed_mps.max() for o in outs[20:]]) - 0.63) < 0.06
+
+
+def test_the_tracker_beats_the_window_estimator_threefold_under_5_percent_noise(scene):
+    # a victim approaching along sonar s4's axis: radial motion, which the window's range rate sees
+    def discs(t):
+        r = 4.0 - 0.5 * t
+        return [(r * math.cos(math.radians(10)), r * math.sin(math.radians(10)))]
+
+    medians = {}
+    for mode in ("tracker", "window"):
+        outs = _run(scene, discs, 80, sigma=0.05, config=AttentionConfig(kinematics=mode))
+        medians[mode] = np.median([abs(o.speeds_mps[3] - 0.5) for o in outs[20:]])
+    assert medians["tracker"] <= medians["window"] / 3.0, medians
+
+
+def test_two_crossing_targets_keep_their_ids(scene):
+    def discs(t):  # one at 3 m going left, one at 4.2 m going right; they pass at t = 2 s
+        return [(3.0, -1.2 + 0.6 * t), (4.2, 1.2 - 0.6 * t)]
+
+    outs = _run(scene, discs, 80, sigma=0.02)
+    before, after = outs[25], outs[79]
+    ids = []
+    for out, t in ((before, 25 * DT_S), (after, 79 * DT_S)):
+        a, b = discs(t)
+        ia, ib = _nearest_track(out, a), _nearest_track(out, b)
+        assert ia is not None and ib is not None
+        ids.append((int(out.tracks.id[ia]), int(out.tracks.id[ib])))
+    assert ids[0] == ids[1]
+
+
+def test_a_target_entering_and_leaving_the_field_of_view(scene):
+    # the robot spins in place: a victim behind it comes into view on the left (at ≈ 2.6 s),
+    # crosses the front and leaves on the right (at ≈ 7.9 s)
+    spin = 0.6  # rad/s
+    outs = _run(scene, lambda t: [(3.0, 0.0)], 200, sigma=0.02, robot_at=lambda t: ((0.0, 0.0), math.pi + spin * t),
+                odometry=lambda t: (0.0, spin))
+    seen = np.array([len(o.tracks) > 0 and bool(o.tracks.confirmed.any()) for o in outs])
+    # once out of view the track coasts for track_coast_s = 1.5 s, then it is deleted
+    assert not seen[:45].any() and seen[70:140].all() and not seen[-10:].any()
+    ids = np.concatenate([o.tracks.id[o.tracks.confirmed] for o in outs])
+    assert len(set(ids.tolist())) == 1  # one body, one track
+    assert max(float(o.tracks.speed_mps.max(initial=0.0)) for o in outs) < 0.1  # it stands still
+
+
+def test_a_wall_passing_a_driving_robot_stays_static(scene):
+    walls = [(-20.0, 1.5, 40.0, 1.5), (-20.0, -2.5, 40.0, -2.5)]  # a corridor
+    outs = _run(scene, lambda t: [], 100, sigma=0.05, walls=walls, robot_at=lambda t: ((0.6 * t, 0.0), 0.0),
+                odometry=lambda t: (0.6, 0.0))
+    assert max(o.speeds_mps.max() for o in outs) < 0.05
+    assert not any(o.fired and o.F[0].max() > 0.1 for o in outs)
+
+
+def test_tracks_are_finite_and_bounded_on_random_scans():
+    rng = np.random.default_rng(7)
+    config = AttentionConfig(max_tracks=16)
+    model = AttentionModel(config)
+    for k in range(300):
+        laser = rng.choice([rng.uniform(0.2, 19.0), 20.0], size=180)  # the worst case: confetti
+        laser = np.where(rng.random(180) < 0.5, rng.uniform(0.2, 19.0, 180), laser)
+        out = model.step(k * DT_S, rng.uniform(0.15, 5.0, 16), laser, (rng.uniform(-0.7, 0.7), rng.uniform(-2, 2)))
+        tracks = out.tracks
+        assert len(tracks) <= config.max_tracks
+        for array in (tracks.position_m, tracks.velocity_mps, tracks.covariance, out.speeds_mps, out.F):
+            assert np.all(np.isfinite(array))
+        assert np.all((tracks.moving_probability >= 0) & (tracks.moving_probability <= 1))
+        assert np.all(out.speeds_mps <= config.max_speed_mps)
+        tracker = model._tracker
+        for k_slot in np.flatnonzero(tracker.alive):
+            assert np.all(np.linalg.eigvalsh(tracker.cv_P[k_slot]) > 0)
+
+
+def test_the_same_readings_give_the_same_tracks(scene):
+    a = _run(scene, lambda t: [(3.0, -1.0 + 0.5 * t)], 40, sigma=0.05, seed=4)
+    b = _run(scene, lambda t: [(3.0, -1.0 + 0.5 * t)], 40, sigma=0.05, seed=4)
+    assert all(x == y for x, y in zip(a, b))
+    assert a[-1].tracks == b[-1].tracks and len(a[-1].tracks)
+
+
+def test_held_scans_are_not_tracked_twice(scene):
+    model = AttentionModel()
+    sonar, laser = scene.readings((0, 0), 0.0, circles=[(3.0, 0.0, RADIUS_M)])
+    for k in range(8):
+        model.step(k * DT_S, sonar, laser, laser_time_s=0.2 * (k // 4), sonar_time_s=0.2 * (k // 4))
+    assert model._tracker.hits.max() == 2  # scans at 0 and 0.2 s only
+    with pytest.raises(ValueError, match="laser_time_s.*before the previous scan"):
+        model.step(0.4, sonar, laser, laser_time_s=0.1)
+    with pytest.raises(ValueError, match="sonar_time_s.*after the reading's time"):
+        model.step(0.4, sonar, laser, sonar_time_s=0.5)
+
+
+def test_the_focus_names_the_track_it_holds(scene):
+    outs = _run(scene, lambda t: [(3.0, -1.0 + 0.6 * t)], 40)
+    out = next(o for o in outs[10:] if o.focus is not None)
+    view = out.view
+    row = out.tracks.row(view.track_id)
+    assert row is not None and out.tracks.region[row] == view.region
+    assert view.track_speed_mps == pytest.approx(float(out.tracks.speed_mps[row]))
+    assert view.track_position_m.tolist() == out.tracks.position_m[row].tolist()
+    assert view.track_age_s > 0
+
+
+@pytest.mark.parametrize("field, value", [("kinematics", "kalman"), ("max_tracks", 0), ("track_gate_chi2", -1.0),
+                                          ("range_noise_rel", float("nan")), ("segment_min_beams", 1.5)])
+def test_bad_tracker_settings_are_refused(field, value):
+    with pytest.raises(ValueError, match=field):
+        AttentionConfig(**{field: value})
