@@ -484,7 +484,8 @@ class AttentionModel:
                                  "displacement; call reset() after a gap this long")
         sonar_new, laser_new = self._check_scan_times(t, sonar_time_s, laser_time_s)
         push = sonar_new or laser_new
-        moved = push and motion is not None and self._ego_change(t, motion)
+        # the window's ego-motion compensation (the tracker compensates in its own frame)
+        moved = push and motion is not None and self._tracker is None and self._ego_change(t, motion)
         if self._tracker is not None:
             self._tracker.advance(0.0 if self._last_t is None else t - self._last_t,
                                   None if cfg.ego_motion is None else motion)
@@ -647,8 +648,7 @@ class AttentionModel:
         if laser_new:
             tracker.scan(t, readings[_LASER])
         if sonar_new:
-            state, _, samples, _ = self._memory.buffers
-            tracker.sonar(t, samples[1, state[0], _SONAR], readings[_SONAR], valid[_SONAR])
+            tracker.sonar(t, readings[_SONAR], valid[_SONAR])
         return tracker.channels(t, readings, valid, rates, speeds, moving), tracker.snapshot(t)
 
     @staticmethod

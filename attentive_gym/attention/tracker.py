@@ -44,6 +44,7 @@ from attentive_gym.attention.regions import (
     LASER_BEAMS,
     LASER_FOV_DEG,
     Grid,
+    front_sonar_bearings_rad,
     laser_bearings_rad,
     sonar_cone_bounds,
 )
@@ -166,8 +167,11 @@ class Tracker:
         self.sonar_P = np.zeros((FRONT_SONARS, 2, 2))
         self.sonar_hits = np.zeros(FRONT_SONARS, np.int64)
         self.sonar_t = np.zeros(FRONT_SONARS)
+        self.sonar_pose = np.zeros(3)  # the pose of the sonars' previous reading
         self.pose = np.zeros(3)  # x, y (m), heading (rad) in the odometry frame
         self._odometry: tuple[float, float] | None = None  # the previous reading's (v, ω)
+        sonars = front_sonar_bearings_rad()
+        self._sonar_cos, self._sonar_sin = np.cos(sonars), np.sin(sonars)
         bearings = laser_bearings_rad()
         self.beam_cos, self.beam_sin = np.cos(bearings), np.sin(bearings)
         self.beam_step_rad = math.radians(LASER_FOV_DEG / LASER_BEAMS)
@@ -197,6 +201,7 @@ class Tracker:
         self.counters[:] = 0
         self.sonar_hits[:] = 0
         self.pose[:] = 0.0
+        self.sonar_pose[:] = 0.0
         self._odometry = None
 
     def advance(self, dt_s: float, odometry: tuple[float, float] | None) -> None:
@@ -256,36 +261,43 @@ class Tracker:
                         self.filter_t, self._rows, self._covariance)
         return self._rows[:n].copy(), self._covariance[:n].copy()
 
-    def sonar(self, t_s: float, compensated_m: np.ndarray, readings_m: np.ndarray, valid: np.ndarray) -> None:
+    def sonar(self, t_s: float, readings_m: np.ndarray, valid: np.ndarray) -> None:
         """Update the front sonars' range/rate filters with a reading taken at ``t_s`` (s).
 
         Args:
-            compensated_m: ``(8,)`` ranges minus the range change the robot's own motion
-                made (m; the sensorial memory's compensated values).
-            readings_m: ``(8,)`` the raw ranges (m), for their noise.
+            readings_m: ``(8,)`` ranges (m).
             valid: ``(8,)`` bool, the sonar has an echo; a sonar without one restarts.
+
+        The robot's own motion since the previous reading is taken out first, as for an
+        echo on the sonar's axis (MODEL.md §3's point model ``−(dx cos θ + dy sin θ)``).
         """
-        sonar_filters(t_s, compensated_m, readings_m, valid, self.params, self.sonar_x, self.sonar_P,
-                      self.sonar_hits, self.sonar_t)
+        sonar_filters(t_s, self.pose, self.sonar_pose, readings_m, valid, self._sonar_cos, self._sonar_sin,
+                      self.params, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t)
 
 
 @njit(cache=True)
-def sonar_filters(t_s, compensated_m, readings_m, valid, params, x, P, hits, filter_t):
-    """One reading of each front sonar into its ``(r, ṙ)`` filter (see ``Tracker.sonar``)."""
+def sonar_filters(t_s, pose, sonar_pose, readings_m, valid, sonar_cos, sonar_sin, params, x, P, hits, filter_t):
+    """One reading of each front sonar into its ``(r, ṙ)`` filter (see ``Tracker.sonar``);
+    ``sonar_pose`` ``(3,)``, the pose of the previous reading, becomes ``pose``."""
+    dx_world, dy_world = pose[0] - sonar_pose[0], pose[1] - sonar_pose[1]
+    c, s = math.cos(sonar_pose[2]), math.sin(sonar_pose[2])
+    dx, dy = c * dx_world + s * dy_world, -s * dx_world + c * dy_world  # in the previous robot frame
     for j in range(x.shape[0]):
         if not valid[j]:
             hits[j] = 0
             continue
         sigma = max(params[_NOISE_REL] * readings_m[j], params[_NOISE_FLOOR])
         if hits[j] == 0:
-            x[j, 0], x[j, 1] = compensated_m[j], 0.0
+            x[j, 0], x[j, 1] = readings_m[j], 0.0
             P[j, 0, 0], P[j, 0, 1], P[j, 1, 0] = sigma * sigma, 0.0, 0.0
             P[j, 1, 1] = params[_SPEED_SIGMA] ** 2
         else:
+            x[j, 0] -= dx * sonar_cos[j] + dy * sonar_sin[j]
             rate_predict(x[j], P[j], t_s - filter_t[j], params[_SONAR_Q])
-            rate_update(x[j], P[j], compensated_m[j], sigma * sigma)
+            rate_update(x[j], P[j], readings_m[j], sigma * sigma)
         hits[j] += 1
         filter_t[j] = t_s
+    sonar_pose[:] = pose
 
 
 @njit(cache=True)

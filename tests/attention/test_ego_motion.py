@@ -1,4 +1,8 @@
-"""Ego-motion compensation (MODEL.md §3): a robot driving past static walls sees no motion."""
+"""Ego-motion compensation (MODEL.md §3): a robot driving past static walls sees no motion.
+
+The compensation of the sensorial memory (re-projected scans, the sonar models) serves the
+window's range rates; the tracker compensates in its odometry-fixed frame (test_tracker.py).
+"""
 
 import numpy as np
 import pytest
@@ -42,7 +46,7 @@ def test_without_compensation_the_same_drive_is_salient(scene):
 
 
 def test_compensated_laser_sees_a_static_world_and_moving_targets_still_move(scene):
-    model = AttentionModel(AttentionConfig())
+    model = AttentionModel(AttentionConfig(kinematics="window"))
     walls_only = np.ones(180, bool)
     for k in range(40):
         t = k * DT_S
@@ -61,7 +65,7 @@ def test_compensated_laser_sees_a_static_world_and_moving_targets_still_move(sce
 
 def test_point_model_is_exact_for_a_post_on_the_sonar_axis(scene):
     post = [(4.0, 0.0, 0.05)]  # a thin post dead ahead, seen by sonars 3 and 4 (+-10 deg)
-    model = AttentionModel(AttentionConfig(sonar_ego_model="point"))
+    model = AttentionModel(AttentionConfig(sonar_ego_model="point", kinematics="window"))
     for k in range(20):
         t = k * DT_S
         sonar, laser = scene.readings((SPEED_MPS * t, 0.0), 0.0, circles=post)
