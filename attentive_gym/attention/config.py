@@ -125,7 +125,8 @@ class AttentionConfig:
         segment_jump_m: fixed part of the range jump that breaks a scan segment (m).
         segment_jump_sigmas: range-dependent part of that threshold, in σ of the
             difference of two neighbouring readings (``√2 · range_noise_rel · r``).
-        segment_min_beams: segments with fewer beams are not tracked (beams).
+        segment_min_beams: segments with fewer beams may update a track but not start
+            one (beams).
         max_object_extent_m: segments longer than this (end to end, m) are static
             structure (walls): never tracked, their speed is 0.
         track_accel_psd_m2ps3: spectral density ``q`` of the white-noise acceleration of

@@ -6,7 +6,7 @@
 - ``measure_segments``: each segment's object position (the centroid of its echo
   points pushed back along the line of sight by a fixed fraction of its extent, where
   the centre of a round or boxy body lies), its extent, its measurement covariance, and
-  whether it is static structure (longer than any body that moves).
+  what the tracker may do with it (``STRUCTURE``, ``UPDATE_ONLY``, ``TRACKABLE``).
 - Column layout of the measurement table: ``SEGMENT_FIELDS``.
 
 Robot frame: x forward, y left (m); beam bearings (rad) increase from right to left.
@@ -19,7 +19,8 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["segment_scan", "measure_segments", "SEGMENT_FIELDS", "SURFACE_OFFSET_FRACTION"]
+__all__ = ["segment_scan", "measure_segments", "SEGMENT_FIELDS", "SURFACE_OFFSET_FRACTION", "STRUCTURE",
+           "UPDATE_ONLY", "TRACKABLE"]
 
 #: Columns of ``measure_segments``' table, one row per segment.
 SEGMENT_FIELDS = ("start", "stop", "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
@@ -30,6 +31,10 @@ _START, _STOP, _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = range(len(SEGMENT
 #: centre, and its extent is 2R.
 SURFACE_OFFSET_FRACTION = math.pi / 8.0
 _SQRT2 = math.sqrt(2.0)
+#: Values of the ``candidate`` column: static structure, never tracked (longer than any
+#: body that moves); a segment with too few beams to start a track, which may still
+#: update one; a segment that may start a track.
+STRUCTURE, UPDATE_ONLY, TRACKABLE = 0.0, 1.0, 2.0
 
 
 @njit(cache=True)
@@ -88,10 +93,10 @@ def measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
         surface_sigma_m: σ of where on its surface the object's measured centre lies,
             along and across the line of sight (m).
         max_extent_m: longer segments are static structure, not candidates for tracking.
-        min_beams: shorter segments are not candidates either (too few echoes).
+        min_beams: segments with fewer beams may update a track but not start one.
         table: ``(B, len(SEGMENT_FIELDS))`` output, one row per segment: beam bounds,
             position (m), extent (m), measurement covariance ``r_xx, r_xy, r_yy`` (m²),
-            and 1.0 for a tracking candidate (else 0.0).
+            and ``STRUCTURE``, ``UPDATE_ONLY`` or ``TRACKABLE``.
 
     The covariance: along the line of sight, the range noise averaged over the
     segment's beams plus ``surface_sigma_m²``; across it, ``surface_sigma_m²`` plus the
@@ -133,4 +138,7 @@ def measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
         table[m, _RXX] = along * ux * ux + across * uy * uy
         table[m, _RXY] = (along - across) * ux * uy
         table[m, _RYY] = along * uy * uy + across * ux * ux
-        table[m, _CANDIDATE] = 1.0 if (extent <= max_extent_m and n >= min_beams) else 0.0
+        if extent > max_extent_m:
+            table[m, _CANDIDATE] = STRUCTURE
+        else:
+            table[m, _CANDIDATE] = TRACKABLE if n >= min_beams else UPDATE_ONLY

@@ -48,7 +48,13 @@ from attentive_gym.attention.regions import (
     laser_bearings_rad,
     sonar_cone_bounds,
 )
-from attentive_gym.attention.segmentation import SEGMENT_FIELDS, measure_segments, segment_scan
+from attentive_gym.attention.segmentation import (
+    SEGMENT_FIELDS,
+    STRUCTURE,
+    TRACKABLE,
+    measure_segments,
+    segment_scan,
+)
 from attentive_gym.attention.track_regions import track_channels, track_table
 
 __all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "table_from_rows", "TRACK_TABLE_FIELDS"]
@@ -316,7 +322,8 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
        only where the laser should have seen it (in the field of view and not behind a
        nearer echo); it is deleted after ``params[_DELETE]`` misses in a row, or once it
        has gone unseen for ``params[_COAST]`` seconds (hidden bodies coast meanwhile).
-    5. Give each unmatched candidate a new track in a free slot (none when full).
+    5. Give each unmatched candidate with enough beams a new track in a free slot (none
+       when full).
     """
     no_echo = params[_NO_ECHO]
     n_segments = segment_scan(ranges_m, no_echo, params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP],
@@ -331,7 +338,7 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
     r = np.empty((n_segments, 2, 2))
     n_candidates = 0
     for m in range(n_segments):
-        if segments[m, _CANDIDATE] == 0.0:
+        if segments[m, _CANDIDATE] == STRUCTURE:
             continue
         x, y = segments[m, _X], segments[m, _Y]
         k = n_candidates
@@ -394,7 +401,7 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
                 alive[k] = False
     slot = 0
     for b in range(n_candidates):
-        if taken[b]:
+        if taken[b] or segments[candidate[b], _CANDIDATE] != TRACKABLE:
             continue
         while slot < capacity and alive[slot]:
             slot += 1

@@ -39,8 +39,13 @@ from attentive_gym.world.scenario import (
 
 __all__ = ["ArenaConfig", "DEFAULT_TASK_GOALS", "generate_arena"]
 
-#: Goals sampled per episode by default: a medium-speed victim or a slow one.
-DEFAULT_TASK_GOALS = (Goal.between("speed", 0.5, 0.9), Goal.smaller("speed", 0.3))
+#: Goals sampled per episode by default: a medium-speed victim or a slow one that moves.
+#: Both describe a target the sensors can tell apart: with the arena's 0.1 m/s speed
+#: margin, the medium target patrols at 0.6–0.8 m/s and its distractors at ≤ 0.35 m/s;
+#: the slow target at 0.25–0.35 m/s and its distractors stand still or go ≥ 0.55 m/s.
+#: (Earlier ``speed <= 0.3`` let the target stand still, and a victim standing still
+#: reads as rubble: no sensor tells them apart.)
+DEFAULT_TASK_GOALS = (Goal.between("speed", 0.5, 0.9), Goal.between("speed", 0.15, 0.45))
 
 _SPEED_GRID_STEP_MPS = 0.05  # resolution of the speeds a mover can be given
 _PLACEMENT_ATTEMPTS = 200  # rejection-sampling tries per body before giving up

@@ -21,6 +21,7 @@ import numpy as np
 
 from attentive_gym.attention import Goal
 from attentive_gym.attention.config import MAP_NAMES
+from attentive_gym.world.arena import DEFAULT_TASK_GOALS
 from attentive_gym.wrappers.attention import AttentionWrapper
 
 __all__ = ["GoalActionWrapper", "DEFAULT_GOAL_MENU"]
@@ -29,8 +30,7 @@ __all__ = ["GoalActionWrapper", "DEFAULT_GOAL_MENU"]
 #: three direction goals.
 DEFAULT_GOAL_MENU: tuple[Goal | None, ...] = (
     None,
-    Goal.between("speed", 0.5, 0.9),
-    Goal.smaller("speed", 0.3),
+    *DEFAULT_TASK_GOALS,
     Goal.direction_is("towards"),
     Goal.direction_is("static"),
     Goal.direction_is("away"),

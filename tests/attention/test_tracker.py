@@ -9,7 +9,13 @@ from attentive_gym.attention import AttentionConfig, AttentionModel
 from attentive_gym.attention.association import gated_assignment, min_cost_assignment
 from attentive_gym.attention.kalman import cv_predict, cv_update
 from attentive_gym.attention.regions import laser_bearings_rad
-from attentive_gym.attention.segmentation import SEGMENT_FIELDS, measure_segments, segment_scan
+from attentive_gym.attention.segmentation import (
+    SEGMENT_FIELDS,
+    STRUCTURE,
+    TRACKABLE,
+    measure_segments,
+    segment_scan,
+)
 
 DT_S = 0.05
 RADIUS_M = 0.25  # a victim
@@ -63,7 +69,7 @@ def test_segments_break_at_no_echo_and_range_jumps(scene):
     table = np.zeros((180, len(SEGMENT_FIELDS)))
     cos_b, sin_b = np.cos(BEAMS), np.sin(BEAMS)
     measure_segments(laser, cos_b, sin_b, math.radians(1.0), 19.99, bounds, n, 0.05, 0.01, 0.05, 1.2, 2, table)
-    assert table[:4, CANDIDATE].tolist() == [0.0, 0.0, 1.0, 0.0]  # the walls are structure, the disc an object
+    assert table[:4, CANDIDATE].tolist() == [STRUCTURE, STRUCTURE, TRACKABLE, STRUCTURE]  # walls, a disc, a wall
     x, y = table[2, 2], table[2, 3]
     assert math.hypot(x - 3.0, y) < 0.05  # the centre, not the visible surface (0.25 m nearer)
 
