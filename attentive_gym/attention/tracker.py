@@ -52,6 +52,7 @@ from attentive_gym.attention.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
     TRACKABLE,
+    carve_body,
     measure_segments,
     segment_scan,
 )
@@ -63,11 +64,16 @@ __all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "table_from_ro
 _MOTION_PRIOR = 0.5
 #: Bounds of that probability, so that either hypothesis can always win back.
 _MOTION_FLOOR = 1e-3
+#: Weight of a new match in a track's extent average (a tenth: ≈ the last ten scans).
+_EXTENT_SMOOTHING = 0.1
+#: Only a track this probably moving looks for its body inside longer segments: static
+#: bodies that touch a wall are part of the structure.
+_CARVE_PROBABILITY = 0.5
 # parameter vector of the kernels, built once from the configuration
 (_NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _JUMP, _JUMP_SIGMAS, _MIN_BEAMS, _MAX_EXTENT, _SURFACE, _Q, _DRIFT,
  _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _COAST, _N_PARAMS) = range(19)
-_X, _Y, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "r_xx", "r_xy", "r_yy",
-                                                                        "candidate"))
+_X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in (
+    "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -165,6 +171,7 @@ class Tracker:
         self.born_s = np.zeros(capacity)
         self.filter_t = np.zeros(capacity)
         self.seen_s = np.zeros(capacity)  # time of the track's last match (s)
+        self.extent_m = np.zeros(capacity)  # the body's extent, averaged over its matches (m)
         self.segment_of = np.full(capacity, -1, np.int64)  # segment matched at the last scan
         self.counters = np.zeros(2, np.int64)  # next id, segments of the last scan
         self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
@@ -234,7 +241,7 @@ class Tracker:
         track_scan(t_s, self.pose, ranges_m, self.beam_cos, self.beam_sin, self.beam_step_rad, self.params,
                    self.bounds, self.segments, self.cv_x, self.cv_P, self.static_x, self.static_P, self.p_moving,
                    self.alive, self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.seen_s,
-                   self.segment_of, self.counters)
+                   self.extent_m, self.segment_of, self.counters)
 
     def channels(self, t_s: float, readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
                  moving: np.ndarray) -> np.ndarray:
@@ -308,7 +315,8 @@ def sonar_filters(t_s, pose, sonar_pose, readings_m, valid, sonar_cos, sonar_sin
 
 @njit(cache=True)
 def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds, segments, cv_x, cv_P, static_x,
-               static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, segment_of, counters):
+               static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
+               counters):
     """One laser scan into the tracks, in place (the arrays of ``Tracker``).
 
     1. Segment the scan and measure each segment (robot frame), then move the
@@ -318,10 +326,13 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
        candidate from the track's predicted position; assign by least total cost with
        the gate ``params[_GATE]`` (``association.gated_assignment``).
     4. Update matched tracks (both filters, then the motion probability). Delete an
-       unmatched tentative track at once. An unmatched confirmed track counts a miss
-       only where the laser should have seen it (in the field of view and not behind a
-       nearer echo); it is deleted after ``params[_DELETE]`` misses in a row, or once it
-       has gone unseen for ``params[_COAST]`` seconds (hidden bodies coast meanwhile).
+       unmatched tentative track at once. An unmatched confirmed track where the laser
+       should have seen it (in the field of view, not behind a nearer echo) looks for
+       its body where it expects it if it moves (``segmentation.carve_body``: it may
+       have merged with a wall) and updates from it inside the gate; else it counts a
+       miss. It is deleted after ``params[_DELETE]`` misses in a row, or once it has had
+       no segment of its own for ``params[_COAST]`` seconds (hidden bodies coast, merged
+       ones follow their carved measurements, meanwhile).
     5. Give each unmatched candidate with enough beams a new track in a free slot (none
        when full).
     """
@@ -340,16 +351,8 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
     for m in range(n_segments):
         if segments[m, _CANDIDATE] == STRUCTURE:
             continue
-        x, y = segments[m, _X], segments[m, _Y]
-        k = n_candidates
-        candidate[k] = m
-        z[k, 0], z[k, 1] = pose[0] + c * x - s * y, pose[1] + s * x + c * y
-        # R_world = Rot R Rotᵀ
-        rxx, rxy, ryy = segments[m, _RXX], segments[m, _RXY], segments[m, _RYY]
-        r[k, 0, 0] = c * c * rxx - 2.0 * c * s * rxy + s * s * ryy
-        r[k, 0, 1] = c * s * (rxx - ryy) + (c * c - s * s) * rxy
-        r[k, 1, 0] = r[k, 0, 1]
-        r[k, 1, 1] = s * s * rxx + 2.0 * c * s * rxy + c * c * ryy
+        candidate[n_candidates] = m
+        _to_odometry(pose, c, s, segments[m], z[n_candidates], r[n_candidates])
         n_candidates += 1
     capacity = alive.shape[0]
     rows = np.empty(capacity, np.int64)
@@ -370,35 +373,43 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
     for a in range(n_rows):
         k = rows[a]
         for b in range(n_candidates):
-            s00 = cv_P[k, 0, 0] + r[b, 0, 0]
-            s01 = cv_P[k, 0, 1] + r[b, 0, 1]
-            s11 = cv_P[k, 1, 1] + r[b, 1, 1]
-            y0, y1 = z[b, 0] - cv_x[k, 0], z[b, 1] - cv_x[k, 1]
-            det = s00 * s11 - s01 * s01
-            cost[a, b] = (s11 * y0 * y0 - 2.0 * s01 * y0 * y1 + s00 * y1 * y1) / det
+            cost[a, b] = _mahalanobis2(cv_x[k], cv_P[k], z[b], r[b])
     assignment = np.empty(n_rows, np.int64)
     gated_assignment(cost, params[_GATE], assignment)
     taken = np.zeros(n_candidates, np.bool_)
+    carved = np.empty(len(SEGMENT_FIELDS))
+    carved_z, carved_r = np.empty(2), np.empty((2, 2))
     for a in range(n_rows):
         k = rows[a]
         b = assignment[a]
         if b >= 0:
-            moving = cv_update(cv_x[k], cv_P[k], z[b, 0], z[b, 1], r[b])
-            static = static_update(static_x[k], static_P[k], z[b, 0], z[b, 1], r[b])
-            switch = 1.0 - math.exp(-params[_SWITCH_RATE] * dts[k])
-            p_moving[k] = motion_probability(p_moving[k], moving, static, switch, _MOTION_FLOOR)
-            hits[k] += 1
-            misses[k] = 0
+            _update(k, dts[k], z[b], r[b], segments[candidate[b], _EXTENT], params, cv_x, cv_P, static_x, static_P,
+                    p_moving, hits, misses, extent_m)
             seen_s[k] = t_s
             segment_of[k] = candidate[b]
             taken[b] = True
-        elif hits[k] < params[_CONFIRM]:
+            continue
+        if hits[k] < params[_CONFIRM]:
             alive[k] = False
-        else:
-            if not _hidden(cv_x[k], pose, ranges_m, beam_step_rad, 0.5 * params[_MAX_EXTENT]):
-                misses[k] += 1
-            if misses[k] >= params[_DELETE] or t_s - seen_s[k] > params[_COAST]:
-                alive[k] = False
+            continue
+        hidden = _hidden(cv_x[k], pose, ranges_m, beam_step_rad, 0.5 * params[_MAX_EXTENT])
+        found = False
+        if not hidden and p_moving[k] > _CARVE_PROBABILITY:
+            # a moving body merged into a longer segment? look for it where the track expects it
+            dx, dy = cv_x[k, 0] - pose[0], cv_x[k, 1] - pose[1]
+            found = carve_body(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, c * dx + s * dy, -s * dx + c * dy,
+                               extent_m[k], params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP],
+                               params[_JUMP_SIGMAS], params[_SURFACE], int(params[_MIN_BEAMS]), carved)
+            if found:
+                _to_odometry(pose, c, s, carved, carved_z, carved_r)
+                found = _mahalanobis2(cv_x[k], cv_P[k], carved_z, carved_r) < params[_GATE]
+            if found:  # not a segment of its own: the track still dies after track_coast_s
+                _update(k, dts[k], carved_z, carved_r, extent_m[k], params, cv_x, cv_P, static_x, static_P,
+                        p_moving, hits, misses, extent_m)
+        if not (hidden or found):
+            misses[k] += 1
+        if misses[k] >= params[_DELETE] or t_s - seen_s[k] > params[_COAST]:
+            alive[k] = False
     slot = 0
     for b in range(n_candidates):
         if taken[b] or segments[candidate[b], _CANDIDATE] != TRACKABLE:
@@ -410,7 +421,44 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
         _birth(slot, t_s, z[b], r[b], params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses,
                born_s, filter_t, counters)
         seen_s[slot] = t_s
+        extent_m[slot] = segments[candidate[b], _EXTENT]
         segment_of[slot] = candidate[b]
+
+
+@njit(cache=True)
+def _to_odometry(pose, c, s, row, z, r):
+    """A measurement row (``SEGMENT_FIELDS``, robot frame) into the odometry frame: position
+    ``z`` ``(2,)`` (m) and covariance ``r`` ``(2, 2)`` = Rot R Rotᵀ; ``c, s`` = cos, sin of the heading."""
+    x, y = row[_X], row[_Y]
+    z[0], z[1] = pose[0] + c * x - s * y, pose[1] + s * x + c * y
+    rxx, rxy, ryy = row[_RXX], row[_RXY], row[_RYY]
+    r[0, 0] = c * c * rxx - 2.0 * c * s * rxy + s * s * ryy
+    r[0, 1] = c * s * (rxx - ryy) + (c * c - s * s) * rxy
+    r[1, 0] = r[0, 1]
+    r[1, 1] = s * s * rxx + 2.0 * c * s * rxy + c * c * ryy
+
+
+@njit(cache=True)
+def _mahalanobis2(x, P, z, r):
+    """Squared Mahalanobis distance of the measurement ``z`` (covariance ``r``) from the
+    predicted position of the state ``x`` (covariance ``P``)."""
+    s00, s01, s11 = P[0, 0] + r[0, 0], P[0, 1] + r[0, 1], P[1, 1] + r[1, 1]
+    y0, y1 = z[0] - x[0], z[1] - x[1]
+    return (s11 * y0 * y0 - 2.0 * s01 * y0 * y1 + s00 * y1 * y1) / (s00 * s11 - s01 * s01)
+
+
+@njit(cache=True)
+def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_moving, hits, misses, extent_m):
+    """Update track ``k`` with the measurement ``z`` (odometry frame, covariance ``r``) of a
+    body ``extent`` metres across: both filters, the motion probability, the counters,
+    and the track's extent (an exponential average over matches)."""
+    moving = cv_update(cv_x[k], cv_P[k], z[0], z[1], r)
+    static = static_update(static_x[k], static_P[k], z[0], z[1], r)
+    switch = 1.0 - math.exp(-params[_SWITCH_RATE] * dt_s)
+    p_moving[k] = motion_probability(p_moving[k], moving, static, switch, _MOTION_FLOOR)
+    hits[k] += 1
+    misses[k] = 0
+    extent_m[k] += _EXTENT_SMOOTHING * (extent - extent_m[k])
 
 
 @njit(cache=True)
