@@ -1,0 +1,767 @@
+"""Perception benchmark: does the attentional model see motion and attend to the goal's target?
+
+Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [--episodes 6]
+[--seconds 20] [--control-episodes 20] [--sections speed,focus,control,cost] [--csv PATH]``
+(about 1.5 minutes on 2 cores with the defaults).
+
+For each kinematics mode (``AttentionConfig(kinematics=...)``, MODEL.md §3 and §10), the
+robot still or driving (a scripted wander, ``Wander``), and each sensor noise setting
+(``NOISE_SETTINGS``: Gaussian σ = 0, 2 % and 5 %, and the env's ``sensor_profile="usarsim"``:
+uniform ±5 %, 5 Hz scans), in the procedural 10 m arena with 3 distractors, it prints
+markdown tables of:
+
+1. ``speed``: the error of the speed estimate of the region a mover lies in against the
+   mover's true speed, over (mover, step) pairs where the mover has been in front of the
+   robot and within 5 m for at least 1 s; separately the pairs within 1 s after the mover
+   turned; with tracks (``out.tracks``, tracker mode) the error of the nearest confirmed
+   track too; the speed of regions whose echoes all come from static structure (should be
+   ≈ 0); and how often "the goal holds" judged from the estimate agrees with the truth.
+2. ``focus``: per default task goal, the fraction of the steps with the target in front and
+   within 5 m at which the focus is the target's region (chance: 1/8).
+3. ``control``: success rates in the 8 m arena with 2 distractors (seeds 0..19) of a
+   controller steered by the latest top-down focus, of the same controller steered by the
+   true target bearing (a privileged oracle) and of random actions.
+4. ``cost``: µs per ``AttentionModel.step`` on readings recorded from a driving episode at
+   5 % noise, beside a raw ``AttentiveRescue-v0`` step with random actions, measured in
+   alternating rounds of the same run (medians).
+
+Every random draw is seeded: the same command prints the same numbers (the timings aside).
+A configuration the installed package does not accept yet (an unknown env keyword) is
+reported as unavailable. ``--csv`` also writes the figures as a tidy table (one row per
+configuration and metric). Nothing is asserted: measure, don't guess.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import statistics
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping
+
+import numpy as np
+
+from attentive_gym.attention import ORIGIN_TOP_DOWN, AttentionConfig, AttentionModel, Goal, Grid
+from attentive_gym.attention.goals import Feature
+from attentive_gym.attention.regions import nearest_sonar
+from attentive_gym.world import arena
+from attentive_gym.wrappers import make_env
+
+MODES = ("tracker", "window", "literal")
+SECTIONS = ("speed", "focus", "control", "cost")
+ROBOT_MODES = ("still", "driving")
+
+# The attended variant the benchmark runs. The model and ``info["attention"]`` are the same
+# in every attended variant; "saliency" also passes the raw laser on, which the wander needs.
+VARIANT = "saliency"
+GRID = Grid.make("sonar")
+USARSIM_NOISE_HALF_WIDTH = 0.05  # the usarsim profile's uniform noise: ±5 % of the reading
+
+
+@dataclass(frozen=True)
+class NoiseSetting:
+    """A sensor noise configuration.
+
+    Attributes:
+        name: the label printed in the tables.
+        env_kwargs: keyword arguments of the environment that select it.
+        sigma_rel: the relative σ of one reading (dimensionless), given to the model as
+            ``AttentionConfig.range_noise_rel``.
+    """
+
+    name: str
+    env_kwargs: Mapping[str, Any]
+    sigma_rel: float
+
+
+NOISE_SETTINGS = (
+    NoiseSetting("gauss 0", {"sensor_noise": 0.0}, 0.0),
+    NoiseSetting("gauss 0.02", {"sensor_noise": 0.02}, 0.02),
+    NoiseSetting("gauss 0.05", {"sensor_noise": 0.05}, 0.05),
+    NoiseSetting("usarsim", {"sensor_profile": "usarsim"}, USARSIM_NOISE_HALF_WIDTH / math.sqrt(3.0)),
+)
+CONTROL_NOISE = ("gauss 0.05", "usarsim")
+COST_NOISE = "gauss 0.05"
+
+PERCEPTION_ARENA = {"arena_size_m": 10.0, "num_distractors": 3}
+CONTROL_ARENA = {"arena_size_m": 8.0, "num_distractors": 2}
+
+# --- what counts as a (mover, step) pair -------------------------------------------------
+VIEW_RANGE_M = 5.0  # movers farther than this (centre to centre) are out of view
+SETTLE_S = 1.0  # a mover counts once it has been in view continuously this long
+TURN_ANGLE_RAD = math.radians(30.0)  # a velocity direction change above this is a turn
+TRANSIENT_S = 1.0  # pairs within this after a turn are reported apart
+MOVING_MPS = 0.02  # below this a mover is still, its direction undefined (movers go in 0.05 m/s steps)
+TRACK_MATCH_M = 0.75  # the nearest confirmed track within this of a mover is its track
+
+# --- controllers (actions are fractions of 0.7 m/s and 140°/s) ---------------------------
+WANDER_LINEAR = 0.6
+WANDER_ANGULAR = 0.3  # amplitude of the sinusoidal turn
+WANDER_PERIOD_S = 8.0
+WANDER_FRONT_BEAMS = slice(60, 120)  # laser beams at bearings −30° .. +30°
+WANDER_CLEARANCE_M = 0.8  # turn in place when the front laser sees closer than this
+STEER_LINEAR = 1.0  # forward command when facing the goal bearing
+STEER_GAIN_PER_RAD = 2.0  # angular command per radian of bearing error
+SEARCH_SPIN = 0.5  # angular command while there is no bearing to steer to
+COST_RECORD_S = 30.0  # length of the driving episode whose readings the cost section replays
+
+
+# ===================================================================== geometry
+def wrap_angle(angle_rad: np.ndarray | float) -> np.ndarray | float:
+    """Angles (rad) wrapped into [−π, π)."""
+    return (angle_rad + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def to_robot_frame(points_xy: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """World points ``(..., 2)`` (m) in the frame of a robot at ``pose`` = (x m, y m, heading
+    rad): x forward, y left (m), same shape."""
+    x, y, heading = pose
+    c, s = math.cos(heading), math.sin(heading)
+    dx, dy = points_xy[..., 0] - x, points_xy[..., 1] - y
+    return np.stack([c * dx + s * dy, -s * dx + c * dy], axis=-1)
+
+
+def bearing_of(xy: np.ndarray) -> np.ndarray:
+    """Bearings (rad, counter-clockwise from the heading) of robot-frame points ``(..., 2)``."""
+    return np.arctan2(xy[..., 1], xy[..., 0])
+
+
+def in_view(xy: np.ndarray) -> np.ndarray:
+    """Whether robot-frame points ``(..., 2)`` lie in front (|bearing| < 90°) within
+    ``VIEW_RANGE_M``."""
+    return (xy[..., 0] > 0.0) & (np.hypot(xy[..., 0], xy[..., 1]) < VIEW_RANGE_M)
+
+
+def region_of(xy: np.ndarray) -> np.ndarray:
+    """The attention region (0..7, the nearest front sonar's bearing) of robot-frame points
+    ``(..., 2)`` in front of the robot."""
+    return nearest_sonar(bearing_of(xy))
+
+
+def true_target_bearing(info: Mapping[str, Any]) -> float:
+    """Bearing (rad, robot frame) of the episode's target, from the world's truth."""
+    target = info["mover_positions"][info["target_index"]]
+    return float(bearing_of(to_robot_frame(target, info["robot_pose"])))
+
+
+# ===================================================================== controllers
+def steer(bearing_rad: float | None) -> np.ndarray:
+    """The action (linear, angular; fractions in [−1, 1]) that turns towards ``bearing_rad``
+    (robot frame) and drives forward in proportion to max(0, cos(bearing)); spinning in
+    place when there is no bearing."""
+    if bearing_rad is None:
+        return np.array([0.0, SEARCH_SPIN], np.float32)
+    linear = STEER_LINEAR * max(0.0, math.cos(bearing_rad))
+    angular = float(np.clip(STEER_GAIN_PER_RAD * bearing_rad, -1.0, 1.0))
+    return np.array([linear, angular], np.float32)
+
+
+def focus_bearing(output) -> float:
+    """Bearing (rad) of an ``AttentionOutput``'s focus: the focused track's bearing when the
+    view carries one, else the centre bearing of the focused region."""
+    view = output.view
+    track_xy = getattr(view, "track_position_m", None)
+    if track_xy is not None:
+        return float(bearing_of(np.asarray(track_xy, float)))
+    return view.bearing_rad
+
+
+class FocusController:
+    """Steers towards the latest top-down focus (``steer``).
+
+    The focus's bearing is kept in the robot frame as the robot turns: each step it drops
+    by the odometry's angular velocity × ``dt_s`` until the next top-down focus replaces it.
+    Before the first top-down focus the robot spins in place.
+    """
+
+    def __init__(self, dt_s: float) -> None:
+        self.dt_s = dt_s
+        self.bearing_rad: float | None = None
+
+    def __call__(self, obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+        if self.bearing_rad is not None:
+            self.bearing_rad = float(wrap_angle(self.bearing_rad - float(obs["odometry"][1]) * self.dt_s))
+        output = info["attention"]
+        if output.origin == ORIGIN_TOP_DOWN:
+            self.bearing_rad = focus_bearing(output)
+        return steer(self.bearing_rad)
+
+
+def true_bearing_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+    """``steer`` towards the target's true bearing (a privileged oracle)."""
+    return steer(true_target_bearing(info))
+
+
+class RandomController:
+    """Random actions from ``action_space``, seeded with ``seed``."""
+
+    def __init__(self, action_space, seed: int) -> None:
+        self.action_space = action_space
+        self.action_space.seed(seed)
+
+    def __call__(self, obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+        return self.action_space.sample()
+
+
+class Wander:
+    """Scripted exploration, deterministic given ``seed``: forward at ``WANDER_LINEAR`` with
+    a slow sinusoidal turn (phase drawn from the seed), turning in place (direction drawn
+    from the seed) while the front laser beams see something closer than
+    ``WANDER_CLEARANCE_M``."""
+
+    def __init__(self, seed: int) -> None:
+        rng = np.random.default_rng(seed)
+        self.phase_rad = float(rng.uniform(0.0, 2.0 * math.pi))
+        self.turn_sign = float(rng.choice((-1.0, 1.0)))
+
+    def __call__(self, obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+        if float(np.min(obs["laser"][WANDER_FRONT_BEAMS])) < WANDER_CLEARANCE_M:
+            return np.array([0.0, self.turn_sign], np.float32)
+        angular = WANDER_ANGULAR * math.sin(2.0 * math.pi * info["time_s"] / WANDER_PERIOD_S + self.phase_rad)
+        return np.array([WANDER_LINEAR, angular], np.float32)
+
+
+def stand_still(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+    """The zero action."""
+    return np.zeros(2, np.float32)
+
+
+# ===================================================================== environments
+def make_attentive_env(mode: str, noise: NoiseSetting, **env_kwargs: Any):
+    """The attended environment (``VARIANT``) with the model in kinematics ``mode``.
+
+    Raises:
+        TypeError: when the installed environment does not accept a keyword of ``noise``.
+    """
+    config = AttentionConfig(kinematics=mode, range_noise_rel=noise.sigma_rel)
+    return make_env(VARIANT, attention=config, **noise.env_kwargs, **env_kwargs)
+
+
+def make_raw_env(noise: NoiseSetting, **env_kwargs: Any):
+    """The raw ``AttentiveRescue-v0`` environment (no model, no checker wrappers)."""
+    return make_env("raw", **noise.env_kwargs, **env_kwargs)
+
+
+# ===================================================================== recording
+@dataclass(frozen=True)
+class EpisodeRecord:
+    """Per-step truth and model output of one episode (T steps, M movers, J = 8 regions).
+
+    Attributes:
+        goal: the episode's goal.
+        target: index of the target among the movers.
+        t_s: ``(T,)`` time of each step (s).
+        mover_xy: ``(T, M, 2)`` mover centres in the robot frame (m).
+        mover_velocity: ``(T, M, 2)`` mover velocities in the world frame (m/s).
+        region_speed: ``(T, J)`` the model's speed estimate per region (m/s).
+        track_speed: ``(T, M)`` speed of each mover's matched confirmed track (m/s), NaN
+            where none is within ``TRACK_MATCH_M``; None when the model produced no track
+            in the whole episode (the modes without a tracker).
+        focus: ``(T,)`` the focused region, −1 for none.
+        static_region: ``(T, J)`` regions with an echo and no echo from a mover.
+    """
+
+    goal: Goal
+    target: int
+    t_s: np.ndarray
+    mover_xy: np.ndarray
+    mover_velocity: np.ndarray
+    region_speed: np.ndarray
+    track_speed: np.ndarray | None
+    focus: np.ndarray
+    static_region: np.ndarray
+
+
+#: ``(J, 180)`` which laser beams each region holds.
+_REGION_BEAMS = GRID.beam_region[None, :] == np.arange(GRID.n_regions)[:, None]
+
+
+def static_regions(laser_hits: np.ndarray, sonar_hits: np.ndarray, mover_ids: np.ndarray) -> np.ndarray:
+    """``(J,)`` bool: the region's laser beams or front sonar have an echo, and none of them
+    comes from a mover. ``laser_hits`` (180,) and ``sonar_hits`` (16,) are entity ids per
+    reading (−1: no echo); ``mover_ids`` the movers' entity ids."""
+    sonar = sonar_hits[GRID.region_sonar]
+    mover_echo = (_REGION_BEAMS & np.isin(laser_hits, mover_ids)).any(axis=1) | np.isin(sonar, mover_ids)
+    echo = (_REGION_BEAMS & (laser_hits >= 0)).any(axis=1) | (sonar >= 0)
+    return echo & ~mover_echo
+
+
+def matched_track_speeds(tracks, mover_xy: np.ndarray) -> np.ndarray:
+    """``(M,)`` speed (m/s) of the confirmed track nearest to each mover's robot-frame
+    position ``mover_xy`` (M, 2), NaN where none lies within ``TRACK_MATCH_M``."""
+    confirmed = np.asarray(tracks.confirmed, bool)
+    positions = np.asarray(tracks.position_m, float).reshape(-1, 2)[confirmed]
+    speeds = np.asarray(tracks.speed_mps, float)[confirmed]
+    matched = np.full(len(mover_xy), np.nan)
+    if len(speeds):
+        distance = np.linalg.norm(mover_xy[:, None, :] - positions[None, :, :], axis=-1)
+        nearest = distance.argmin(axis=1)
+        close = distance[np.arange(len(mover_xy)), nearest] <= TRACK_MATCH_M
+        matched[close] = speeds[nearest[close]]
+    return matched
+
+
+Policy = Callable[[Mapping[str, np.ndarray], Mapping[str, Any]], np.ndarray]
+
+
+def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -> EpisodeRecord:
+    """Run one episode of the attended ``env`` (reset with ``seed`` and ``goal``) under
+    ``policy`` for ``seconds`` (s) or until it ends, and record every step after the reset."""
+    obs, info = env.reset(seed=seed, options={"goal": goal})
+    mover_ids = np.array([m.entity.id for m in env.unwrapped.world.movers])
+    steps: list[tuple] = []
+    tracked = False  # whether the model produced any track in the episode
+    while info["time_s"] < seconds - 1e-9:
+        obs, _, terminated, truncated, info = env.step(policy(obs, info))
+        output = info["attention"]
+        xy = to_robot_frame(info["mover_positions"], info["robot_pose"])
+        tracks = getattr(output, "tracks", None)
+        tracked = tracked or (tracks is not None and len(tracks.id) > 0)
+        steps.append((
+            info["time_s"], xy, info["mover_velocities"], output.speeds_mps,
+            np.full(len(xy), np.nan) if tracks is None else matched_track_speeds(tracks, xy),
+            -1 if output.focus is None else output.focus,
+            static_regions(info["laser_hits"], info["sonar_hits"], mover_ids),
+        ))
+        if terminated or truncated:
+            break
+    t_s, xy, velocity, region_speed, track_speed, focus, static = zip(*steps)
+    return EpisodeRecord(
+        goal=goal, target=int(info["target_index"]), t_s=np.array(t_s), mover_xy=np.array(xy),
+        mover_velocity=np.array(velocity), region_speed=np.array(region_speed),
+        track_speed=np.array(track_speed) if tracked else None,
+        focus=np.array(focus), static_region=np.array(static),
+    )
+
+
+# ===================================================================== metrics
+def time_since(t_s: np.ndarray, event: np.ndarray) -> np.ndarray:
+    """``(T, M)`` seconds since the latest ``event`` (T, M) at or before each step, inf
+    before the first."""
+    last = np.full(event.shape[1], -np.inf)
+    since = np.empty(event.shape)
+    for k, t in enumerate(t_s):
+        last = np.where(event[k], t, last)
+        since[k] = t - last
+    return since
+
+
+def turns(velocity: np.ndarray) -> np.ndarray:
+    """``(T, M)`` bool: the mover's velocity ``(T, M, 2)`` (m/s) changed direction by more
+    than ``TURN_ANGLE_RAD`` since the previous step, or it started or stopped (a direction
+    appeared or vanished); False at the first step."""
+    before, after = velocity[:-1], velocity[1:]
+    speed_before, speed_after = np.linalg.norm(before, axis=-1), np.linalg.norm(after, axis=-1)
+    moving_before, moving_after = speed_before > MOVING_MPS, speed_after > MOVING_MPS
+    both = moving_before & moving_after
+    cosine = np.sum(before * after, axis=-1) / np.where(both, speed_before * speed_after, 1.0)
+    turned = (both & (cosine < math.cos(TURN_ANGLE_RAD))) | (moving_before != moving_after)
+    return np.vstack([np.zeros((1, velocity.shape[1]), bool), turned])
+
+
+def pair_masks(record: EpisodeRecord) -> tuple[np.ndarray, np.ndarray]:
+    """``(T, M)`` bool masks of the steady and the transient (mover, step) pairs.
+
+    Both hold movers in view (``in_view``) continuously for at least ``SETTLE_S``; the
+    transient ones are within ``TRANSIENT_S`` after a turn (``turns``), the steady ones not.
+    """
+    visible = in_view(record.mover_xy)
+    entered = visible & ~np.vstack([np.zeros((1, visible.shape[1]), bool), visible[:-1]])
+    settled = visible & (time_since(record.t_s, entered) >= SETTLE_S - 1e-9)
+    transient = settled & (time_since(record.t_s, turns(record.mover_velocity)) <= TRANSIENT_S + 1e-9)
+    return settled & ~transient, transient
+
+
+def region_estimates(record: EpisodeRecord) -> np.ndarray:
+    """``(T, M)`` each mover's speed estimate (m/s): the speed of the region it lies in."""
+    regions = region_of(record.mover_xy)
+    return np.take_along_axis(record.region_speed, regions, axis=1)
+
+
+def error_stats(estimate: np.ndarray, truth: np.ndarray) -> dict[str, float]:
+    """Median, 90th percentile and root mean square of ``|estimate − truth|`` (m/s), and
+    the number of pairs; NaN statistics for no pairs."""
+    error = np.abs(np.asarray(estimate, float) - np.asarray(truth, float))
+    if error.size == 0:
+        return {"pairs": 0, "median_mps": math.nan, "p90_mps": math.nan, "rmse_mps": math.nan}
+    return {"pairs": int(error.size), "median_mps": float(np.median(error)),
+            "p90_mps": float(np.percentile(error, 90)), "rmse_mps": float(np.sqrt(np.mean(error**2)))}
+
+
+@dataclass
+class Pairs:
+    """(mover, step) pairs pooled over episodes, one entry per pair (speeds in m/s)."""
+
+    true: list[np.ndarray] = field(default_factory=list)
+    region: list[np.ndarray] = field(default_factory=list)
+    track: list[np.ndarray] = field(default_factory=list)
+    goal_true: list[np.ndarray] = field(default_factory=list)
+    goal_region: list[np.ndarray] = field(default_factory=list)
+    goal_track: list[np.ndarray] = field(default_factory=list)
+
+    def add(self, record: EpisodeRecord, mask: np.ndarray) -> None:
+        """Add the pairs of ``record`` selected by ``mask`` (T, M); goal judgements only for
+        a speed goal."""
+        true = np.linalg.norm(record.mover_velocity, axis=-1)[mask]
+        region = region_estimates(record)[mask]
+        track = np.full(true.shape, np.nan) if record.track_speed is None else record.track_speed[mask]
+        self.true.append(true)
+        self.region.append(region)
+        self.track.append(track)
+        if record.goal.feature is Feature.SPEED:
+            matched = ~np.isnan(track)
+            self.goal_true.append(record.goal.is_fulfilled(true))
+            self.goal_region.append(record.goal.is_fulfilled(region))
+            self.goal_track.append(np.where(matched, record.goal.is_fulfilled(np.nan_to_num(track)), np.nan))
+
+    def array(self, name: str) -> np.ndarray:
+        """The pooled entries of ``name`` (float)."""
+        parts = getattr(self, name)
+        return np.concatenate(parts).astype(float) if parts else np.zeros(0)
+
+
+def _prefixed(prefix: str, stats: Mapping[str, float]) -> dict[str, float]:
+    return {f"{prefix}_{name}": value for name, value in stats.items()}
+
+
+def _agreement(judged: np.ndarray, truth: np.ndarray) -> float:
+    """Fraction of the pairs where ``judged`` (1/0, NaN = no judgement) equals ``truth``."""
+    keep = ~np.isnan(judged)
+    return float(np.mean(judged[keep] == truth[keep])) if keep.any() else math.nan
+
+
+def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
+    """Speed-error, static-structure and goal-classification figures of a configuration.
+
+    Keys: ``region_*`` / ``transient_region_*`` (``error_stats`` of the region estimate on
+    steady / transient pairs), ``track_*`` / ``transient_track_*`` and
+    ``track_unmatched_frac`` (steady pairs without a matched track) when tracks exist,
+    ``static_regions``, ``static_median_mps``, ``static_p90_mps`` (speed of the regions
+    that see static structure only), ``goal_agreement_region`` / ``goal_agreement_track``
+    (fraction of steady pairs, speed goals only; NaN otherwise).
+    """
+    records = list(records)
+    steady, transient = Pairs(), Pairs()
+    for record in records:
+        steady_mask, transient_mask = pair_masks(record)
+        steady.add(record, steady_mask)
+        transient.add(record, transient_mask)
+    metrics: dict[str, float] = {}
+    for prefix, pairs in (("region", steady), ("transient_region", transient)):
+        metrics |= _prefixed(prefix, error_stats(pairs.array("region"), pairs.array("true")))
+    if any(record.track_speed is not None for record in records):
+        for prefix, pairs in (("track", steady), ("transient_track", transient)):
+            track, true = pairs.array("track"), pairs.array("true")
+            matched = ~np.isnan(track)
+            metrics |= _prefixed(prefix, error_stats(track[matched], true[matched]))
+        unmatched = np.isnan(steady.array("track"))
+        metrics["track_unmatched_frac"] = float(unmatched.mean()) if unmatched.size else math.nan
+    static = np.concatenate([r.region_speed[r.static_region] for r in records])
+    metrics["static_regions"] = int(static.size)
+    metrics["static_median_mps"] = float(np.median(static)) if static.size else math.nan
+    metrics["static_p90_mps"] = float(np.percentile(static, 90)) if static.size else math.nan
+    goal_true = steady.array("goal_true")
+    metrics["goal_agreement_region"] = _agreement(steady.array("goal_region"), goal_true)
+    metrics["goal_agreement_track"] = _agreement(steady.array("goal_track"), goal_true)
+    return metrics
+
+
+def focus_on_target(records: Iterable[EpisodeRecord]) -> dict[str, tuple[float, int]]:
+    """Per goal (``str(goal)``): the fraction of the steps with the target in view
+    (``in_view``) at which the focus is the target's region, and the number of such steps
+    (NaN rate for none)."""
+    hits: dict[str, list[int]] = {}
+    for record in records:
+        target_xy = record.mover_xy[:, record.target]
+        visible = in_view(target_xy)
+        on_target = record.focus[visible] == region_of(target_xy[visible])
+        counts = hits.setdefault(str(record.goal), [0, 0])
+        counts[0] += int(on_target.sum())
+        counts[1] += int(visible.sum())
+    return {goal: (on / n if n else math.nan, n) for goal, (on, n) in hits.items()}
+
+
+# ===================================================================== sections
+@dataclass
+class Results:
+    """Every figure of the run as tidy rows: section, mode, robot, noise, goal, metric, value."""
+
+    rows: list[dict[str, Any]] = field(default_factory=list)
+
+    def add(self, section: str, config: Mapping[str, str], metrics: Mapping[str, float], goal: str = "") -> None:
+        """Add one row per metric of ``metrics`` for configuration ``config``."""
+        for metric, value in metrics.items():
+            self.rows.append({"section": section, **config, "goal": goal, "metric": metric, "value": value})
+
+
+def _noise(name: str) -> NoiseSetting:
+    return next(setting for setting in NOISE_SETTINGS if setting.name == name)
+
+
+def _fmt(value: float, digits: int = 3) -> str:
+    """A number for a table cell; an em dash for NaN."""
+    if isinstance(value, (int, np.integer)):
+        return str(value)
+    return "—" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
+
+
+def markdown_table(headers: list[str], rows: list[list[str]]) -> str:
+    """A markdown table with ``headers`` and string cells ``rows``."""
+    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def perception_records(modes: Iterable[str], episodes: int, seconds: float, goals: tuple[Goal, ...]):
+    """Record ``episodes`` episodes (seeds 0.., goals in turn) per mode, noise setting and
+    robot mode. Yields ``(mode, noise name, robot, records or the error that made the
+    configuration unavailable)``."""
+    for mode in modes:
+        for noise in NOISE_SETTINGS:
+            try:
+                env = make_attentive_env(mode, noise, **PERCEPTION_ARENA)
+            except TypeError as error:
+                for robot in ROBOT_MODES:
+                    yield mode, noise.name, robot, error
+                continue
+            for robot in ROBOT_MODES:
+                records = [
+                    record_episode(env, seed, goals[seed % len(goals)],
+                                   stand_still if robot == "still" else Wander(seed), seconds)
+                    for seed in range(episodes)
+                ]
+                yield mode, noise.name, robot, records
+            env.close()
+
+
+#: (column header, metric key) of the speed table and of the track table.
+SPEED_COLUMNS = (
+    ("steady pairs", "region_pairs"), ("median", "region_median_mps"), ("p90", "region_p90_mps"),
+    ("RMSE", "region_rmse_mps"), ("transient pairs", "transient_region_pairs"),
+    ("transient median", "transient_region_median_mps"), ("transient RMSE", "transient_region_rmse_mps"),
+    ("static median m/s", "static_median_mps"), ("static p90 m/s", "static_p90_mps"),
+    ("goal agreement", "goal_agreement_region"),
+)
+TRACK_COLUMNS = (
+    ("matched pairs", "track_pairs"), ("unmatched", "track_unmatched_frac"), ("median", "track_median_mps"),
+    ("p90", "track_p90_mps"), ("RMSE", "track_rmse_mps"), ("transient median", "transient_track_median_mps"),
+    ("transient RMSE", "transient_track_rmse_mps"), ("goal agreement", "goal_agreement_track"),
+)
+
+
+def _cells(metrics: Mapping[str, float], columns) -> list[str]:
+    """The table cells of ``metrics`` for ``columns``: m/s to 2 decimals, fractions to 3."""
+    return [_fmt(metrics[key], 2 if key.endswith("_mps") else 3) for _, key in columns]
+
+
+def print_perception(results: Results, modes, episodes: int, seconds: float, sections) -> None:
+    """Sections 1–3: speed error, static structure, goal classification, focus on target."""
+    goals = tuple(arena.DEFAULT_TASK_GOALS)
+    goal_names = [str(goal) for goal in goals]
+    speed_rows, track_rows, focus_rows = [], [], []
+    for mode, noise, robot, records in perception_records(modes, episodes, seconds, goals):
+        config = {"mode": mode, "robot": robot, "noise": noise}
+        label = [mode, robot, noise]
+        if isinstance(records, Exception):
+            note = f"unavailable ({type(records).__name__}: {records})"
+            speed_rows.append(label + [note] + [""] * (len(SPEED_COLUMNS) - 1))
+            focus_rows.append(label + [note] + [""] * (len(goal_names) - 1))
+            continue
+        metrics = speed_metrics(records)
+        if "speed" in sections:
+            results.add("speed", config, metrics)
+        speed_rows.append(label + _cells(metrics, SPEED_COLUMNS))
+        if "track_pairs" in metrics:
+            track_rows.append(label + _cells(metrics, TRACK_COLUMNS))
+        focus = focus_on_target(records)
+        for goal, (rate, steps) in focus.items():
+            if "focus" in sections:
+                results.add("focus", config, {"focus_on_target": rate, "target_in_view_steps": steps}, goal=goal)
+        focus_rows.append(label + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})"
+                                   for g in goal_names])
+    header = ["mode", "robot", "noise"]
+    print(f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
+          f"10 m arena, 3 distractors; goals in turn: {', '.join(goal_names)})")
+    if "speed" in sections:
+        print("\nSpeed of the region a mover lies in vs its true speed, |error| in m/s, over (mover, step) pairs "
+              f"in front within {VIEW_RANGE_M:g} m for ≥ {SETTLE_S:g} s; transient = within {TRANSIENT_S:g} s after "
+              "a turn; static = regions whose echoes all come from static structure; goal agreement = "
+              "`goal.is_fulfilled` of the estimate equals that of the truth (steady pairs, speed goals).\n")
+        print(markdown_table(header + [name for name, _ in SPEED_COLUMNS], speed_rows))
+        if track_rows:
+            print(f"\nTrack speed (nearest confirmed track within {TRACK_MATCH_M:g} m of the mover) vs true speed, "
+                  "|error| in m/s, same pairs; unmatched = fraction of steady pairs without a track.\n")
+            print(markdown_table(header + [name for name, _ in TRACK_COLUMNS], track_rows))
+    if "focus" in sections:
+        print("\nFocus on target: fraction of the steps with the target in front within "
+              f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
+              f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}.\n")
+        print(markdown_table(header + [f"`{g}`" for g in goal_names], focus_rows))
+
+
+def control_success(env, make_policy: Callable[[Any, int], Policy], seeds: Iterable[int]) -> float:
+    """Fraction of the episodes (one per seed) that end in ``info["success"]`` before
+    truncation; ``make_policy(env, seed)`` gives each episode's policy."""
+    seeds = list(seeds)
+    successes = 0
+    for seed in seeds:
+        obs, info = env.reset(seed=seed)
+        policy = make_policy(env, seed)
+        terminated = truncated = False
+        while not (terminated or truncated):
+            obs, _, terminated, truncated, info = env.step(policy(obs, info))
+        successes += bool(info["success"])
+    return successes / len(seeds)
+
+
+def print_control(results: Results, modes, episodes: int) -> None:
+    """Section 4: success of the focus controller, the true-bearing oracle and random actions."""
+    seeds = range(episodes)
+    rows = []
+    for noise_name in CONTROL_NOISE:
+        noise = _noise(noise_name)
+        try:
+            raw = make_raw_env(noise, **CONTROL_ARENA)
+        except TypeError as error:
+            rows += [[mode, noise_name, f"unavailable ({type(error).__name__})", "", "", ""] for mode in modes]
+            continue
+        oracle = control_success(raw, lambda env, seed: true_bearing_controller, seeds)
+        random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
+        for mode in modes:
+            env = make_attentive_env(mode, noise, **CONTROL_ARENA)
+            focus = control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
+            ratio = focus / oracle if oracle else math.nan
+            results.add("control", {"mode": mode, "robot": "controller", "noise": noise_name},
+                        {"success_focus": focus, "success_true_bearing": oracle, "success_random": random,
+                         "focus_over_true_bearing": ratio})
+            rows.append([mode, noise_name, _fmt(focus, 2), _fmt(oracle, 2), _fmt(random, 2), _fmt(ratio, 2)])
+    print(f"\n### Steering controllers (8 m arena, 2 distractors, {episodes} episodes, seeds 0..{episodes - 1}; "
+          "success = target reached before the time limit)\n")
+    print("The true-bearing and random controllers do not use the model: their rates are the same in every mode.\n")
+    print(markdown_table(["mode", "noise", "focus controller", "true bearing (oracle)", "random", "focus / true bearing"],
+                         rows))
+
+
+def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:
+    """``(t s, sonar (16,), laser (180,), odometry (2,))`` of every step of a wander in the raw
+    env at ``COST_NOISE`` (10 m arena, 3 distractors), for ``seconds`` (s) or until the
+    episode ends, and the episode's goal."""
+    env = make_raw_env(_noise(COST_NOISE), **PERCEPTION_ARENA)
+    obs, info = env.reset(seed=seed)
+    policy = Wander(seed)
+    readings = []
+    while info["time_s"] < seconds - 1e-9:
+        obs, _, terminated, truncated, info = env.step(policy(obs, info))
+        readings.append((info["time_s"], obs["sonar"].copy(), obs["laser"].copy(), obs["odometry"].copy()))
+        if terminated or truncated:
+            break
+    return readings, env.goal
+
+
+def time_model_us(model: AttentionModel, readings: list[tuple]) -> float:
+    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first)."""
+    model.reset()
+    start = time.perf_counter()
+    for t, sonar, laser, odometry in readings:
+        model.step(t, sonar, laser, odometry)
+    return (time.perf_counter() - start) / len(readings) * 1e6
+
+
+def time_env_us(env, actions: list[np.ndarray]) -> float:
+    """Wall-clock µs per ``env.step`` over ``actions``, resets excluded."""
+    env.reset(seed=0)
+    elapsed = 0.0
+    for action in actions:
+        start = time.perf_counter()
+        _, _, terminated, truncated, _ = env.step(action)
+        elapsed += time.perf_counter() - start
+        if terminated or truncated:
+            env.reset()
+    return elapsed / len(actions) * 1e6
+
+
+def print_cost(results: Results, modes, rounds: int) -> None:
+    """Section 5: µs per model step per mode beside a raw env step, medians of alternating rounds."""
+    readings, goal = record_readings(COST_RECORD_S)
+    models = {}
+    for mode in modes:
+        models[mode] = AttentionModel(AttentionConfig(kinematics=mode, range_noise_rel=_noise(COST_NOISE).sigma_rel))
+        models[mode].set_goals(goal)
+    env = make_raw_env(_noise(COST_NOISE), **PERCEPTION_ARENA)
+    env.action_space.seed(0)
+    actions = [env.action_space.sample() for _ in readings]
+    times: dict[str, list[float]] = {name: [] for name in (*modes, "env")}
+    for round_index in range(rounds + 1):  # round 0 warms up (numba compiles) and is dropped
+        figures = {mode: time_model_us(model, readings) for mode, model in models.items()}
+        figures["env"] = time_env_us(env, actions)
+        if round_index:
+            for name, value in figures.items():
+                times[name].append(value)
+    env_us = statistics.median(times["env"])
+    rows = []
+    for mode in modes:
+        model_us = statistics.median(times[mode])
+        results.add("cost", {"mode": mode, "robot": "driving", "noise": COST_NOISE},
+                    {"model_step_us": model_us, "env_step_us": env_us, "model_over_env": model_us / env_us})
+        rows.append([mode, f"{model_us:.1f}", f"{env_us:.1f}", f"{model_us / env_us:.2f}"])
+    print(f"\n### Model step cost (readings of a {len(readings)}-step driving episode at 5 % noise; "
+          f"medians of {rounds} alternating rounds)\n")
+    print(markdown_table(["mode", "model step µs", "raw env step µs", "model / env step"], rows))
+
+
+def write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
+    """Write the tidy ``rows`` to ``path`` atomically (a temporary file, then ``os.replace``)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fields = ["section", "mode", "robot", "noise", "goal", "metric", "value"]
+    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(handle, "w", newline="") as file:
+            writer = csv.DictWriter(file, fieldnames=fields)
+            writer.writeheader()
+            writer.writerows(rows)
+        os.replace(temporary, path)
+    except BaseException:
+        os.unlink(temporary)
+        raise
+
+
+def _choices(text: str, allowed: tuple[str, ...]) -> list[str]:
+    """A comma-separated list of names, each one of ``allowed``."""
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    unknown = [name for name in names if name not in allowed]
+    if unknown or not names:
+        raise argparse.ArgumentTypeError(f"unknown or no names {unknown}; allowed: {', '.join(allowed)}")
+    return names
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--modes", type=lambda s: _choices(s, MODES), default=list(MODES))
+    parser.add_argument("--episodes", type=int, default=6, help="episodes per row of sections speed and focus")
+    parser.add_argument("--seconds", type=float, default=20.0, help="length of those episodes (s)")
+    parser.add_argument("--control-episodes", type=int, default=20, help="episodes per controller (seeds 0..N-1)")
+    parser.add_argument("--rounds", type=int, default=5, help="timing rounds of the cost section")
+    parser.add_argument("--sections", type=lambda s: _choices(s, SECTIONS), default=list(SECTIONS))
+    parser.add_argument("--csv", type=Path, default=None, help="also write the figures as a tidy CSV")
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    results = Results()
+    if {"speed", "focus"} & set(args.sections):
+        print_perception(results, args.modes, args.episodes, args.seconds, args.sections)
+    if "control" in args.sections:
+        print_control(results, args.modes, args.control_episodes)
+    if "cost" in args.sections:
+        print_cost(results, args.modes, args.rounds)
+    if args.csv is not None:
+        write_csv(args.csv, results.rows)
+        print(f"\nwrote {len(results.rows)} rows to {args.csv}")
+    print(f"\n(run time {time.perf_counter() - start:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,125 @@
+"""Smoke test of ``benchmarks/bench_perception.py``: a tiny run gives metrics in range, and the
+metrics tell a corrupted estimate, a perfect focus and a still robot apart."""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from attentive_gym.attention import Goal
+
+_SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_perception.py"
+SEED = 0  # a seed whose first 2 s show a mover in front within 5 m for over 1 s
+SECONDS = 2.0
+GOAL = Goal.between("speed", 0.5, 0.9)  # a speed goal: goal agreement is defined
+
+
+def _load_script():
+    spec = importlib.util.spec_from_file_location("bench_perception", _SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses resolve their module by name
+    spec.loader.exec_module(module)
+    return module
+
+
+bench = _load_script()
+
+
+@pytest.fixture(scope="module")
+def records():
+    """One 2 s window-mode episode, driving and still, noise-free."""
+    env = bench.make_attentive_env("window", bench.NOISE_SETTINGS[0], **bench.PERCEPTION_ARENA)
+    driving = bench.record_episode(env, SEED, GOAL, bench.Wander(SEED), SECONDS)
+    still = bench.record_episode(env, SEED, GOAL, bench.stand_still, SECONDS)
+    env.close()
+    return driving, still
+
+
+def test_metrics_are_finite_and_in_range(records):
+    driving, _ = records
+    metrics = bench.speed_metrics([driving])
+    assert metrics["region_pairs"] > 0 and metrics["static_regions"] > 0
+    for name in ("region_median_mps", "region_p90_mps", "region_rmse_mps", "static_median_mps", "static_p90_mps"):
+        assert math.isfinite(metrics[name]) and metrics[name] >= 0.0, name
+    assert metrics["region_median_mps"] <= metrics["region_p90_mps"]
+    assert 0.0 <= metrics["goal_agreement_region"] <= 1.0
+    for rate, steps in bench.focus_on_target([driving]).values():
+        assert steps > 0 and 0.0 <= rate <= 1.0
+
+
+def test_a_corrupted_estimate_has_a_larger_error(records):
+    driving, _ = records
+    real = bench.speed_metrics([driving])
+    corrupted = bench.speed_metrics([dataclasses.replace(driving, region_speed=driving.region_speed + 1.0)])
+    assert corrupted["region_pairs"] == real["region_pairs"]
+    assert corrupted["region_median_mps"] > real["region_median_mps"]
+    assert corrupted["region_rmse_mps"] > real["region_rmse_mps"]
+    assert corrupted["static_median_mps"] == pytest.approx(real["static_median_mps"] + 1.0)
+
+
+def test_the_true_speed_as_estimate_has_no_error(records):
+    driving, _ = records
+    visible = bench.in_view(driving.mover_xy)
+    regions = bench.region_of(driving.mover_xy)
+    true_speed = np.linalg.norm(driving.mover_velocity, axis=-1)
+    perfect = driving.region_speed.copy()
+    steps, movers = np.nonzero(visible)
+    perfect[steps, regions[steps, movers]] = true_speed[steps, movers]
+    # two movers in one region cannot both be right: keep the pairs alone in their region
+    crowded = np.array([[np.sum(regions[k][visible[k]] == regions[k, m]) > 1 for m in range(visible.shape[1])]
+                        for k in range(visible.shape[0])])
+    record = dataclasses.replace(driving, region_speed=perfect, mover_xy=np.where(crowded[..., None], -1.0, driving.mover_xy))
+    metrics = bench.speed_metrics([record])
+    assert metrics["region_pairs"] > 0
+    assert metrics["region_rmse_mps"] == pytest.approx(0.0, abs=1e-12)
+    assert metrics["goal_agreement_region"] == 1.0
+
+
+def test_a_focus_on_the_target_scores_one(records):
+    driving, _ = records
+    target_regions = bench.region_of(driving.mover_xy[:, driving.target])
+    rates = bench.focus_on_target([dataclasses.replace(driving, focus=target_regions)])
+    assert [rate for rate, _ in rates.values()] == [1.0]
+
+
+def test_turns_and_view_time_select_pairs():
+    steps = 80
+    t_s = np.arange(1, steps + 1) * 0.05
+    velocity = np.zeros((steps, 1, 2))
+    velocity[:, 0] = (0.5, 0.0)
+    velocity[40:, 0] = (0.0, 0.5)  # a 90° turn at step 40 (t = 2.05 s)
+    xy = np.tile([[2.0, 0.0]], (steps, 1, 1))
+    xy[:10] = (-2.0, 0.0)  # behind the robot until step 10 (in view from t = 0.55 s)
+    record = bench.EpisodeRecord(GOAL, 0, t_s, xy, velocity, np.zeros((steps, 8)), None,
+                                 np.full(steps, -1), np.zeros((steps, 8), bool))
+    steady, transient = bench.pair_masks(record)
+    # settled from t = 1.55 s (step 30); transient until 1 s after the turn (step 60)
+    assert np.flatnonzero(steady[:, 0]).tolist() == list(range(30, 40)) + list(range(61, steps))
+    assert np.flatnonzero(transient[:, 0]).tolist() == list(range(40, 61))
+
+
+def test_still_robot_sees_static_structure_still(records):
+    _, still = records
+    metrics = bench.speed_metrics([still])
+    assert metrics["static_median_mps"] == pytest.approx(0.0, abs=1e-9)  # noise-free, walls do not move
+
+
+def test_controllers_and_csv(tmp_path):
+    env = bench.make_attentive_env("window", bench.NOISE_SETTINGS[0], time_limit_s=1.0, **bench.CONTROL_ARENA)
+    for make_policy in (lambda env, seed: bench.FocusController(env.unwrapped.dt),
+                        lambda env, seed: bench.true_bearing_controller,
+                        lambda env, seed: bench.RandomController(env.action_space, seed)):
+        assert 0.0 <= bench.control_success(env, make_policy, [0]) <= 1.0
+    action = bench.steer(0.0)
+    assert action.tolist() == [1.0, 0.0] and bench.steer(None).tolist() == [0.0, bench.SEARCH_SPIN]
+    path = tmp_path / "out" / "figures.csv"
+    bench.write_csv(path, [{"section": "speed", "mode": "window", "robot": "still", "noise": "gauss 0", "goal": "",
+                            "metric": "region_median_mps", "value": 0.5}])
+    assert path.read_text().splitlines()[1] == "speed,window,still,gauss 0,,region_median_mps,0.5"
+    assert [p.name for p in path.parent.iterdir()] == ["figures.csv"]
