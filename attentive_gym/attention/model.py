@@ -429,6 +429,10 @@ class AttentionModel:
             if active[row] > 0.0:
                 plan[row - TOP_DOWN_MAPS[0]] = _goal_plan_row(self._goals[feature], maxima.get(feature))
         self._goal_plan = plan
+        # the speeds [lo, hi] (m/s) an active speed goal asks for: the tracker's top-down
+        # choice of a region's track
+        speed_goal = self._goals.get(Feature.SPEED) if active[GOAL_MAP_OF_FEATURE[Feature.SPEED]] > 0.0 else None
+        self._wanted_speed = np.full(2, np.inf) if speed_goal is None else np.array(_fulfilling_range(speed_goal))
         total = float(active.sum())
         normaliser = 1.0 / total if (self.config.normalise_combined and total > 0.0) else 1.0
         # weights of C_BU = w_BU @ F[:3] (row 0) and C_TD = w_TD @ F[3:] (row 1), normaliser folded in
@@ -649,7 +653,7 @@ class AttentionModel:
             tracker.scan(t, readings[_LASER])
         if sonar_new:
             tracker.sonar(t, readings[_SONAR], valid[_SONAR])
-        return tracker.channels(t, readings, valid, rates, speeds, moving), tracker.snapshot(t)
+        return tracker.channels(t, readings, valid, rates, speeds, moving, self._wanted_speed), tracker.snapshot(t)
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
@@ -737,6 +741,17 @@ _KIND, _LO, _HI, _TOLERANCE, _N_KNOTS, _XP, _FP, _PLAN_COLUMNS = 0, 1, 2, 3, 4, 
 _INACTIVE, _EQUAL, _BETWEEN, _GREATER, _SMALLER, _DIRECTION = 0, 1, 2, 3, 4, 5
 _KIND_OF_RELATION = {Relation.EQUAL: _EQUAL, Relation.BETWEEN: _BETWEEN, Relation.GREATER: _GREATER,
                      Relation.SMALLER: _SMALLER}
+
+
+def _fulfilling_range(goal: Goal) -> tuple[float, float]:
+    """The values ``[lo, hi]`` that fulfil a speed or distance goal (``Goal.is_fulfilled``)."""
+    if goal.relation is Relation.EQUAL:
+        return goal.lo - goal.tolerance, goal.lo + goal.tolerance
+    if goal.relation is Relation.BETWEEN:
+        return goal.lo, goal.hi
+    if goal.relation is Relation.GREATER:
+        return goal.lo, math.inf
+    return -math.inf, goal.lo  # SMALLER
 
 
 def _goal_plan_row(goal: Goal, max_value: float | None) -> np.ndarray:

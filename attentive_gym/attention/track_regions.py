@@ -48,8 +48,8 @@ def _relative(k, t_s, pose, cv_x, filter_t):
 
 
 @njit(cache=True)
-def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, beam_region, cone_bounds, match_m,
-                   match_sigmas, noise_rel, noise_floor_m, readings, valid, cv_x, p_moving, alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits,
+def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, wanted_speed, beam_step_rad, beam_region,
+                   cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, readings, valid, cv_x, p_moving, alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits,
                    rates, speeds, moving, region_track):
     """Per-channel kinematics from the tracks (see the module docstring).
 
@@ -57,6 +57,9 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, b
         t_s: the step's time (s); pose: ``(3,)`` the robot in the odometry frame.
         confirm_hits: hits that confirm a track; max_speed: speeds are clipped to it
             (m/s); epsilon: a channel moves when its speed exceeds it (m/s).
+        wanted_speed: ``(2,)`` the speeds a speed goal asks for, ``[lo, hi]`` (m/s), or
+            ``[inf, inf]`` without one: a region's channel takes the moving track whose
+            speed the goal wants, else the region's fastest track.
         beam_step_rad, beam_region: ``(180,)`` the region of each beam.
         cone_bounds: ``(8, 2)`` the beams ``start <= i < stop`` inside each sonar's cone.
         match_m, match_sigmas, noise_rel, noise_floor_m: a laser echo in a sonar's cone
@@ -73,6 +76,7 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, b
     speeds[:] = 0.0
     moving[:] = False
     region_track[:] = -1
+    best = np.empty(n_sonar)
     c, s = math.cos(pose[2]), math.sin(pose[2])
     for k in range(alive.shape[0]):
         if not alive[k] or hits[k] < confirm_hits:
@@ -88,8 +92,11 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, beam_step_rad, b
             for i in range(bounds[m, 0], bounds[m, 1]):
                 rates[n_sonar + i], speeds[n_sonar + i], moving[n_sonar + i] = rate, speed, is_moving
         j = _region_of(c * dx + s * dy, -s * dx + c * dy, beam_step_rad, beam_region)
-        if j >= 0 and (region_track[j] < 0 or speed > speeds[j]):
+        # wanted moving tracks first (by motion probability), then the fastest
+        score = speed if not (is_moving and wanted_speed[0] <= speed <= wanted_speed[1]) else 2.0 * max_speed + p_moving[k]
+        if j >= 0 and (region_track[j] < 0 or score > best[j]):
             region_track[j] = k
+            best[j] = score
             rates[j], speeds[j], moving[j] = rate, speed, is_moving
     for j in range(n_sonar):
         if region_track[j] >= 0 or not valid[j] or sonar_hits[j] < confirm_hits:

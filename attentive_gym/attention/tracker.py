@@ -244,13 +244,15 @@ class Tracker:
                    self.extent_m, self.segment_of, self.counters)
 
     def channels(self, t_s: float, readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
-                 moving: np.ndarray) -> np.ndarray:
+                 moving: np.ndarray, wanted_speed: np.ndarray) -> np.ndarray:
         """Write the kinematics of every reading channel at ``t_s`` (``track_regions.track_channels``).
 
         Args:
             readings, valid: ``(188,)`` clipped readings (m) and echo flags (8 front
                 sonars, then 180 beams).
             rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output.
+            wanted_speed: ``(2,)`` the speeds ``[lo, hi]`` a speed goal asks for (m/s),
+                ``[inf, inf]`` without one.
 
         Returns:
             ``(8,)`` int64 the track slot behind each front sonar's channel, −1 for none.
@@ -258,7 +260,7 @@ class Tracker:
         cfg = self.config
         region_slot = np.empty(FRONT_SONARS, np.int64)
         track_channels(t_s, self.pose, cfg.track_confirm_hits, cfg.max_speed_mps, cfg.direction_epsilon_mps,
-                       self.beam_step_rad, self._beam_region, self._cone_bounds, cfg.sonar_ego_match_m,
+                       wanted_speed, self.beam_step_rad, self._beam_region, self._cone_bounds, cfg.sonar_ego_match_m,
                        cfg.segment_jump_sigmas, cfg.range_noise_rel, cfg.range_noise_floor_m, readings,
                        valid, self.cv_x, self.p_moving, self.alive, self.hits,
                        self.filter_t, self.segment_of, self.bounds, self.sonar_x, self.sonar_hits, rates, speeds,
