@@ -101,8 +101,9 @@ class FocusView:
         sonar_echo: whether that sonar has an echo.
         laser_beams: ``(n,)`` indices of the region's laser beams.
         laser_ranges_m: ``(n,)`` their ranges (m), clipped to the laser's maximum.
-        range_rate_mps: the sonar's range rate (m/s, + away), ego-motion compensated; 0
-            without a steady echo.
+        range_rate_mps: the region's range rate (m/s, + away), ego-motion compensated:
+            its track's ground velocity along the line of sight (``kinematics="tracker"``)
+            or the sonar's range rate (the other modes); 0 without a steady echo.
         direction: the region's direction label.
         distance_m: nearest valid sonar or laser reading in the region (m), None if none.
         features: ``(6,)`` F1..F6 at the region.
@@ -150,7 +151,9 @@ class AttentionOutput:
         gain: the Global Attentive State gain g used.
         goal_fulfilled: ``(J,)`` bool, every active top-down goal holds at the region.
         directions: ``(J,)`` int8 region direction labels (−1 towards, 0, +1 away).
-        speeds_mps: ``(J,)`` speed of each region's sonar echo (m/s).
+        speeds_mps: ``(J,)`` speed of each region (m/s): the full 2-D ground speed of its
+            track with the tracker, the sonar echo's |range rate| otherwise (clipped to
+            ``max_speed_mps``).
         distances_m: ``(J,)`` nearest valid reading per region (m); ``max_distance_m``
             where nothing is in range.
         tracks: (property) the tracked bodies (``TrackTable``, robot frame); empty
@@ -270,9 +273,12 @@ class AttentionModel:
     goals are only partly met (graded values) takes the focus but starts no course.
 
     Region quantities (sonar grid; on the laser grid the region's sonar is the one whose
-    cone holds the beam): the speed and range rate are the sonar's (as F1); the direction
-    label is the sonar's when it is moving, else the majority label of the region's laser
-    beams; the distance is the nearest valid sonar or laser reading.
+    cone holds the beam): the speed and range rate are the sonar channel's (as F1): with
+    ``kinematics="tracker"`` those of the region's tracked body (MODEL.md §10; F1 and F4
+    then see the full 2-D speed, where the paper's Δs/Δt sees only radial motion), else
+    the sonar's range rate; the direction label is the sonar channel's when it is moving,
+    else the majority label of the region's laser beams; the distance is the nearest
+    valid sonar or laser reading.
     """
 
     def __init__(self, config: AttentionConfig | None = None) -> None:
