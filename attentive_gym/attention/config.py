@@ -151,6 +151,9 @@ class AttentionConfig:
         sonar_accel_psd_m2ps3: ``q`` of each front sonar's range/rate filter (m²/s³).
 
     Sensors (§1):
+        laser_mount_x_m, laser_mount_y_m: where the laser sits on the robot (robot frame,
+            m; it faces forward); the tracker places its echoes with it (the env's
+            P2AT-like robot: 0.16 m ahead of its centre).
         sonar_max_range_m, sonar_min_range_m: sonar range (m).
         laser_max_range_m: laser saturation ``mr`` (m).
         no_echo_epsilon_m: a reading within this of its sensor's maximum range means
@@ -217,6 +220,8 @@ class AttentionConfig:
     max_tracks: int = 64
     sonar_accel_psd_m2ps3: float = 0.5
     # --- sensors -------------------------------------------------------------------
+    laser_mount_x_m: float = 0.16
+    laser_mount_y_m: float = 0.0
     sonar_max_range_m: float = 5.0
     sonar_min_range_m: float = 0.15
     laser_max_range_m: float = 20.0
@@ -297,6 +302,8 @@ class AttentionConfig:
         )
         for name, unit in positive:
             _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=False)
+        for name in ("laser_mount_x_m", "laser_mount_y_m"):
+            _check_number(name, getattr(self, name), "m", low=-_MAX_MOUNT_M, low_inclusive=True, high=_MAX_MOUNT_M)
         non_negative = (
             ("direction_epsilon_mps", "m/s"),
             ("range_noise_rel", "fraction of the range"),
@@ -403,6 +410,10 @@ class AttentionConfig:
         except json.JSONDecodeError as err:
             raise ValueError(f"attention configuration is not valid JSON: {err}") from None
         return cls.from_dict(values)
+
+
+#: The farthest a laser can sit from the robot's centre (m).
+_MAX_MOUNT_M = 5.0
 
 
 def _check_number(name: str, value: Any, unit: str, *, low: float, low_inclusive: bool,

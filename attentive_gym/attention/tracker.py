@@ -71,7 +71,8 @@ _EXTENT_SMOOTHING = 0.1
 _CARVE_PROBABILITY = 0.5
 # parameter vector of the kernels, built once from the configuration
 (_NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _JUMP, _JUMP_SIGMAS, _MIN_BEAMS, _MAX_EXTENT, _SURFACE, _Q, _DRIFT,
- _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _COAST, _N_PARAMS) = range(19)
+ _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _COAST, _MOUNT_X, _MOUNT_Y,
+ _N_PARAMS) = range(21)
 _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in (
     "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate"))
 
@@ -201,6 +202,7 @@ class Tracker:
         params[_CONFIRM], params[_DELETE] = config.track_confirm_hits, config.track_delete_misses
         params[_SONAR_Q] = config.sonar_accel_psd_m2ps3
         params[_COAST] = config.track_coast_s
+        params[_MOUNT_X], params[_MOUNT_Y] = config.laser_mount_x_m, config.laser_mount_y_m
         self.params = params
         self._beam_region = Grid.make("sonar").beam_region
         self._cone_bounds = sonar_cone_bounds(config.sonar_cone_half_width_deg).astype(np.int64)
@@ -316,13 +318,14 @@ def sonar_filters(t_s, pose, sonar_pose, readings_m, valid, sonar_cos, sonar_sin
 
 
 @njit(cache=True)
-def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds, segments, cv_x, cv_P, static_x,
-               static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
+def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds, segments, cv_x, cv_P,
+               static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
                counters):
     """One laser scan into the tracks, in place (the arrays of ``Tracker``).
 
-    1. Segment the scan and measure each segment (robot frame), then move the
-       candidates' measurements into the odometry frame with ``pose`` ``(3,)``.
+    1. Segment the scan and measure each segment (laser frame), then move the
+       candidates' measurements into the odometry frame with the laser's pose there
+       (``robot_pose`` ``(3,)`` and the laser's mounting point).
     2. Predict every live track to ``t_s``.
     3. Cost of each (track, candidate) pair: the squared Mahalanobis distance of the
        candidate from the track's predicted position; assign by least total cost with
@@ -345,7 +348,11 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
                      params[_NOISE_FLOOR], params[_SURFACE], params[_MAX_EXTENT], int(params[_MIN_BEAMS]),
                      segments)
     counters[1] = n_segments
-    c, s = math.cos(pose[2]), math.sin(pose[2])
+    c, s = math.cos(robot_pose[2]), math.sin(robot_pose[2])
+    pose = np.empty(3)  # the laser's
+    pose[0] = robot_pose[0] + c * params[_MOUNT_X] - s * params[_MOUNT_Y]
+    pose[1] = robot_pose[1] + s * params[_MOUNT_X] + c * params[_MOUNT_Y]
+    pose[2] = robot_pose[2]
     candidate = np.empty(n_segments, np.int64)
     z = np.empty((n_segments, 2))
     r = np.empty((n_segments, 2, 2))
@@ -429,7 +436,7 @@ def track_scan(t_s, pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds,
 
 @njit(cache=True)
 def _to_odometry(pose, c, s, row, z, r):
-    """A measurement row (``SEGMENT_FIELDS``, robot frame) into the odometry frame: position
+    """A measurement row (``SEGMENT_FIELDS``, in the frame of ``pose``) into the odometry frame: position
     ``z`` ``(2,)`` (m) and covariance ``r`` ``(2, 2)`` = Rot R Rotᵀ; ``c, s`` = cos, sin of the heading."""
     x, y = row[_X], row[_Y]
     z[0], z[1] = pose[0] + c * x - s * y, pose[1] + s * x + c * y
@@ -465,8 +472,8 @@ def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_mov
 
 @njit(cache=True)
 def _hidden(state, pose, ranges_m, beam_step_rad, margin_m):
-    """Whether the laser could not have seen a track at ``state[:2]`` (odometry frame, m):
-    outside its field of view, or behind an echo more than ``margin_m`` nearer."""
+    """Whether the laser at ``pose`` could not have seen a track at ``state[:2]`` (odometry
+    frame, m): outside its field of view, or behind an echo more than ``margin_m`` nearer."""
     dx, dy = state[0] - pose[0], state[1] - pose[1]
     c, s = math.cos(pose[2]), math.sin(pose[2])
     x, y = c * dx + s * dy, -s * dx + c * dy

@@ -35,8 +35,9 @@ class AttentionWrapper(gym.Wrapper):
         mode: ``"focus"`` (default), ``"saliency"`` or ``"masked"`` (see the encoders).
         config: the model's ``AttentionConfig``. When None: the default parameters, with
             ``range_noise_rel`` set to the relative noise σ of the base environment's
-            sensors (``env.unwrapped.sensor_noise``; a uniform ±a noise has σ = a/√3),
-            so that the tracker's filters assume the noise the sensors have.
+            sensors (``env.unwrapped.sensor_noise``; a uniform ±a noise has σ = a/√3)
+            and the laser's mounting point taken from its ``LaserConfig``, so that the
+            tracker assumes the sensors the robot has.
         weights: map weights for ``AttentionModel.set_weights`` (default: the config's).
         state: the Global Attentive State ("drowsy", "alert", "vigilant" or a gain).
 
@@ -124,10 +125,15 @@ _UNIFORM_SIGMA_PER_HALF_WIDTH = 1.0 / math.sqrt(3.0)
 
 
 def _config_for(env: gym.Env) -> AttentionConfig:
-    """The default configuration, assuming the range noise of ``env``'s sensors."""
+    """The default configuration, assuming the range noise and laser mount of ``env``'s sensors."""
     base = env.unwrapped
+    settings = {}
     noise = getattr(base, "sensor_noise", None)
-    if noise is None:
-        return AttentionConfig()
-    sigma = noise * (_UNIFORM_SIGMA_PER_HALF_WIDTH if getattr(base, "noise_model", "gaussian") == "uniform" else 1.0)
-    return AttentionConfig(range_noise_rel=float(sigma))
+    if noise is not None:
+        uniform = getattr(base, "noise_model", "gaussian") == "uniform"
+        settings["range_noise_rel"] = float(noise) * (_UNIFORM_SIGMA_PER_HALF_WIDTH if uniform else 1.0)
+    sensors = getattr(base, "sensors", None)
+    if sensors is not None:
+        laser = sensors.laser_scanner.config
+        settings["laser_mount_x_m"], settings["laser_mount_y_m"] = laser.mount_x_m, laser.mount_y_m
+    return AttentionConfig(**settings)

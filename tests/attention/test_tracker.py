@@ -17,7 +17,7 @@ from attentive_gym.attention.segmentation import (
     segment_scan,
 )
 
-DT_S = 0.05
+DT_S = 0.05  # the scenes' laser sits at the robot's centre: AttentionConfig(laser_mount_x_m=0)
 RADIUS_M = 0.25  # a victim
 CANDIDATE = SEGMENT_FIELDS.index("candidate")
 BEAMS = laser_bearings_rad()
@@ -35,7 +35,7 @@ def _run(scene, discs_at, steps, *, sigma=0.0, seed=0, robot_at=lambda t: ((0.0,
     ``discs_at(t)`` gives the discs' centres ``[(x, y), ...]`` (m, world frame) at time t.
     """
     rng = np.random.default_rng(seed)
-    model = AttentionModel(config or AttentionConfig(range_noise_rel=max(sigma, 0.01)))
+    model = AttentionModel(config or AttentionConfig(range_noise_rel=max(sigma, 0.01), laser_mount_x_m=0.0))
     outs = []
     for k in range(steps):
         t = k * DT_S
@@ -143,7 +143,7 @@ def test_the_tracker_beats_the_window_estimator_threefold_under_5_percent_noise(
 
     medians = {}
     for mode in ("tracker", "window"):
-        outs = _run(scene, discs, 80, sigma=0.05, config=AttentionConfig(kinematics=mode))
+        outs = _run(scene, discs, 80, sigma=0.05, config=AttentionConfig(kinematics=mode, laser_mount_x_m=0.0))
         medians[mode] = np.median([abs(o.speeds_mps[3] - 0.5) for o in outs[20:]])
     assert medians["tracker"] <= medians["window"] / 3.0, medians
 
