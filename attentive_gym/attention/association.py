@@ -3,9 +3,9 @@
 - ``min_cost_assignment``: the assignment of rows to columns of a rectangular cost
   matrix with the least total cost (the shortest-augmenting-path Hungarian method,
   O(n² m)), the same optimum as ``scipy.optimize.linear_sum_assignment``.
-- ``gated_assignment``: tracks × segments with costs capped at the gate, so that a pair
-  beyond the gate is never preferred to leaving both unmatched; pairs at the cap are
-  dropped afterwards.
+- ``gated_assignment``: tracks × segments by global nearest neighbour: the most pairs
+  inside the gate, then the least total generalised distance (Mahalanobis distance plus
+  the log-determinant of the innovation covariance).
 """
 
 from __future__ import annotations
@@ -14,6 +14,10 @@ import numpy as np
 from numba import njit
 
 __all__ = ["min_cost_assignment", "gated_assignment"]
+
+#: The cost of a pair outside the gate: larger than any sum of costs inside it, so the
+#: assignment takes as many pairs inside the gate as it can.
+_OUTSIDE_GATE = 1e9
 
 
 @njit(cache=True)
@@ -88,17 +92,23 @@ def min_cost_assignment(cost, row_to_col):
 
 
 @njit(cache=True)
-def gated_assignment(cost, gate, row_to_col):
-    """Assign rows to columns by least total ``min(cost, gate)``, then drop pairs with
-    ``cost >= gate``: ``row_to_col`` ``(n,)`` gets each row's column or −1.
+def gated_assignment(distance2, log_det, gate, row_to_col):
+    """Global-nearest-neighbour assignment of tracks (rows) to measurements (columns).
 
-    Capping makes a pair beyond the gate cost as much as leaving its row unmatched, so
-    the optimum never takes such a pair at the expense of a pair inside the gate.
+    Pairs whose squared Mahalanobis distance ``distance2`` ``(n, m)`` is below ``gate``
+    may match. Among the assignments, the one that matches the most such pairs and, of
+    those, has the least total ``distance2 + log_det`` (``log_det`` ``(n, m)``: log of the
+    innovation covariance's determinant; with it, a track with a vague prediction does
+    not take a measurement from one that predicts it well) wins. ``row_to_col`` ``(n,)``
+    gets each row's column, −1 for none.
     """
-    n_rows, n_cols = cost.shape
-    capped = np.minimum(cost, gate)
-    min_cost_assignment(capped, row_to_col)
+    n_rows, n_cols = distance2.shape
+    cost = np.empty((n_rows, n_cols))
+    for i in range(n_rows):
+        for j in range(n_cols):
+            cost[i, j] = distance2[i, j] + log_det[i, j] if distance2[i, j] < gate else _OUTSIDE_GATE
+    min_cost_assignment(cost, row_to_col)
     for i in range(n_rows):
         j = row_to_col[i]
-        if j >= 0 and cost[i, j] >= gate:
+        if j >= 0 and distance2[i, j] >= gate:
             row_to_col[i] = -1

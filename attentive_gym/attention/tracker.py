@@ -378,13 +378,14 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
             dts[k] = dt
             rows[n_rows] = k
             n_rows += 1
-    cost = np.empty((n_rows, n_candidates))
+    distance2 = np.empty((n_rows, n_candidates))
+    log_det = np.empty((n_rows, n_candidates))
     for a in range(n_rows):
         k = rows[a]
         for b in range(n_candidates):
-            cost[a, b] = _mahalanobis2(cv_x[k], cv_P[k], z[b], r[b])
+            distance2[a, b], log_det[a, b] = _mahalanobis2(cv_x[k], cv_P[k], z[b], r[b])
     assignment = np.empty(n_rows, np.int64)
-    gated_assignment(cost, params[_GATE], assignment)
+    gated_assignment(distance2, log_det, params[_GATE], assignment)
     taken = np.zeros(n_candidates, np.bool_)
     carved = np.empty(len(SEGMENT_FIELDS))
     carved_z, carved_r = np.empty(2), np.empty((2, 2))
@@ -411,7 +412,7 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
                                params[_JUMP_SIGMAS], params[_SURFACE], int(params[_MIN_BEAMS]), carved)
             if found:
                 _to_odometry(pose, c, s, carved, carved_z, carved_r)
-                found = _mahalanobis2(cv_x[k], cv_P[k], carved_z, carved_r) < params[_GATE]
+                found = _mahalanobis2(cv_x[k], cv_P[k], carved_z, carved_r)[0] < params[_GATE]
             if found:  # not a segment of its own: the track still dies after track_coast_s
                 _update(k, dts[k], carved_z, carved_r, extent_m[k], params, cv_x, cv_P, static_x, static_P,
                         p_moving, hits, misses, extent_m)
@@ -450,10 +451,12 @@ def _to_odometry(pose, c, s, row, z, r):
 @njit(cache=True)
 def _mahalanobis2(x, P, z, r):
     """Squared Mahalanobis distance of the measurement ``z`` (covariance ``r``) from the
-    predicted position of the state ``x`` (covariance ``P``)."""
+    predicted position of the state ``x`` (covariance ``P``), and the log-determinant of
+    the innovation covariance (log m⁴)."""
     s00, s01, s11 = P[0, 0] + r[0, 0], P[0, 1] + r[0, 1], P[1, 1] + r[1, 1]
     y0, y1 = z[0] - x[0], z[1] - x[1]
-    return (s11 * y0 * y0 - 2.0 * s01 * y0 * y1 + s00 * y1 * y1) / (s00 * s11 - s01 * s01)
+    det = s00 * s11 - s01 * s01
+    return (s11 * y0 * y0 - 2.0 * s01 * y0 * y1 + s00 * y1 * y1) / det, math.log(det)
 
 
 @njit(cache=True)

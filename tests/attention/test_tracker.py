@@ -98,14 +98,22 @@ def test_assignment_matches_scipy_on_random_rectangular_matrices():
         assert cost[np.flatnonzero(used), mine[used]].sum() == pytest.approx(cost[rows, cols].sum(), abs=1e-9)
 
 
-def test_gated_assignment_prefers_the_pair_inside_the_gate():
+def test_gated_assignment_matches_the_most_pairs_inside_the_gate():
     # greedy would give row 0 its nearest column 0 and leave row 1 beyond the gate
-    cost = np.array([[1.0, 2.0], [1.5, 50.0]])
+    distance2 = np.array([[1.0, 2.0], [1.5, 50.0]])
     rows = np.empty(2, np.int64)
-    gated_assignment(cost, 13.8, rows)
+    gated_assignment(distance2, np.zeros((2, 2)), 13.8, rows)
     assert rows.tolist() == [1, 0]
-    gated_assignment(np.array([[20.0, 30.0]]), 13.8, rows[:1])
+    gated_assignment(np.array([[20.0, 30.0]]), np.zeros((1, 2)), 13.8, rows[:1])
     assert rows[0] == -1  # nothing inside the gate
+
+
+def test_a_vague_track_does_not_take_the_measurement_of_a_sharp_one():
+    # both inside the gate; the vague track (log det 4) is nearer in Mahalanobis terms only
+    distance2 = np.array([[0.5], [2.0]])
+    rows = np.empty(2, np.int64)
+    gated_assignment(distance2, np.array([[4.0], [-3.0]]), 13.8, rows)
+    assert rows.tolist() == [-1, 0]
 
 
 def test_constant_velocity_filter_is_exact_without_noise():
