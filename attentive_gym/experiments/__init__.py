@@ -2,24 +2,33 @@
 
 - ``EXPERIMENTS`` / ``get_experiment``: what each experiment attends to (maps, weights,
   goals, goal changes, duration) on top of its built-in scenario.
-- ``run_experiment(name, noise, seed, out_dir)``: the immobile robot in the scenario,
-  the model attending; returns an ``ExperimentResult`` (trace + ground truth) and can
-  write ``NAME.npz`` and ``NAME.png``.
+- ``run_experiment(name, noise, seed, out_dir, *, kinematics, profile, config)``: the
+  immobile robot in the scenario, the model attending (kinematics "tracker" by default,
+  or "window", "literal"; sensor profile None or "usarsim"); returns an
+  ``ExperimentResult`` (trace + ground truth) and can write ``NAME.npz`` and ``NAME.png``.
 - ``check_experiment(result)``: MODEL.md §9's criteria as named ``Check`` outcomes;
-  ``pass_rates(name, noise, seeds)`` over several seeds.
+  ``pass_rates(name, noise, seeds, ...)`` over several seeds.
 - ``plot_experiment(result, path)``: the paper-like figure.
+- ``attentive_gym.experiments.table``: the README's table of checks per kinematics mode
+  (``python -m attentive_gym.experiments.table``).
+
+Modules import in one direction: ``registry`` → ``result`` → ``figures`` → ``runner`` →
+``checks`` → ``cli`` / ``table``.
 
 Example:
     >>> from attentive_gym.experiments import run_experiment, check_experiment
-    >>> result = run_experiment("exp01")
+    >>> result = run_experiment("exp01", kinematics="window")
     >>> [c.name for c in check_experiment(result) if not c.passed]
     []
+    >>> [c.name for c in check_experiment(run_experiment("exp01")) if not c.passed]  # the tracker
+    ['first_winner_is_s4']
 """
 
 from attentive_gym.experiments.checks import CHECKS, Check, check_experiment, pass_rates
 from attentive_gym.experiments.figures import plot_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, EXPERIMENTS, Experiment, GoalChange, get_experiment
-from attentive_gym.experiments.runner import DT_S, ExperimentResult, run_experiment
+from attentive_gym.experiments.result import ExperimentResult
+from attentive_gym.experiments.runner import DT_S, experiment_config, run_experiment
 
 __all__ = [
     "CHECKS",
@@ -31,6 +40,7 @@ __all__ = [
     "ExperimentResult",
     "GoalChange",
     "check_experiment",
+    "experiment_config",
     "get_experiment",
     "pass_rates",
     "plot_experiment",

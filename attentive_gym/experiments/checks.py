@@ -6,23 +6,40 @@
 
 Every check reads an ``ExperimentResult``: the model's trace plus the noise-free truth of
 the run (where the robots are, which sonar sees which robot). Ground-truth "speed" is the
-radial speed of a robot's centre over the model's slope window (``slope_samples`` steps),
-the quantity the model's least-squares range rate estimates. Times are in seconds;
-regions are the 8 front-sonar regions, index 3 is the paper's sonar s4.
+quantity the run's kinematics mode estimates, over its window of the last K scans (K =
+``slope_samples``; K = 2 for "literal"; a scan per step unless the sensor profile scans
+less often):
+
+- "window", "literal": the |radial speed| of a robot's centre over the window, what the
+  least-squares (or two-sample) range rate estimates (MODEL.md §3);
+- "tracker": the robot's full 2-D speed over the window (its displacement over the
+  window's time), what the tracks' constant-velocity filters estimate (MODEL.md §10).
+
+Which regions "see" a robot (its region(s), where the model puts its motion) follows the
+mode: with "window" and "literal", every region whose sonar's echo comes from it (each
+sonar measures its own range rate); with the tracker, while the laser sees the robot, the
+one region of its centre's bearing (its track's centroid's region: a tracked body's
+motion goes to one region; the laser reaches 20 m, the sonar 5 m), and otherwise the
+regions whose sonar sees it (the sonar filters). A robot is "steady" in a region when the
+region saw it at every step of the window. Exp02's criterion is about the target's entry
+into *sonar* range and reads the sonar alone. Times are in seconds; regions are the 8
+front-sonar regions, index 3 is the paper's sonar s4.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Callable, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, ORIGIN_CODES
 from attentive_gym.attention.config import MAP_NAMES
+from attentive_gym.attention.regions import nearest_sonar
 from attentive_gym.experiments.registry import get_experiment
-from attentive_gym.experiments.runner import ExperimentResult, run_experiment
+from attentive_gym.experiments.result import ExperimentResult
+from attentive_gym.experiments.runner import run_experiment
 
 __all__ = ["Check", "CHECKS", "check_experiment", "pass_rates"]
 
@@ -32,7 +49,8 @@ _S4 = 3  # region of sonar s4 (+10°), where the paper's single targets are
 _EPS = 1e-9
 #: The bottom-up course's phases (s) and the top-down onset (s), MODEL.md §7 defaults.
 _PRE, _EXC, _COURSE, _TD_ONSET = 0.15, 0.30, 0.60, 0.20
-#: Below this |radial speed| (m/s) a robot counts as turning round, not moving (Exp03).
+#: Below this true speed (m/s) a robot counts as turning round or stopped, not moving
+#: (Exp03; Exp05's "leaves").
 _MOVING_MPS = 0.3
 
 
@@ -62,9 +80,31 @@ class _Run:
         tr = result.trace
         self.trace, self.t, self.focus, self.fired, self.origin = tr, tr.t, tr.focus, tr.fired, tr.origin
         self.dt = float(tr.t[1] - tr.t[0])
-        self.window = int(tr.config["slope_samples"])
+        self.kinematics = str(tr.config.get("kinematics", "window"))
+        self.tracked = self.kinematics == "tracker"
+        samples = 2 if self.kinematics == "literal" else int(tr.config["slope_samples"])
+        # the window ending at step k: from the scan samples - 1 scans before the latest one
+        # (the tracker reads the laser's scans, the range-rate modes the sonar's)
+        times = result.laser_time_s if self.tracked else result.sonar_time_s
+        steps = np.arange(len(tr.t))
+        scan = np.r_[True, np.diff(times) > 0]
+        scan_steps = np.flatnonzero(scan)
+        self.latest = np.maximum.accumulate(np.where(scan, steps, 0))  # (T,) step of the latest scan
+        index = np.searchsorted(scan_steps, self.latest)
+        self.window_start = scan_steps[np.maximum(index - (samples - 1), 0)]  # (T,)
+        self.window_full = index >= samples - 1  # (T,): the window holds its K scans
+        self.positions = result.mover_positions  # (T, K, 2) true centres (m)
         self.ranges = np.linalg.norm(result.mover_positions, axis=2)  # (T, K) true centre ranges (m)
-        self.seen = result.sees.any(axis=2)  # (T, K): some front sonar sees the robot
+        # (T, K, 8): region n sees robot i (see the module docstring)
+        self.sonar_sees = result.sees
+        self.sees = result.sees
+        if self.tracked:
+            x, y = result.mover_positions[..., 0], result.mover_positions[..., 1]
+            bearing = np.arctan2(y, x)
+            in_laser = result.laser_sees & (np.abs(bearing) <= np.pi / 2)
+            centre = nearest_sonar(bearing)[..., None] == np.arange(result.sees.shape[2])
+            self.sees = np.where(in_laser[..., None], centre, result.sees)
+        self.seen = self.sees.any(axis=2)  # (T, K): the model's motion sensors see the robot
 
     def steps(self, seconds: float) -> int:
         """A duration (s) in whole steps."""
@@ -84,23 +124,32 @@ class _Run:
         return int(np.flatnonzero(step)[-1]) + 1 if step.any() else 0
 
     def speed(self, i: int, k: int) -> float:
-        """|radial speed| of robot i over the slope window ending at step k (m/s)."""
-        lo = max(k - self.window + 1, 0)
-        return abs(self.ranges[k, i] - self.ranges[lo, i]) / max((k - lo) * self.dt, self.dt)
+        """Robot i's true speed over the window ending at step k (m/s): its |radial speed|,
+        or with the tracker its 2-D speed (see the module docstring)."""
+        lo, hi = int(self.window_start[k]), int(self.latest[k])
+        if self.tracked:
+            moved = float(np.linalg.norm(self.positions[hi, i] - self.positions[lo, i]))
+        else:
+            moved = abs(self.ranges[hi, i] - self.ranges[lo, i])
+        return moved / max((hi - lo) * self.dt, self.dt)
 
     def steady(self, i: int, k: int) -> bool:
-        """Robot i was seen by a front sonar at every step of the slope window ending at k."""
-        return k >= self.window - 1 and bool(self.seen[k - self.window + 1:k + 1, i].all())
+        """Robot i was seen (``seen``) at every step of the window ending at k."""
+        return bool(self.window_full[k]) and bool(self.seen[self.window_start[k]:k + 1, i].all())
 
     def regions_seeing(self, i: int, k: int) -> set[int]:
+        """Regions that see robot i at step k (``sees``)."""
+        return set(np.flatnonzero(self.sees[k, i]).tolist())
+
+    def sonar_regions(self, i: int, k: int) -> set[int]:
         """Regions whose sonar sees robot i at step k."""
-        return set(np.flatnonzero(self.result.sees[k, i]).tolist())
+        return set(np.flatnonzero(self.sonar_sees[k, i]).tolist())
 
     def regions_steady(self, i: int, k: int) -> set[int]:
-        """Regions whose sonar saw robot i at every step of the slope window ending at k."""
-        if k < self.window - 1:
+        """Regions that saw robot i at every step of the window ending at k."""
+        if not self.window_full[k]:
             return set()
-        return set(np.flatnonzero(self.result.sees[k - self.window + 1:k + 1, i].all(axis=0)).tolist())
+        return set(np.flatnonzero(self.sees[self.window_start[k]:k + 1, i].all(axis=0)).tolist())
 
     def fires(self) -> list[tuple[int, int, int]]:
         """(step, region, origin code) of every fire."""
@@ -186,15 +235,15 @@ def _exp02(run: _Run) -> list[Check]:
     checks.append(_check("ior_visits_several_regions", "the focus visits several (>= 3) regions in the first 3 s",
                          len(early) >= 3, f"regions fired in the first 3 s: {early}"))
     checks.append(_refire_check(run))
-    seen = np.flatnonzero(run.seen[:, 0])
+    seen = np.flatnonzero(run.sonar_sees[:, 0].any(axis=1))
     if not seen.size:
         ok, measured = False, "the target never enters a front sonar's cone"
     elif seen[0] == 0:
-        ok, measured = False, (f"the target starts inside sonar cone(s) {sorted(run.regions_seeing(0, 0))} "
+        ok, measured = False, (f"the target starts inside sonar cone(s) {sorted(run.sonar_regions(0, 0))} "
                                "(it must start outside them)")
     else:
         k = int(seen[0])
-        j = min(run.regions_seeing(0, k))
+        j = min(run.sonar_regions(0, k))
         F3 = run.trace.F[:, _F3, j]
         window = run.focus[k:k + run.steps(_COURSE) + 2]
         drawn = np.flatnonzero(window == j)
@@ -263,8 +312,10 @@ def _exp04(run: _Run) -> list[Check]:
     checks.append(_check("winners_top_down", "the target's winners are top-down", at_target and not bottom_up,
                          f"{len(at_target)} fires at the target, {len(bottom_up)} bottom-up"))
     low = float(run.trace.M.min())
+    k_low, j_low = np.unravel_index(int(np.argmin(run.trace.M)), run.trace.M.shape)
     checks.append(_check("no_ior", "no inhibition of return (M never below 1)", low >= 1.0 - _EPS,
-                         f"min M = {low:.3f}"))
+                         f"min M = {low:.3f}" + (f" (region {j_low} at {run.t[k_low]:.2f} s)" if low < 1.0 - _EPS
+                                                 else "")))
     checks.extend(_top_down_timing(run, [(k, j) for k, j, o in at_target if o == _TD]))
     checks.append(_combined_beats_single(run, holds))
     return checks
@@ -299,7 +350,10 @@ def _combined_beats_single(run: _Run, holds: list[int]) -> Check:
         model = AttentionModel(AttentionConfig.from_dict(run.trace.config))
         model.set_weights({name: experiment.weights[name]})
         model.set_goals(*experiment.goals)
-        singles.append(np.stack([model.step(t, o1, o2).L for t, o1, o2 in zip(run.t, run.trace.O1, run.trace.O2)]))
+        scans = zip(run.result.sonar_time_s, run.result.laser_time_s)
+        singles.append(np.stack([
+            model.step(t, o1, o2, **({"sonar_time_s": ts, "laser_time_s": tl} if run.result.scan_times_given else {})).L
+            for t, o1, o2, (ts, tl) in zip(run.t, run.trace.O1, run.trace.O2, scans)]))
     best_single = np.maximum(*singles)[:, _S4]
     both = run.trace.L[:, _S4]
     steps = np.asarray(holds, dtype=int)
@@ -331,7 +385,9 @@ def _exp05(run: _Run) -> list[Check]:
                      considered and not lost,
                      f"{considered} steps, focus elsewhere at {len(lost)}"
                      + (f" (first at {run.t[lost[0]]:.2f} s)" if lost else ""))]
-    seen_fast = np.flatnonzero(run.seen[:, fast])
+    # the fast robot leaves when it stops being seen moving: it leaves sonar range moving,
+    # and (tracker) stops in the laser's view at the end of its path
+    seen_fast = np.flatnonzero([run.seen[k, fast] and run.speed(fast, k) >= _MOVING_MPS for k in range(len(run.t))])
     leave = int(seen_fast[-1]) + 1 if seen_fast.size else None
     if leave is None or leave >= len(run.t) or not run.seen[leave, slow]:
         ok, measured = False, "the slower robot is not in range when the faster one leaves"
@@ -388,22 +444,28 @@ def check_experiment(result: ExperimentResult) -> list[Check]:
     return _CHECKERS[result.experiment.name](_Run(result))
 
 
-def pass_rates(name: str, noise: float, seeds) -> dict[str, float]:
+def pass_rates(name: str, noise: float | None, seeds, *, kinematics: str = "tracker", profile: str | None = None,
+               config: Mapping[str, Any] | None = None) -> dict[str, float]:
     """Fraction of runs of experiment ``name`` (one per seed) that pass each check.
 
     Args:
         name: "exp01" … "exp05".
-        noise: relative σ of the sensor noise.
+        noise: the relative noise level (None: the profile's, see ``run_experiment``).
         seeds: the env seeds (ints >= 0), e.g. ``range(20)``.
+        kinematics, profile, config: as in ``run_experiment``.
 
     Returns:
         Check name → pass rate in [0, 1], in the order of ``CHECKS[name]``.
+
+    Raises:
+        ValueError: for no seeds, or a bad argument of ``run_experiment``.
     """
     seeds = list(seeds)
     if not seeds:
         raise ValueError("pass_rates needs at least one seed")
     passed = {check: 0 for check in CHECKS[get_experiment(name).name]}
     for seed in seeds:
-        for check in check_experiment(run_experiment(name, noise=noise, seed=seed)):
+        result = run_experiment(name, noise=noise, seed=seed, kinematics=kinematics, profile=profile, config=config)
+        for check in check_experiment(result):
             passed[check.name] += check.passed
     return {check: count / len(seeds) for check, count in passed.items()}

@@ -1,8 +1,10 @@
-"""``attentive-gym experiment NAME|all [--noise S] [--seed N] [--out DIR]``.
+"""``attentive-gym experiment NAME|all [--noise S] [--seed N] [--kinematics MODE] [--profile P] [--out DIR]``.
 
 Runs one experiment (or all five, with a tqdm progress bar), prints each MODEL.md §9
 check as PASS/FAIL with its measured values, and with ``--out`` writes ``DIR/NAME.npz``
-(the trace) and ``DIR/NAME.png`` (the figure). Exit status 0 whatever the checks say.
+(the trace) and ``DIR/NAME.png`` (the figure). ``--kinematics`` picks the model's
+kinematics mode (tracker, window, literal), ``--profile`` the env's sensor profile
+(usarsim). Exit status 0 whatever the checks say.
 """
 
 from __future__ import annotations
@@ -10,9 +12,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.experiments.checks import check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, get_experiment
-from attentive_gym.experiments.runner import run_experiment
+from attentive_gym.experiments.runner import _check_kinematics, _check_profile, run_experiment
+from attentive_gym.sensors import SENSOR_PROFILES
 
 __all__ = ["add_experiment_parser"]
 
@@ -29,22 +33,30 @@ def add_experiment_parser(subparsers) -> None:
                      f"or {_ALL}."),
     )
     parser.add_argument("name", metavar="NAME", help=f"{', '.join(EXPERIMENT_NAMES)} or {_ALL}")
-    parser.add_argument("--noise", type=float, default=0.0,
-                        help="relative sensor noise σ in [0, 0.5] (default 0; the paper's is 0.05)")
+    parser.add_argument("--noise", type=float, default=None,
+                        help="relative sensor noise in [0, 0.5]: σ, or the half-width under a uniform-noise "
+                             "profile (default: the profile's, 0 without one; the paper's is 0.05)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the noise (int >= 0, default 0)")
+    parser.add_argument("--kinematics", default="tracker", metavar="MODE",
+                        help=f"the model's kinematics: {', '.join(KINEMATICS_MODES)} (default tracker)")
+    parser.add_argument("--profile", default=None, metavar="PROFILE",
+                        help=f"the env's sensor profile: {', '.join(sorted(SENSOR_PROFILES))} "
+                             "(default none: Gaussian noise, a scan every step)")
     parser.add_argument("--out", type=Path, help="folder for NAME.npz and NAME.png (default: write nothing)")
     parser.set_defaults(handler=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
     names = EXPERIMENT_NAMES if args.name == _ALL else (get_experiment(args.name).name,)
+    _check_kinematics(args.kinematics), _check_profile(args.profile)  # before any run starts
     if args.name == _ALL:
         from tqdm import tqdm
 
         names = tqdm(names, desc="experiments", unit="exp")
     lines = []
     for name in names:
-        result = run_experiment(name, noise=args.noise, seed=args.seed, out_dir=args.out)
+        result = run_experiment(name, noise=args.noise, seed=args.seed, out_dir=args.out,
+                                kinematics=args.kinematics, profile=args.profile)
         checks = check_experiment(result)
         lines.append(f"{name}: {sum(c.passed for c in checks)}/{len(checks)} checks pass")
         lines.extend(f"  {'PASS' if c.passed else 'FAIL'} {c.name}: {c.measured}" for c in checks)

@@ -2,7 +2,7 @@
 
 - ``plot_experiment(result, path)``: the experiment's panels (``Experiment.panels``: time
   on x, region or beam on y as heat maps, winners as a raster) with the goal changes
-  marked, saved as a small PNG.
+  marked, saved as a small PNG; the title names the noise and the kinematics mode.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from attentive_gym.experiments.runner import ExperimentResult
+from attentive_gym.experiments.result import ExperimentResult
 from attentive_gym.viz.trace_figure import plot_trace
 
 __all__ = ["plot_experiment", "FIGURE_DPI"]
@@ -31,8 +31,7 @@ def plot_experiment(result: ExperimentResult, path: str | os.PathLike, dpi: int 
         for change in result.experiment.goal_changes:
             for ax in (ax for ax in fig.axes if ax.get_label() != "<colorbar>"):
                 ax.axvline(change.t_s, color="white", linestyle="--", linewidth=1.0)
-        noise = f"noise {result.noise:.0%}, seed {result.seed}" if result.noise else "no noise"
-        fig.suptitle(f"{result.experiment.title} ({noise})", fontsize="small")
+        fig.suptitle(f"{result.experiment.title} ({result.describe_noise()}; {result.kinematics})", fontsize="small")
         fig.tight_layout()
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -1,94 +1,109 @@
 """Run one of the paper's experiments: the immobile robot in its scenario, the model attending.
 
-- ``run_experiment(name, noise, seed, out_dir)``: step ``AttentiveRescueEnv`` with zero
-  commands and the ``AttentionModel`` configured by the registry; returns an
-  ``ExperimentResult`` and, with ``out_dir``, writes ``DIR/NAME.npz`` (the trace, in the
-  ``TraceRecorder`` format) and ``DIR/NAME.png`` (the figure).
-- ``ExperimentResult``: the trace plus the ground truth of the run (mover positions) and
-  the goal in force at each step.
+- ``run_experiment(name, noise, seed, out_dir, figure, *, kinematics, profile, config)``:
+  step ``AttentiveRescueEnv`` with zero commands and the ``AttentionModel`` configured by
+  the registry; returns an ``ExperimentResult`` and, with ``out_dir``, writes
+  ``DIR/NAME.npz`` (the trace, in the ``TraceRecorder`` format) and ``DIR/NAME.png`` (the
+  figure).
+- ``experiment_config(kinematics, noise_model, noise, config)``: the model's
+  ``AttentionConfig`` for a run.
+- ``ExperimentResult`` (from ``attentive_gym.experiments.result``): the trace plus the
+  ground truth of the run.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import os
-from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, Mapping
 
 import numpy as np
 
-from attentive_gym.attention import AttentionConfig, AttentionModel, Trace, TraceRecorder
+from attentive_gym.attention import AttentionConfig, AttentionModel, TraceRecorder
+from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.attention.regions import FRONT_SONARS
 from attentive_gym.attention.trace import save_trace
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
-from attentive_gym.experiments.registry import Experiment, get_experiment
+from attentive_gym.experiments.figures import plot_experiment
+from attentive_gym.experiments.registry import get_experiment
+from attentive_gym.experiments.result import ExperimentResult
+from attentive_gym.sensors import SENSOR_PROFILES, LaserConfig, resolve_sensor_profile
 
-__all__ = ["ExperimentResult", "run_experiment", "DT_S", "MAX_NOISE"]
+__all__ = ["ExperimentResult", "run_experiment", "experiment_config", "DT_S", "MAX_NOISE", "FIXED_FIELDS"]
 
 #: Step of the experiments (s), the paper's 20 Hz.
 DT_S = 0.05
-#: Largest relative noise σ accepted (the env's bound).
+#: Largest relative noise level accepted (the env's bound).
 MAX_NOISE = 0.5
+#: ``AttentionConfig`` fields the runner sets itself (``config`` may not override them):
+#: the paper's immobile robot (``ego_motion=None``) and the ``kinematics`` keyword.
+FIXED_FIELDS = ("ego_motion", "kinematics")
+_CONFIG_FIELDS = frozenset(f.name for f in dataclasses.fields(AttentionConfig))
 
 
-@dataclass(frozen=True, eq=False)
-class ExperimentResult:
-    """One run of an experiment.
-
-    Attributes:
-        experiment: the registry entry that was run.
-        noise: relative σ of the sensor noise (0 = exact readings).
-        seed: the env's seed (drives the noise).
-        trace: the model's outputs and readings (T steps, J = 8 regions).
-        mover_positions: ``(T, K, 2)`` world positions (m) of the K moving robots.
-        mover_names: their names, ``(K,)``.
-        sees: ``(T, K, 8)`` bool, front sonar n's echo at step k comes from mover i
-            (the noise-free truth of which sonar sees which robot).
-        goal_index: ``(T,)`` int, which goal set was in force at each step: 0 the
-            experiment's initial goals, i > 0 those of ``goal_changes[i - 1]``.
-        paths: files written (trace ``.npz``, figure ``.png``), empty without ``out_dir``.
-    """
-
-    experiment: Experiment
-    noise: float
-    seed: int
-    trace: Trace
-    mover_positions: np.ndarray
-    mover_names: tuple[str, ...]
-    sees: np.ndarray
-    goal_index: np.ndarray
-    paths: tuple[Path, ...] = ()
-
-
-def run_experiment(name: str, noise: float = 0.0, seed: int = 0,
-                   out_dir: str | os.PathLike | None = None, figure: bool = True) -> ExperimentResult:
+def run_experiment(name: str, noise: float | None = None, seed: int = 0,
+                   out_dir: str | os.PathLike | None = None, figure: bool = True, *,
+                   kinematics: str = "tracker", profile: str | None = None,
+                   config: Mapping[str, Any] | None = None) -> ExperimentResult:
     """Run experiment ``name`` with the robot immobile at the origin.
+
+    The model is ``AttentionConfig(ego_motion=None, kinematics=kinematics,
+    range_noise_rel=σ)`` with σ the relative standard deviation of the run's range noise
+    (``noise`` for Gaussian noise, ``noise / √3`` for the uniform ±noise of the "usarsim"
+    profile) and the laser's mounting point of the env's ``LaserConfig``, plus the fields in
+    ``config``. When the profile's sensors scan less often than
+    the 20 Hz step (readings hold between scans), each step's scan times go to
+    ``AttentionModel.step`` (``sonar_time_s``, ``laser_time_s``), so held readings are not
+    taken for new ones.
 
     Args:
         name: "exp01" … "exp05".
-        noise: relative σ of the multiplicative Gaussian sensor noise, in [0, 0.5].
+        noise: the relative noise level in [0, 0.5]: σ of the multiplicative Gaussian noise,
+            or the half-width ``a`` under a uniform-noise profile. None (default): the
+            profile's level (±5 % for "usarsim"), or 0 without a profile.
         seed: seed of the env (an int >= 0); with noise 0 it does not matter.
         out_dir: folder to write ``NAME.npz`` (trace) and ``NAME.png`` (figure) into;
             None writes nothing.
         figure: with ``out_dir``, also write the figure.
+        kinematics: the model's kinematics mode, one of "tracker" (default), "window",
+            "literal" (``AttentionConfig.kinematics``).
+        profile: the env's ``sensor_profile``: None (Gaussian noise, both sensors scanned
+            every step) or a name of ``attentive_gym.sensors.SENSOR_PROFILES`` ("usarsim":
+            uniform noise, 5 Hz scans).
+        config: further ``AttentionConfig`` fields (e.g. ``{"normalise_combined": False,
+            "threshold": 0.2}``, or a tracker constant); ``range_noise_rel`` given here
+            replaces the one derived from the noise. ``ego_motion`` and ``kinematics`` are
+            set by the runner.
 
     Returns:
         The ``ExperimentResult``; the same arguments give the same trace bit for bit.
 
     Raises:
-        ValueError: for an unknown name, a noise outside [0, 0.5] or a bad seed.
+        ValueError: for an unknown name, kinematics mode or profile, a noise outside
+            [0, 0.5], a bad seed, or a ``config`` that is not a mapping of valid
+            ``AttentionConfig`` fields.
     """
     experiment = get_experiment(name)
-    noise = _check_noise(noise)
+    kinematics = _check_kinematics(kinematics)
+    profile = _check_profile(profile)
+    settings = resolve_sensor_profile(profile)
+    noise = settings.noise if noise is None and profile is not None else _check_noise(0.0 if noise is None else noise)
     seed = _check_seed(seed)
-    env = AttentiveRescueEnv(experiment.name, sensor_noise=noise, dt=DT_S, time_limit_s=experiment.duration_s)
-    model = AttentionModel(AttentionConfig(ego_motion=None))  # the paper's immobile robot
+    laser = LaserConfig()  # the env's laser, and where it sits for the tracker
+    model = AttentionModel(experiment_config(kinematics, settings.noise_model, noise, config,
+                                             laser_mount_m=(laser.mount_x_m, laser.mount_y_m)))
+    holds = settings.sonar_scan_interval_s is not None or settings.laser_scan_interval_s is not None
+    env = AttentiveRescueEnv(experiment.name, sensor_profile=profile, sensor_noise=noise, dt=DT_S,
+                             time_limit_s=experiment.duration_s, laser=laser)
     model.set_weights(experiment.weights)
     recorder = TraceRecorder(model.config)
     changes = experiment.goal_changes
     n_steps = int(round(experiment.duration_s / DT_S)) + 1
-    positions, owners, goal_index = [], [], np.empty(n_steps, dtype=np.int64)
+    positions, velocities, owners, laser_owners, speeds, sonar_times, laser_times = [], [], [], [], [], [], []
+    goal_index = np.empty(n_steps, dtype=np.int64)
     observation, info = env.reset(seed=seed)
     mover_ids = np.array([mover.entity.id for mover in env.world.movers])
     goals_set = 0
@@ -103,30 +118,83 @@ def run_experiment(name: str, noise: float = 0.0, seed: int = 0,
             goals_set += 1
         goal_index[k] = goals_set
         sonar, laser = observation["sonar"], observation["laser"]
-        recorder.append(model.step(t, sonar, laser, observation["odometry"]), sonar, laser)
+        scans = {"sonar_time_s": info["sonar_time_s"], "laser_time_s": info["laser_time_s"]} if holds else {}
+        output = model.step(t, sonar, laser, observation["odometry"], **scans)
+        recorder.append(output, sonar, laser)
         positions.append(info["mover_positions"])
+        velocities.append(info["mover_velocities"])
         owners.append(info["sonar_hits"][:FRONT_SONARS])
+        laser_owners.append(info["laser_hits"])
+        speeds.append(output.speeds_mps)
+        sonar_times.append(info["sonar_time_s"])
+        laser_times.append(info["laser_time_s"])
     env.close()
     result = ExperimentResult(
         experiment=experiment, noise=noise, seed=seed, trace=recorder.to_trace(),
-        mover_positions=np.stack(positions), mover_names=tuple(info["mover_names"]),
-        sees=np.stack(owners)[:, None, :] == mover_ids[None, :, None], goal_index=goal_index,
+        mover_positions=np.stack(positions), mover_velocities=np.stack(velocities),
+        mover_names=tuple(info["mover_names"]),
+        sees=np.stack(owners)[:, None, :] == mover_ids[None, :, None],
+        laser_sees=(np.stack(laser_owners)[:, None, :] == mover_ids[None, :, None]).any(axis=2), goal_index=goal_index,
+        region_speeds=np.stack(speeds), sonar_time_s=np.asarray(sonar_times, dtype=float),
+        laser_time_s=np.asarray(laser_times, dtype=float), kinematics=kinematics, profile=profile,
+        noise_model=settings.noise_model, scan_times_given=holds,
     )
     if out_dir is None:
         return result
     out = Path(out_dir)
     paths = [save_trace(result.trace, out / f"{name}.npz")]
     if figure:
-        from attentive_gym.experiments.figures import plot_experiment
-
         paths.append(plot_experiment(result, out / f"{name}.png"))
-    return ExperimentResult(**{**vars(result), "paths": tuple(paths)})
+    return dataclasses.replace(result, paths=tuple(paths))
+
+
+def experiment_config(kinematics: str = "tracker", noise_model: str = "gaussian", noise: float = 0.0,
+                      config: Mapping[str, Any] | None = None,
+                      laser_mount_m: tuple[float, float] | None = None) -> AttentionConfig:
+    """The model's configuration for a run: ``AttentionConfig(ego_motion=None,
+    kinematics=kinematics, range_noise_rel=σ, laser_mount_x_m=x, laser_mount_y_m=y,
+    **config)``, σ = ``noise`` (Gaussian) or ``noise / √3`` (uniform ±noise), ``(x, y)`` =
+    ``laser_mount_m``, where the env's laser sits on the robot (m; None keeps the config's
+    default). See ``run_experiment``."""
+    sigma = noise / math.sqrt(3.0) if noise_model == "uniform" else noise
+    fields: dict[str, Any] = {"range_noise_rel": sigma}
+    if laser_mount_m is not None:
+        fields["laser_mount_x_m"], fields["laser_mount_y_m"] = (float(v) for v in laser_mount_m)
+    fields.update(_check_config(config))
+    return AttentionConfig(**fields, ego_motion=None, kinematics=_check_kinematics(kinematics))
+
+
+def _check_kinematics(kinematics) -> str:
+    if not isinstance(kinematics, str) or kinematics not in KINEMATICS_MODES:
+        raise ValueError(f"kinematics must be one of {', '.join(KINEMATICS_MODES)}, got {kinematics!r}")
+    return kinematics
+
+
+def _check_profile(profile) -> str | None:
+    if profile is not None and (not isinstance(profile, str) or profile not in SENSOR_PROFILES):
+        raise ValueError(f"profile must be None or one of {', '.join(sorted(SENSOR_PROFILES))}, got {profile!r}")
+    return profile
+
+
+def _check_config(config) -> dict[str, Any]:
+    if config is None:
+        return {}
+    if not isinstance(config, Mapping):
+        raise ValueError(f"config must be a mapping of AttentionConfig fields, got {type(config).__name__}")
+    unknown = sorted(str(key) for key in config if key not in _CONFIG_FIELDS)
+    if unknown:
+        raise ValueError(f"config has unknown AttentionConfig field(s) {unknown}")
+    fixed = sorted(key for key in config if key in FIXED_FIELDS)
+    if fixed:
+        raise ValueError(f"config may not set {fixed}: the runner sets ego_motion=None (the immobile robot) "
+                         "and kinematics comes from the kinematics argument")
+    return dict(config)
 
 
 def _check_noise(noise) -> float:
     ok = isinstance(noise, numbers.Real) and not isinstance(noise, bool) and math.isfinite(noise)
     if not ok or not 0.0 <= noise <= MAX_NOISE:
-        raise ValueError(f"noise must be a relative σ in [0, {MAX_NOISE}] (e.g. 0.05 for 5 %), got {noise!r}")
+        raise ValueError(f"noise must be a relative level in [0, {MAX_NOISE}] (e.g. 0.05 for 5 %), got {noise!r}")
     return float(noise)
 
 

@@ -1,0 +1,143 @@
+"""The README's table of the experiments' checks, one column per kinematics mode.
+
+- ``COLUMNS``: the measured set-ups, (kinematics mode, sensor profile): the three modes
+  with Gaussian noise, and the tracker under the "usarsim" profile.
+- ``measure(seeds, noise, config, workers)``: for every check, whether it holds noise-free
+  in each mode, and its pass rate over ``seeds`` with noise in each column.
+- ``markdown(measured)``: the table as Markdown, with a row of totals.
+
+Regenerate the README's table (about 2 minutes on 2 cores)::
+
+    python -m attentive_gym.experiments.table                       # 20 seeds at 5 %
+    python -m attentive_gym.experiments.table --config '{"normalise_combined": false, "threshold": 0.2}'
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from typing import Any, Mapping, Sequence
+
+from attentive_gym.experiments.checks import CHECKS, check_experiment
+from attentive_gym.experiments.registry import EXPERIMENT_NAMES
+from attentive_gym.experiments.runner import run_experiment
+
+__all__ = ["COLUMNS", "MIN_PASS_RATE", "measure", "markdown", "main"]
+
+#: The measured set-ups: (kinematics mode, sensor profile); None = Gaussian noise, a scan a step.
+COLUMNS: tuple[tuple[str, str | None], ...] = (("tracker", None), ("window", None), ("literal", None),
+                                               ("tracker", "usarsim"))
+#: MODEL.md §9: a criterion must hold in at least this fraction of the noisy seeds.
+MIN_PASS_RATE = 0.8
+
+# (experiment, check) → {"exact": {column: bool}, "rate": {column: float}}
+Measured = dict[tuple[str, str], dict[str, dict[tuple[str, str | None], Any]]]
+
+
+def _outcomes(job: tuple) -> tuple[tuple, dict[str, bool]]:
+    _, name, noise, seed, kinematics, profile, config = job
+    result = run_experiment(name, noise=noise, seed=seed, kinematics=kinematics, profile=profile, config=config)
+    return job, {c.name: c.passed for c in check_experiment(result)}
+
+
+def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mapping[str, Any] | None = None,
+            workers: int = 1, names: Sequence[str] = EXPERIMENT_NAMES) -> Measured:
+    """Every check of ``names``: noise-free in each Gaussian column, and over ``seeds``
+    with noise in every column (``noise`` σ for the Gaussian ones, the profile's own
+    noise for a profile's).
+
+    Args:
+        seeds: the env seeds of the noisy runs.
+        noise: relative σ of the Gaussian columns' noise.
+        config: extra ``AttentionConfig`` fields for every run (see ``run_experiment``).
+        workers: processes to run in (1: in this one).
+        names: the experiments.
+
+    Returns:
+        ``{(experiment, check): {"exact": {column: passed}, "rate": {column: pass rate}}}``;
+        a profile's column has no "exact" entry (its noise is part of the profile).
+    """
+    seeds = list(seeds)
+    config = dict(config or {})
+    jobs = [("exact", name, 0.0, 0, kinematics, None, config) for name in names for kinematics, profile in COLUMNS
+            if profile is None]
+    jobs += [("rate", name, None if profile else noise, seed, kinematics, profile, config)
+             for name in names for kinematics, profile in COLUMNS for seed in seeds]
+    if workers > 1:
+        with ProcessPoolExecutor(workers) as pool:
+            done = list(pool.map(_outcomes, jobs, chunksize=4))
+    else:
+        done = [_outcomes(job) for job in jobs]
+    table: Measured = {(name, check): {"exact": {}, "rate": {}} for name in names for check in CHECKS[name]}
+    for (kind, name, _, _, kinematics, profile, _), passed in done:
+        column = (kinematics, profile)
+        for check, ok in passed.items():
+            cell = table[(name, check)]
+            if kind == "exact":
+                cell["exact"][column] = ok
+            else:
+                cell["rate"][column] = cell["rate"].get(column, 0.0) + ok / len(seeds)
+    return table
+
+
+def _header(column: tuple[str, str | None], n_seeds: int, noise: float) -> str:
+    kinematics, profile = column
+    if profile:
+        return f"{kinematics}, {profile}: {n_seeds} seeds"
+    return f"{kinematics}: noise off; {n_seeds} seeds @ {noise:.0%}".replace("%", " %")
+
+
+def markdown(measured: Measured, n_seeds: int = 20, noise: float = 0.05) -> str:
+    """``measured`` (from ``measure``) as a Markdown table: per check and column "pass"
+    or "**fail**" noise-free, then the noisy pass rate (bold below ``MIN_PASS_RATE``);
+    the last row counts the checks that hold."""
+    lines = ["| experiment | check | " + " | ".join(_header(c, n_seeds, noise) for c in COLUMNS) + " |",
+             "|---|---|" + "---|" * len(COLUMNS)]
+    exact_total = {c: 0 for c in COLUMNS}
+    rate_total = {c: 0 for c in COLUMNS}
+    for (name, check), cell in measured.items():
+        cells = []
+        for column in COLUMNS:
+            rate = cell["rate"].get(column)
+            rate_text = "" if rate is None else (f"{rate:.0%}" if rate >= MIN_PASS_RATE else f"**{rate:.0%}**")
+            rate_text = rate_text.replace("%", " %")
+            rate_total[column] += rate is not None and rate >= MIN_PASS_RATE
+            if column in cell["exact"]:
+                ok = cell["exact"][column]
+                exact_total[column] += ok
+                cells.append(f"{'pass' if ok else '**fail**'}; {rate_text}")
+            else:
+                cells.append(rate_text)
+        lines.append(f"| {name} | `{check}` | " + " | ".join(cells) + " |")
+    n = len(measured)
+    totals = [f"{exact_total[c]}/{n}; {rate_total[c]}/{n}" if c[1] is None else f"{rate_total[c]}/{n}" for c in COLUMNS]
+    lines.append(f"| **all** | holding (noise off; ≥ {MIN_PASS_RATE:.0%} of seeds) | ".replace("%", " %")
+                 + " | ".join(totals) + " |")
+    return "\n".join(lines)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m attentive_gym.experiments.table [--seeds N] [--noise S] [--config JSON] [--workers W]``:
+    print the table."""
+    parser = argparse.ArgumentParser(prog="python -m attentive_gym.experiments.table",
+                                     description="Measure every experiment check per kinematics mode; print Markdown.")
+    parser.add_argument("--seeds", type=int, default=20, help="noisy seeds per column (default 20)")
+    parser.add_argument("--noise", type=float, default=0.05, help="Gaussian noise σ of the noisy runs (default 0.05)")
+    parser.add_argument("--config", default=None, help="extra AttentionConfig fields as a JSON object")
+    parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    args = parser.parse_args(argv)
+    try:
+        config = json.loads(args.config) if args.config else None
+        if args.seeds < 1:
+            raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
+        print(markdown(measure(range(args.seeds), args.noise, config, args.workers), args.seeds, args.noise))
+    except (ValueError, json.JSONDecodeError) as err:
+        print(f"{parser.prog}: error: {err}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
