@@ -20,7 +20,7 @@ from gymnasium import spaces
 
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.reward import RewardConfig, rescue_reward
-from attentive_gym.sensors import LaserConfig, SensorSuite, SonarConfig
+from attentive_gym.sensors import LaserConfig, ScanHold, SensorSuite, SonarConfig, resolve_sensor_profile
 from attentive_gym.sensors import _pymunk_access as _body_state
 from attentive_gym.world.arena import ArenaConfig, generate_arena
 from attentive_gym.world.builtin import BUILTIN_SCENARIOS, builtin_scenario
@@ -87,8 +87,11 @@ class AttentiveRescueEnv(gym.Env):
     - ``"goal"`` (13,): ``Goal.encode()`` of the episode's goal (layout in
       ``attentive_gym.attention.goals.GOAL_ENCODING_FIELDS``; zeros = no goal).
 
-    Readings carry ``sensor_noise`` multiplicative Gaussian noise (default 5 %) on every
-    echo; odometry is exact.
+    Readings carry multiplicative noise on every echo: by default Gaussian with σ =
+    ``sensor_noise`` = 5 % of the reading; with ``noise_model="uniform"`` (or the
+    ``"usarsim"`` profile) ``reading · (1 + U(−a, a))``, a = ``sensor_noise``. With a scan
+    interval, a sensor takes a new reading only every ``*_scan_interval_s`` seconds and its
+    reading (noise included) holds in between. Odometry is exact.
 
     **Action**: ``Box(-1, 1, (2,))`` = (linear, angular) as fractions of the robot's top
     speeds (0.7 m/s, 140°/s by default). Values outside [−1, 1] are clipped; a NaN/inf
@@ -107,16 +110,37 @@ class AttentiveRescueEnv(gym.Env):
     (odometry), ``mover_positions`` (M, 2), ``mover_velocities`` (M, 2), ``mover_names``,
     ``target_index`` (−1 without a task), ``target_distance_m`` (NaN-free: inf without a
     task), ``collision``, ``success``, ``goal`` (its text), ``sonar_hits`` / ``laser_hits``
-    (the entity id each reading came from, −1 for none).
+    (the entity id each reading came from, −1 for none; they hold between scans with the
+    readings), ``sonar_time_s`` / ``laser_time_s`` (world time, s, of the scan each
+    current reading came from; equal to ``time_s`` when a sensor scans every step).
 
     **Keyword arguments** (``gym.make("AttentiveRescue-v0", ...)``): ``scenario`` (name,
-    file or ``Scenario``), ``sensor_noise`` (relative σ, [0, 0.5]), ``dt`` (s, (0, 0.5]),
-    ``render_mode``, the arena's knobs ``arena_size_m`` (side or (width, height)),
-    ``num_distractors``, ``rubble_per_100m2``, ``max_mover_speed_mps``, ``goals`` (goals to
-    sample from), ``time_limit_s``, and ``reward`` (``RewardConfig``), ``robot``
-    (``RobotConfig``), ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``). Unknown
-    keywords raise ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})``
-    fixes the episode's goal (a ``Goal`` or its encoding).
+    file or ``Scenario``), ``dt`` (s, (0, 0.5]), ``render_mode``, the sensor settings below,
+    the arena's knobs ``arena_size_m`` (side or (width, height)), ``num_distractors``,
+    ``rubble_per_100m2``, ``max_mover_speed_mps``, ``goals`` (goals to sample from),
+    ``time_limit_s``, and ``reward`` (``RewardConfig``), ``robot`` (``RobotConfig``),
+    ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``). Unknown keywords raise
+    ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})`` fixes the
+    episode's goal (a ``Goal`` or its encoding).
+
+    **Sensor settings** (keyword arguments; None means "not given"):
+
+    - ``sensor_profile``: None or a name in ``attentive_gym.sensors.SENSOR_PROFILES``;
+      ``"usarsim"`` = uniform noise, a = 0.05, both scan intervals 0.2 s (USARSim's defaults).
+    - ``noise_model``: ``"gaussian"`` or ``"uniform"``.
+    - ``sensor_noise``: the relative noise level, [0, 0.5]: σ (gaussian) or the
+      half-width a (uniform).
+    - ``sonar_scan_interval_s``, ``laser_scan_interval_s``: s between scans, finite, > 0.
+      A sensor scans at reset and then once at least its interval has passed since its
+      last scan.
+
+    A setting not given takes the profile's value, or without a profile ``"gaussian"``,
+    0.05 and a scan every step; given values beat the profile's (pass ``dt`` as an interval
+    to scan every step under a profile). The resolved settings are ``env.sensor_settings``
+    (a ``SensorProfile``), also read as ``env.noise_model``, ``env.sensor_noise``,
+    ``env.sonar_scan_interval_s`` and ``env.laser_scan_interval_s``. Both sensors draw their
+    noise every step whatever the intervals (a held reading keeps its scan's noise), so the
+    RNG stream, and with it the readings at scan steps, do not depend on the intervals.
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
@@ -126,7 +150,11 @@ class AttentiveRescueEnv(gym.Env):
         scenario: str | os.PathLike | Scenario = PROCEDURAL_SCENARIO,
         *,
         render_mode: str | None = None,
-        sensor_noise: float = 0.05,
+        sensor_profile: str | None = None,
+        noise_model: str | None = None,
+        sensor_noise: float | None = None,
+        sonar_scan_interval_s: float | None = None,
+        laser_scan_interval_s: float | None = None,
         dt: float = 0.05,
         arena_size_m: float | tuple[float, float] = 10.0,
         num_distractors: int = 3,
@@ -148,7 +176,16 @@ class AttentiveRescueEnv(gym.Env):
         self.render_mode = render_mode
         self.dt = _check_number("dt", dt, 0.0, 0.5, low_open=True)
         self.metadata = {**self.metadata, "render_fps": 1.0 / self.dt}
-        self.sensors = SensorSuite(sonar, laser, noise_std=_check_number("sensor_noise", sensor_noise, 0.0, 0.5))
+        settings = self.sensor_settings = resolve_sensor_profile(
+            sensor_profile,
+            noise_model=noise_model,
+            noise=None if sensor_noise is None else _check_number("sensor_noise", sensor_noise, 0.0, 0.5),
+            sonar_scan_interval_s=sonar_scan_interval_s,
+            laser_scan_interval_s=laser_scan_interval_s,
+        )
+        self.sensor_profile = sensor_profile
+        self.sensors = SensorSuite(sonar, laser, noise_std=settings.noise, noise_model=settings.noise_model)
+        self._scans = ScanHold(settings.sonar_scan_interval_s, settings.laser_scan_interval_s)
         self.scenario_source = scenario
         self._fixed_scenario = resolve_scenario(scenario)
         if np.isscalar(arena_size_m):
@@ -202,6 +239,27 @@ class AttentiveRescueEnv(gym.Env):
         #: ``AttentionWrapper`` to show the focus); None draws nothing more.
         self.render_overlay = None
 
+    # --- resolved sensor settings ---------------------------------------------------
+    @property
+    def noise_model(self) -> str:
+        """The range noise model in force: ``"gaussian"`` or ``"uniform"``."""
+        return self.sensor_settings.noise_model
+
+    @property
+    def sensor_noise(self) -> float:
+        """The relative noise level in force: σ (gaussian) or the half-width a (uniform)."""
+        return self.sensor_settings.noise
+
+    @property
+    def sonar_scan_interval_s(self) -> float | None:
+        """Seconds between sonar scans, or None for a scan every step."""
+        return self.sensor_settings.sonar_scan_interval_s
+
+    @property
+    def laser_scan_interval_s(self) -> float | None:
+        """Seconds between laser scans, or None for a scan every step."""
+        return self.sensor_settings.laser_scan_interval_s
+
     # --- episode ------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
@@ -220,6 +278,7 @@ class AttentiveRescueEnv(gym.Env):
         self._target_index = scenario.target_index
         self._distance = self._target_distance()
         self._limit_s = self.time_limit_s or (scenario.task.time_limit_s if scenario.task else scenario.duration_s)
+        self._scans.reset()
         observation = self._observe()
         info = self._info(collided=False, success=False)
         if self.render_mode == "human":
@@ -283,7 +342,8 @@ class AttentiveRescueEnv(gym.Env):
     def _observe(self) -> dict[str, np.ndarray]:
         world = self.world
         body = world.robot.body
-        self._reading = reading = self.sensors.read(_body_state.pose(body), world.geometry(), self.np_random, ROBOT_ID)
+        fresh = self.sensors.read(_body_state.pose(body), world.geometry(), self.np_random, ROBOT_ID)
+        self._reading = reading = self._scans.update(fresh, world.time_s)
         # world.robot.odometry, clipped to the observation space's bounds, in plain floats
         vx, vy = _body_state.velocity(body)
         heading = body.angle
@@ -330,6 +390,8 @@ class AttentiveRescueEnv(gym.Env):
             "goal": self._goal_cached()[2],
             "sonar_hits": self._reading.sonar_owner.copy(),
             "laser_hits": self._reading.laser_owner.copy(),
+            "sonar_time_s": self._scans.sonar_time_s,
+            "laser_time_s": self._scans.laser_time_s,
         }
 
     # --- rendering ----------------------------------------------------------------

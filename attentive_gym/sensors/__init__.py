@@ -4,8 +4,11 @@
   ``GeometryCache`` (pymunk shapes → exact primitives, re-placed cheaply each step).
 - ``raycast``: numba kernels ``cast_rays``, ``cast_fan``, ``cone_nearest``.
 - ``sonar``, ``laser``: the P2AT sonar ring and the 180-beam laser, noise-free.
-- ``noise``: multiplicative Gaussian range noise.
+- ``noise``: multiplicative range noise, Gaussian or uniform (``NOISE_MODELS``).
 - ``suite``: ``SensorSuite``, both sensors with noise, returning a ``SensorReading``.
+- ``scans``: ``ScanHold``, each sensor's reading held between scans at its scan interval.
+- ``profiles``: ``SensorProfile`` (noise model, level, scan intervals) and the named
+  ``SENSOR_PROFILES`` (``"usarsim"``), resolved by ``resolve_sensor_profile``.
 
 Conventions: world frame in metres and radians; robot frame x forward, y left,
 bearings counter-clockwise; owner -1 means "no echo".
@@ -13,9 +16,17 @@ bearings counter-clockwise; owner -1 means "no echo".
 
 from attentive_gym.sensors.geometry import GeometryCache, SceneGeometry, shape_primitives
 from attentive_gym.sensors.laser import LaserConfig, LaserScanner
-from attentive_gym.sensors.noise import apply_range_noise
+from attentive_gym.sensors.noise import NOISE_MODELS, apply_range_noise, check_noise_model, unit_noise
+from attentive_gym.sensors.profiles import (
+    DEFAULT_SENSOR_PROFILE,
+    SENSOR_PROFILES,
+    USARSIM_SCAN_INTERVAL_S,
+    SensorProfile,
+    resolve_sensor_profile,
+)
 from attentive_gym.sensors.raycast import cast_fan, cast_rays, cone_nearest, cone_nearest_points
 from attentive_gym.sensors.sonar import P2AT_SONAR_MOUNTS, SonarConfig, SonarRing
+from attentive_gym.sensors.scans import SCAN_TOLERANCE_S, ScanHold, scan_due
 from attentive_gym.sensors.suite import SensorReading, SensorSuite
 
 __all__ = [
@@ -31,7 +42,18 @@ __all__ = [
     "SonarRing",
     "LaserConfig",
     "LaserScanner",
+    "NOISE_MODELS",
     "apply_range_noise",
+    "check_noise_model",
+    "unit_noise",
     "SensorReading",
     "SensorSuite",
+    "SCAN_TOLERANCE_S",
+    "ScanHold",
+    "scan_due",
+    "SensorProfile",
+    "DEFAULT_SENSOR_PROFILE",
+    "SENSOR_PROFILES",
+    "USARSIM_SCAN_INTERVAL_S",
+    "resolve_sensor_profile",
 ]

@@ -7,12 +7,21 @@ what was wrong and what is allowed.
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
 from attentive_gym.sensors.geometry import SceneGeometry
 
-__all__ = ["check_geometry", "check_half_width", "check_owner", "check_pose", "check_positive", "check_relative_std"]
+__all__ = [
+    "check_geometry",
+    "check_half_width",
+    "check_owner",
+    "check_pose",
+    "check_positive",
+    "check_relative_std",
+    "check_scan_interval",
+]
 
 
 def check_positive(name: str, value) -> float:
@@ -46,6 +55,18 @@ def check_relative_std(name: str, value) -> float:
     if isinstance(value, bool) or not (math.isfinite(sigma) and 0.0 <= sigma < 1.0):
         raise ValueError(f"{name} must be a finite number in [0, 1), got {value!r}")
     return sigma
+
+
+def check_scan_interval(name: str, value) -> float | None:
+    """``value`` as a float (s), ``None`` for "every step", or ``ValueError`` unless it is
+    ``None`` or a finite real number > 0 (strings and bools are refused)."""
+    if value is None:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not (
+        math.isfinite(value) and value > 0.0
+    ):
+        raise ValueError(f"{name} must be None (a scan every step) or a finite number of seconds > 0, got {value!r}")
+    return float(value)
 
 
 def check_geometry(geometry) -> SceneGeometry:

@@ -1,7 +1,8 @@
 """The robot's sensors together: the sonar ring and the laser, with range noise.
 
 - ``SensorReading``: one reading of every sensor, with the owner id each echo came from.
-- ``SensorSuite``: reads both sensors at a pose, adds noise from the caller's RNG, and
+- ``SensorSuite``: reads both sensors at a pose, adds Gaussian or uniform noise
+  (``noise.NOISE_MODELS``) from the caller's RNG, and
   gives the geometry of a reading for drawing (``laser_segments``, ``sonar_cones``).
 """
 
@@ -15,6 +16,7 @@ from numba import njit
 from attentive_gym.sensors._checks import check_geometry, check_owner, check_pose, check_relative_std
 from attentive_gym.sensors.geometry import SceneGeometry
 from attentive_gym.sensors.laser import LaserConfig, LaserScanner
+from attentive_gym.sensors.noise import check_noise_model, unit_noise
 from attentive_gym.sensors.raycast import cones_kernel, fan_kernel
 from attentive_gym.sensors.sonar import SonarConfig, SonarRing
 
@@ -46,12 +48,14 @@ class SensorSuite:
     Args:
         sonar: the ring (default: P2AT).
         laser: the scanner (default: 180 beams over 180 deg, 20 m).
-        noise_std: relative standard deviation sigma of the multiplicative Gaussian
-            range noise (``noise.apply_range_noise``), finite, 0 <= sigma < 1; 0 gives
-            exact readings (the RNG is still advanced by the same amount).
+        noise_std: the relative level of the multiplicative range noise
+            (``noise.apply_range_noise``): sigma for ``"gaussian"``, the half-width ``a``
+            of ``U[-a, a)`` for ``"uniform"``; finite, 0 <= level < 1; 0 gives exact
+            readings (the RNG is still advanced by the same amount).
+        noise_model: one of ``noise.NOISE_MODELS``.
 
     Raises:
-        ValueError: for a bad ``noise_std``. TypeError: for configs of the wrong type.
+        ValueError: for a bad ``noise_std`` or ``noise_model``. TypeError: for configs of the wrong type.
 
     Example:
         >>> suite = SensorSuite(noise_std=0.0)
@@ -62,10 +66,11 @@ class SensorSuite:
     """
 
     def __init__(self, sonar: SonarConfig = SonarConfig(), laser: LaserConfig = LaserConfig(),
-                 noise_std: float = 0.05) -> None:
+                 noise_std: float = 0.05, noise_model: str = "gaussian") -> None:
         self.sonar_ring = SonarRing(sonar)
         self.laser_scanner = LaserScanner(laser)
         self.noise_std = check_relative_std("noise_std", noise_std)
+        self.noise_model = check_noise_model("noise_model", noise_model)
         self._num_readings = self.sonar_ring.num_sonars + self.laser_scanner.config.num_beams
         self._laser_step_rad = self.laser_scanner.config.step_rad
 
@@ -76,8 +81,10 @@ class SensorSuite:
         Args:
             pose: ``(3,)`` robot ``x_m, y_m, theta_rad`` (world frame).
             geometry: the scene.
-            rng: source of the noise: 16 + 180 standard normals per call (sonar first,
-                then laser) for the default sensors, whatever ``noise_std``.
+            rng: source of the noise: one draw per reading, 16 + 180 per call (sonar
+                first, then laser) for the default sensors, whatever ``noise_std`` and
+                whatever the sensors see: standard normals for ``"gaussian"``,
+                ``rng.random`` uniforms for ``"uniform"`` (``noise.unit_noise``).
             exclude_owner: the robot's own owner id (ignored by its sensors), -1 for none.
 
         Returns:
@@ -88,8 +95,8 @@ class SensorSuite:
         exclude = check_owner(exclude_owner)
         if not isinstance(rng, np.random.Generator):
             raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-        # one draw for both sensors: the same stream as sonar's normals, then the laser's
-        normals = rng.standard_normal(self._num_readings)
+        # one draw for both sensors: the same stream as sonar's draws, then the laser's
+        draws = unit_noise(self.noise_model, self._num_readings, rng)
         ring, scanner = self.sonar_ring, self.laser_scanner
         s, c = ring.config, scanner.config
         ox, oy = scanner._origin(x, y, theta)
@@ -97,7 +104,7 @@ class SensorSuite:
             x, y, theta, ring._positions, ring._bearings, ring._half_width_rad, s.min_range_m, s.max_range_m,
             ox, oy, theta + scanner._first_bearing_rad, self._laser_step_rad, c.num_beams, c.max_range_m,
             geometry.segments, geometry.segment_owner, geometry.circles, geometry.circle_owner, exclude,
-            self.noise_std, normals,
+            self.noise_std, draws,
         )
         reading = object.__new__(SensorReading)  # the dataclass's fields, without its frozen __init__
         reading.__dict__.update(sonar=sonar, laser=laser, sonar_owner=sonar_owner, laser_owner=laser_owner)
@@ -113,14 +120,14 @@ class SensorSuite:
 
 
 @njit(cache=True)
-def _noisy(ranges, sigma, normals, offset, min_range, max_range):
-    """``noise.apply_range_noise`` in place, with the normals ``normals[offset:]``."""
+def _noisy(ranges, sigma, draws, offset, min_range, max_range):
+    """``noise.apply_range_noise`` in place, with the unit draws ``draws[offset:]``."""
     for k in range(ranges.shape[0]):
         r = ranges[k]
         if r >= max_range:
             ranges[k] = max_range
             continue
-        v = r * (1.0 + sigma * normals[offset + k])
+        v = r * (1.0 + sigma * draws[offset + k])
         if v < min_range:
             v = min_range
         elif v > max_range:
@@ -131,7 +138,7 @@ def _noisy(ranges, sigma, normals, offset, min_range, max_range):
 @njit(cache=True)
 def _read_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar_min, sonar_max,
                  laser_x, laser_y, laser_first, laser_step, num_beams, laser_max,
-                 segments, segment_owner, circles, circle_owner, exclude, sigma, normals):
+                 segments, segment_owner, circles, circle_owner, exclude, sigma, draws):
     """``SensorSuite.read`` after its checks: both sweeps and the noise in one call."""
     sonar, sonar_owner, _ = cones_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar_max,
                                          segments, segment_owner, circles, circle_owner, exclude)
@@ -140,6 +147,6 @@ def _read_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar
             sonar[k] = sonar_min
     laser, laser_owner = fan_kernel(laser_x, laser_y, laser_first, laser_step, num_beams, laser_max,
                                     segments, segment_owner, circles, circle_owner, exclude)
-    _noisy(sonar, sigma, normals, 0, sonar_min, sonar_max)
-    _noisy(laser, sigma, normals, sonar.shape[0], 0.0, laser_max)
+    _noisy(sonar, sigma, draws, 0, sonar_min, sonar_max)
+    _noisy(laser, sigma, draws, sonar.shape[0], 0.0, laser_max)
     return sonar, sonar_owner, laser, laser_owner
