@@ -304,6 +304,8 @@ def sonar_filters(t_s, pose, sonar_pose, readings_m, valid, sonar_cos, sonar_sin
             hits[j] = 0
             continue
         sigma = max(params[_NOISE_REL] * readings_m[j], params[_NOISE_FLOOR])
+        if t_s - filter_t[j] > params[_COAST]:
+            hits[j] = 0  # too long ago to predict from
         if hits[j] == 0:
             x[j, 0], x[j, 1] = readings_m[j], 0.0
             P[j, 0, 0], P[j, 0, 1], P[j, 1, 0] = sigma * sigma, 0.0, 0.0
@@ -326,7 +328,8 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
     1. Segment the scan and measure each segment (laser frame), then move the
        candidates' measurements into the odometry frame with the laser's pose there
        (``robot_pose`` ``(3,)`` and the laser's mounting point).
-    2. Predict every live track to ``t_s``.
+    2. Delete the tracks unseen for more than ``params[_COAST]`` seconds; predict the
+       others to ``t_s``.
     3. Cost of each (track, candidate) pair: the squared Mahalanobis distance of the
        candidate from the track's predicted position; assign by least total cost with
        the gate ``params[_GATE]`` (``association.gated_assignment``).
@@ -369,6 +372,8 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
     n_rows = 0
     for k in range(capacity):
         segment_of[k] = -1
+        if alive[k] and t_s - seen_s[k] > params[_COAST]:
+            alive[k] = False  # unseen for too long to predict
         if alive[k]:
             dt = t_s - filter_t[k]
             if dt > 0.0:

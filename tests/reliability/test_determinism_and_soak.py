@@ -50,12 +50,17 @@ def test_spawned_process_reproduces_the_in_process_trajectory_bit_for_bit():
         assert_same(pickle.loads(data), trajectory(*case))
 
 
+_WARM_START_BUG = pytest.mark.xfail(strict=True, reason=(
+    "open bug found here: a pickled World loses pymunk's warm-start state (accumulated joint and "
+    "contact impulses are not pickled), so the copy's odometry differs from the original's by ~1e-17 "
+    "a few steps later; see docs/reliability.md"))
+
+
 @pytest.mark.parametrize("scenario, at", [
-    ("rescue", [0, 1, 37]),
-    pytest.param("exp05", [5, 90], marks=pytest.mark.xfail(strict=True, reason=(
-        "open bug found here: a pickled World loses pymunk's warm-start state (accumulated joint and "
-        "contact impulses are not pickled), so the copy's odometry differs from the original's by ~1e-17 "
-        "a few steps later; see docs/reliability.md"))),
+    ("rescue", [0, 37]),
+    # the drive's joints carry impulses from the first step on: a copy made then drifts at once
+    pytest.param("rescue", [1], marks=_WARM_START_BUG),
+    pytest.param("exp05", [5, 90], marks=_WARM_START_BUG),
 ])
 def test_pickled_env_mid_episode_continues_identically(scenario, at):
     env = AttentiveRescueEnv(scenario)
