@@ -2,12 +2,14 @@
 
 Runs ``--steps`` environment steps (default 1,000,000) spread over many seeds and
 scenarios (the procedural arena with several sets of knobs, and ``exp01`` … ``exp05``),
-feeds every step to an ``AttentionModel`` (goals and weights varied per episode), and
-checks ``attentive_gym.envs.invariants`` after each step. Work is split into chunks run
+feeds every step to an ``AttentionModel`` (goals and weights varied per episode; the
+default ``kinematics="tracker"``), and checks ``attentive_gym.envs.invariants`` after
+each step, the tracker's state and track table included. Work is split into chunks run
 by a ``multiprocessing`` pool (``--workers``, default: every core).
 
 Prints steps, episodes, violations (the run fails, exit status 1, if there are any),
-steps/s, and the deepest wall/rubble overlap seen; ``--json PATH`` writes the same.
+steps/s, the deepest wall/rubble overlap seen, and how many tracks were checked (track
+rows over all steps, the most live at once); ``--json PATH`` writes the same.
 
     python benchmarks/soak.py                     # 1,000,000 steps
     python benchmarks/soak.py --steps 5000        # a quick check (the test suite runs this)
@@ -98,7 +100,7 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
     model = AttentionModel(AttentionConfig(grid=grid))
     checker = InvariantChecker()
     violations: list[str] = []
-    n_violations = episodes = done = 0
+    n_violations = episodes = done = track_rows = most_tracks = 0
     start = time.perf_counter()
     while done < steps:
         obs, _ = env.reset(seed=int(seed * 1000 + episodes))
@@ -106,14 +108,17 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
         model.reset()
         _configure_model(model, rng, env.goal)
         output = model.step(0.0, obs["sonar"], obs["laser"], obs["odometry"])
-        problems = checker.check(env, obs, output)
+        problems = checker.check(env, obs, output, model=model)
         state: dict = {}
         episodes += 1
         while done < steps:
             obs, reward, terminated, truncated, info = env.step(_policy(rng, state))
             done += 1
             output = model.step(info["time_s"], obs["sonar"], obs["laser"], obs["odometry"])
-            problems = checker.check(env, obs, output, info)
+            problems = checker.check(env, obs, output, info, model=model)
+            n_tracks = len(output.tracks)
+            track_rows += n_tracks
+            most_tracks = max(most_tracks, n_tracks)
             if not np.isfinite(reward):
                 problems.append(f"reward {reward} is not finite")
             if problems:
@@ -126,7 +131,7 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
     return {
         "label": label, "steps": done, "episodes": episodes, "violations": n_violations,
         "examples": violations, "seconds": time.perf_counter() - start,
-        "max_penetration_m": checker.max_penetration_m,
+        "max_penetration_m": checker.max_penetration_m, "track_rows": track_rows, "max_live_tracks": most_tracks,
     }
 
 
@@ -186,6 +191,8 @@ def soak(steps: int = 1_000_000, workers: int | None = None, chunk: int | None =
         "steps_per_s": total / wall if wall > 0 else float("nan"),
         "workers": workers,
         "max_penetration_m": max(c["max_penetration_m"] for c in per_config.values()),
+        "track_rows": sum(r["track_rows"] for r in results),
+        "max_live_tracks": max(r["max_live_tracks"] for r in results),
         "per_config": per_config,
     }
 
@@ -211,6 +218,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"wall        {summary['wall_s']:.1f} s on {summary['workers']} workers")
     print(f"steps/s     {summary['steps_per_s']:.0f} (env + model + invariants)")
     print(f"deepest wall/rubble overlap: {summary['max_penetration_m']:.4f} m")
+    print(f"tracks      {summary['track_rows']} track rows checked, at most {summary['max_live_tracks']} live at once")
     for label, c in summary["per_config"].items():
         print(f"  {label:<26} {c['steps']:>8} steps {c['episodes']:>6} episodes {c['violations']:>4} violations "
               f"overlap {c['max_penetration_m']:.3f} m")

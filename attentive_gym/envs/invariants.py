@@ -27,7 +27,19 @@ What is checked:
    ``max_linear_mps`` over half the robot's width to the angular one (hitting a corner at
    full speed turns forward motion into spin, measured up to 2.50 rad/s against the
    drive's 2.44, and spinning against one turns rotation into translation).
-4. **Attention output** (optional): ``M`` and ``L`` finite and ``>= 0``, ``F`` finite.
+4. **Attention output** (optional): ``M`` and ``L`` finite and ``>= 0``, ``F`` finite; the
+   track table (``output.tracks``) finite, speeds ``>= 0`` and motion probabilities in
+   [0, 1] (speeds in the table are not clipped, so no upper bound).
+5. **Tracker state** (optional, ``check_tracker``; pass the model and it runs when the
+   model has a tracker, ``kinematics="tracker"``), over every live track slot: the state
+   (constant-velocity and static filters, motion probability) finite; both covariances
+   (4×4 and 2×2) symmetric to ``COVARIANCE_SYMMETRY_REL`` and positive definite (their
+   Cholesky factorisation succeeds); the motion probability in [0, 1]; ids unique and below the next
+   id; at most ``max_tracks`` live tracks, and at most as many tentative (unconfirmed)
+   tracks as the last scan had segments: a scan gives each candidate segment at most one
+   birth or one match and deletes tentative tracks at their first miss, so every live
+   tentative track holds a segment of the last scan. With an output, its track table has
+   one row per live track.
 
 Tolerances — measured, not guessed: the world's pymunk space keeps the default
 ``collision_slop`` of 0.1 (pymunk's unit is the metre here, so contacts are allowed to
@@ -51,6 +63,8 @@ __all__ = [
     "CONTACT_MEMORY_S",
     "SPEED_REL_TOL",
     "CONTACT_SPEED_REL",
+    "COVARIANCE_SYMMETRY_REL",
+    "check_tracker",
 ]
 
 #: Largest robot/mover overlap with a wall or rubble accepted (m): pymunk's collision
@@ -67,6 +81,11 @@ CONTACT_MEMORY_S = 1.5
 CONTACT_SPEED_REL = 0.15
 #: Relative tolerance on the speed limits (floating-point slack of the joint solver).
 SPEED_REL_TOL = 1e-3
+#: Largest asymmetry of a track's covariance, relative to its largest entry: the Kalman
+#: kernels (predictions and Joseph-form updates) keep both triangles equal up to rounding
+#: (~1e-16 relative per operation); 1e-9 leaves room for accumulated rounding and still
+#: catches a real fault.
+COVARIANCE_SYMMETRY_REL = 1e-9
 
 
 def _penetration(space, shape, others: set) -> float:
@@ -103,7 +122,7 @@ def _check_array(violations: list[str], name: str, value, space) -> np.ndarray |
     return value
 
 
-def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, contact: bool | None = None,
+def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, model=None, contact: bool | None = None,
                      _depth: list | None = None) -> list[str]:
     """The violated invariants (messages) of ``env`` after a step; empty when all hold.
 
@@ -111,6 +130,8 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, contact: b
         env: an unwrapped ``AttentiveRescueEnv`` after ``reset`` or ``step``.
         obs: the observation that call returned.
         output: an ``AttentionOutput`` computed from ``obs``, or None.
+        model: the ``AttentionModel`` that computed ``output``, or None; its tracker's
+            state is checked when it has one (``check_tracker``).
         contact: whether the robot touches (or recently touched) anything; None: whether
             it touches something now.
     """
@@ -184,6 +205,107 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, contact: b
                 violations.append(f"attention {name} is negative: min {values.min()}")
         if not np.all(np.isfinite(output.F)):
             violations.append("attention F is not finite")
+        violations.extend(_check_track_table(output.tracks))
+
+    # --- 5. tracker --------------------------------------------------------------------
+    tracker = getattr(model, "_tracker", None)
+    if tracker is not None:
+        violations.extend(check_tracker(tracker, None if output is None else output.tracks))
+    return violations
+
+
+def _slots(tracker, slots: np.ndarray) -> str:
+    """``slots`` (array of slot indices) with their track ids, the first 5."""
+    shown = ", ".join(f"{int(k)} (id {int(tracker.ids[k])})" for k in slots[:5])
+    return f"slot{'s' if slots.size > 1 else ''} {shown}{', …' if slots.size > 5 else ''}"
+
+
+def check_tracker(tracker, tracks=None) -> list[str]:
+    """The violated invariants (messages) of a ``Tracker``'s live tracks (item 5 of the
+    module docstring); empty when all hold.
+
+    Args:
+        tracker: an ``attentive_gym.attention.tracker.Tracker`` (``AttentionModel._tracker``).
+        tracks: the ``TrackTable`` the model output with the tracker in this state, or None.
+
+    Each check first tests all live tracks at once and only looks for the offending slots
+    when it fails (the soak runs this after every step).
+    """
+    violations: list[str] = []
+    live = np.flatnonzero(tracker.alive)
+    n = live.size
+    config = tracker.config
+    state = {name: getattr(tracker, name)[live] for name in _TRACKER_STATE}
+    if not math.isfinite(sum(float(array.sum()) for array in state.values())):  # NaN or inf somewhere (or overflow)
+        finite = np.ones(n, bool)
+        for name, array in state.items():
+            ok = np.isfinite(array).reshape(n, math.prod(array.shape[1:])).all(axis=1)
+            if not ok.all():
+                violations.append(f"tracker {name} is not finite at live {_slots(tracker, live[~ok])}")
+            finite &= ok
+        live = live[finite]
+        state = {name: array[finite] for name, array in state.items()}
+    for name in ("cv_P", "static_P"):
+        P = state[name]
+        if not P.size:
+            continue
+        asymmetry = np.abs(P - P.transpose(0, 2, 1)).max(axis=(1, 2))
+        bad = asymmetry > COVARIANCE_SYMMETRY_REL * np.abs(P).max(axis=(1, 2))
+        if bad.any():
+            violations.append(f"tracker covariance {name} is not symmetric at {_slots(tracker, live[bad])}: "
+                              f"largest |P - Pᵀ| {asymmetry[bad].max():.3g}")
+        try:
+            np.linalg.cholesky(P)  # every matrix at once; reads the lower triangle
+        except np.linalg.LinAlgError:
+            smallest = np.linalg.eigvalsh(P)[:, 0]  # ascending
+            bad = ~(smallest > 0.0)
+            violations.append(f"tracker covariance {name} is not positive definite at {_slots(tracker, live[bad])}: "
+                              f"smallest eigenvalue {smallest[bad].min():.3g}")
+    p_moving = state["p_moving"]
+    if p_moving.size and not (p_moving.min() >= 0.0 and p_moving.max() <= 1.0):
+        bad = ~((p_moving >= 0.0) & (p_moving <= 1.0))
+        violations.append(f"tracker motion probability outside [0, 1] at {_slots(tracker, live[bad])}: "
+                          f"{p_moving[bad][:5].tolist()}")
+    ids = tracker.ids[tracker.alive]
+    if ids.size and (ids.max() >= tracker.counters[0] or np.unique(ids).size != ids.size):
+        violations.append(f"tracker ids {sorted(ids.tolist())} are not unique or not below the next id "
+                          f"{int(tracker.counters[0])}")
+    if n > config.max_tracks:
+        violations.append(f"tracker has {n} live tracks, more than max_tracks={config.max_tracks}")
+    tentative = int(np.count_nonzero(tracker.hits[tracker.alive] < config.track_confirm_hits))
+    segments = int(tracker.counters[1])
+    if tentative > segments:
+        violations.append(f"tracker has {tentative} tentative tracks but the last scan had {segments} segments "
+                          f"(each tentative track holds one of them)")
+    if tracks is not None and len(tracks) != n:
+        violations.append(f"tracks table has {len(tracks)} rows but the tracker has {n} live tracks")
+    return violations
+
+
+#: The per-track state arrays of ``Tracker`` that must be finite.
+_TRACKER_STATE = ("cv_x", "cv_P", "static_x", "static_P", "p_moving")
+#: The float columns of a ``TrackTable`` that must be finite.
+_TABLE_FLOATS = ("position_m", "velocity_mps", "speed_mps", "moving_probability", "covariance", "age_s")
+
+
+def _check_track_table(tracks) -> list[str]:
+    """The violated invariants of an ``AttentionOutput.tracks`` table (item 4)."""
+    n = len(tracks)
+    if not n:
+        return []
+    violations = []
+    if not math.isfinite(sum(float(getattr(tracks, name).sum()) for name in _TABLE_FLOATS)):
+        for name in _TABLE_FLOATS:
+            values = getattr(tracks, name)
+            bad = ~np.isfinite(values).reshape(n, math.prod(values.shape[1:])).all(axis=1)
+            if bad.any():
+                violations.append(f"tracks {name} is not finite for ids {tracks.id[bad][:5].tolist()}")
+    speed = tracks.speed_mps
+    if speed.min() < 0.0:
+        violations.append(f"tracks speed_mps is negative: min {speed.min()}")
+    p = tracks.moving_probability
+    if p.min() < 0.0 or p.max() > 1.0:
+        violations.append(f"tracks moving_probability outside [0, 1]: {p[(p < 0.0) | (p > 1.0)][:5].tolist()}")
     return violations
 
 
@@ -205,8 +327,10 @@ class InvariantChecker:
         """Start a new episode (forget the last contact)."""
         self._last_contact_s = -math.inf
 
-    def check(self, env, obs: dict[str, np.ndarray], output=None, info: dict | None = None) -> list[str]:
-        """The violated invariants after this step (see ``check_invariants``).
+    def check(self, env, obs: dict[str, np.ndarray], output=None, info: dict | None = None, *,
+              model=None) -> list[str]:
+        """The violated invariants after this step (see ``check_invariants``; ``model``:
+        the model that computed ``output``, for its tracker).
 
         Pass the step's ``info``: its ``collision`` flag covers every physics sub-step,
         while the contacts still present after the step may already have ended.
@@ -216,7 +340,7 @@ class InvariantChecker:
             self._last_contact_s = world.time_s
         contact = world is not None and world.time_s - self._last_contact_s <= CONTACT_MEMORY_S
         depth: list[float] = []
-        violations = check_invariants(env, obs, output, contact=contact, _depth=depth)
+        violations = check_invariants(env, obs, output, model=model, contact=contact, _depth=depth)
         if depth:
             self.max_penetration_m = max(self.max_penetration_m, depth[0])
         return violations
