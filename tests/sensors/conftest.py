@@ -14,7 +14,7 @@ import numpy as np
 import pymunk
 import pytest
 
-from attentive_gym.sensors import GeometryCache
+from attentive_gym.sensors import GeometryCache, SceneGeometry
 
 ROBOT_ID = 0
 #: pymunk categories: the robot (left out of every oracle query, as the casters leave
@@ -199,3 +199,13 @@ def pm():
         Scene=Scene, random_scene=random_scene, outside_points=outside_points, pymunk_cast=pymunk_cast,
         refresh=refresh,
     )
+
+
+@pytest.fixture
+def room() -> SceneGeometry:
+    """A room 8 x 6 m around the origin with a box and a pole inside (owners 1, 2, 3)."""
+    x0, y0, x1, y1 = -3.0, -2.0, 5.0, 4.0
+    walls = [(x0, y0, x1, y0), (x1, y0, x1, y1), (x1, y1, x0, y1), (x0, y1, x0, y0)]
+    box = [(2.0, -0.5, 2.5, -0.5), (2.5, -0.5, 2.5, 0.5), (2.5, 0.5, 2.0, 0.5), (2.0, 0.5, 2.0, -0.5)]
+    return SceneGeometry(np.array(walls + box), np.array([1] * 4 + [2] * 4), np.array([[-1.0, 1.5, 0.2]]),
+                         np.array([3]))

@@ -20,14 +20,6 @@ def _gaussian_oracle(ranges, sigma, normals, min_range_m, max_range_m):
     return noisy
 
 
-def _scene():
-    """A room 8 x 6 m around the origin with a box and a pole inside (as in test_noise_suite)."""
-    x0, y0, x1, y1 = -3.0, -2.0, 5.0, 4.0
-    walls = [(x0, y0, x1, y0), (x1, y0, x1, y1), (x1, y1, x0, y1), (x0, y1, x0, y0)]
-    box = [(2.0, -0.5, 2.5, -0.5), (2.5, -0.5, 2.5, 0.5), (2.5, 0.5, 2.0, 0.5), (2.0, 0.5, 2.0, -0.5)]
-    return SceneGeometry(np.array(walls + box), np.array([1] * 4 + [2] * 4), np.array([[-1.0, 1.5, 0.2]]),
-                         np.array([3]))
-
 
 def test_the_models_are_gaussian_and_uniform():
     assert NOISE_MODELS == ("gaussian", "uniform")
@@ -98,11 +90,11 @@ def test_gaussian_is_the_default_and_unchanged():
     np.testing.assert_array_equal(default, _gaussian_oracle(ranges, 0.05, normals, SONAR_MIN_M, SONAR_MAX_M))
 
 
-def test_suite_default_is_the_gaussian_oracle_sonar_first_then_laser():
+def test_suite_default_is_the_gaussian_oracle_sonar_first_then_laser(room):
     pose = (0.3, 0.2, 0.4)
-    clean = SensorSuite(noise_std=0.0).read(pose, _scene(), np.random.default_rng(0))
-    default = SensorSuite().read(pose, _scene(), np.random.default_rng(21))
-    explicit = SensorSuite(noise_std=0.05, noise_model="gaussian").read(pose, _scene(), np.random.default_rng(21))
+    clean = SensorSuite(noise_std=0.0).read(pose, room, np.random.default_rng(0))
+    default = SensorSuite().read(pose, room, np.random.default_rng(21))
+    explicit = SensorSuite(noise_std=0.05, noise_model="gaussian").read(pose, room, np.random.default_rng(21))
     normals = np.random.default_rng(21).standard_normal(16 + 180)
     np.testing.assert_array_equal(default.sonar, _gaussian_oracle(clean.sonar, 0.05, normals[:16], SONAR_MIN_M,
                                                                   SONAR_MAX_M))
@@ -111,12 +103,12 @@ def test_suite_default_is_the_gaussian_oracle_sonar_first_then_laser():
     np.testing.assert_array_equal(explicit.laser, default.laser)
 
 
-def test_uniform_suite_matches_apply_range_noise_and_keeps_owners():
+def test_uniform_suite_matches_apply_range_noise_and_keeps_owners(room):
     pose = (0.3, 0.2, 0.4)
     suite = SensorSuite(noise_std=0.05, noise_model="uniform")
     assert suite.noise_model == "uniform"
-    reading = suite.read(pose, _scene(), np.random.default_rng(5))
-    clean = SensorSuite(noise_std=0.0, noise_model="uniform").read(pose, _scene(), np.random.default_rng(0))
+    reading = suite.read(pose, room, np.random.default_rng(5))
+    clean = SensorSuite(noise_std=0.0, noise_model="uniform").read(pose, room, np.random.default_rng(0))
     rng = np.random.default_rng(5)
     np.testing.assert_array_equal(reading.sonar, apply_range_noise(clean.sonar, 0.05, SONAR_MIN_M, SONAR_MAX_M, rng,
                                                                    model="uniform"))

@@ -82,20 +82,12 @@ def test_bad_limits_and_rng_are_refused():
         apply_range_noise(_readings(), 0.05, 0.15, 5.0, np.random.RandomState(0))
 
 
-def _scene():
-    """A room 8 x 6 m around the origin with a pole and a box inside."""
-    x0, y0, x1, y1 = -3.0, -2.0, 5.0, 4.0
-    walls = [(x0, y0, x1, y0), (x1, y0, x1, y1), (x1, y1, x0, y1), (x0, y1, x0, y0)]
-    box = [(2.0, -0.5, 2.5, -0.5), (2.5, -0.5, 2.5, 0.5), (2.5, 0.5, 2.0, 0.5), (2.0, 0.5, 2.0, -0.5)]
-    return SceneGeometry(np.array(walls + box), np.array([1] * 4 + [2] * 4), np.array([[-1.0, 1.5, 0.2]]),
-                         np.array([3]))
 
-
-def test_noise_free_suite_reads_the_ring_and_the_scanner():
+def test_noise_free_suite_reads_the_ring_and_the_scanner(room):
     pose = (0.3, 0.2, 0.4)
-    reading = SensorSuite(noise_std=0.0).read(pose, _scene(), np.random.default_rng(0))
-    sonar, sonar_owner = SonarRing().read(pose, _scene())
-    laser, laser_owner = LaserScanner().read(pose, _scene())
+    reading = SensorSuite(noise_std=0.0).read(pose, room, np.random.default_rng(0))
+    sonar, sonar_owner = SonarRing().read(pose, room)
+    laser, laser_owner = LaserScanner().read(pose, room)
     np.testing.assert_array_equal(reading.sonar, sonar)
     np.testing.assert_array_equal(reading.laser, laser)
     np.testing.assert_array_equal(reading.sonar_owner, sonar_owner)
@@ -106,12 +98,12 @@ def test_noise_free_suite_reads_the_ring_and_the_scanner():
     assert {1, 2} <= set(laser_owner.tolist()) and 3 in sonar_owner
 
 
-def test_noisy_suite_keeps_owners_and_limits_and_is_seeded():
+def test_noisy_suite_keeps_owners_and_limits_and_is_seeded(room):
     suite = SensorSuite(noise_std=0.05)
     pose = (0.3, 0.2, 0.4)
-    a = suite.read(pose, _scene(), np.random.default_rng(5))
-    b = suite.read(pose, _scene(), np.random.default_rng(5))
-    clean = SensorSuite(noise_std=0.0).read(pose, _scene(), np.random.default_rng(5))
+    a = suite.read(pose, room, np.random.default_rng(5))
+    b = suite.read(pose, room, np.random.default_rng(5))
+    clean = SensorSuite(noise_std=0.0).read(pose, room, np.random.default_rng(5))
     np.testing.assert_array_equal(a.sonar, b.sonar)
     np.testing.assert_array_equal(a.laser, b.laser)
     np.testing.assert_array_equal(a.sonar_owner, clean.sonar_owner)
@@ -127,28 +119,28 @@ def test_noisy_suite_keeps_owners_and_limits_and_is_seeded():
     np.testing.assert_array_equal(a.laser, expected_laser)
 
 
-def test_rng_use_does_not_depend_on_the_noise_level():
+def test_rng_use_does_not_depend_on_the_noise_level(room):
     quiet, loud = np.random.default_rng(2), np.random.default_rng(2)
-    SensorSuite(noise_std=0.0).read((0.0, 0.0, 0.0), _scene(), quiet)
-    SensorSuite(noise_std=0.3).read((0.0, 0.0, 0.0), _scene(), loud)
+    SensorSuite(noise_std=0.0).read((0.0, 0.0, 0.0), room, quiet)
+    SensorSuite(noise_std=0.3).read((0.0, 0.0, 0.0), room, loud)
     assert quiet.bit_generator.state == loud.bit_generator.state
 
 
-def test_suite_configs_drawing_and_pickling():
+def test_suite_configs_drawing_and_pickling(room):
     suite = SensorSuite(SonarConfig(max_range_m=3.0), LaserConfig(num_beams=90, fov_deg=270.0), noise_std=0.0)
     pose = (0.0, 0.0, 0.0)
-    reading = suite.read(pose, _scene(), np.random.default_rng(0))
+    reading = suite.read(pose, room, np.random.default_rng(0))
     assert reading.sonar.max() <= 3.0 and reading.laser.shape == (90,)
     assert suite.laser_segments(pose, reading).shape == (2, 90, 2)
     assert len(suite.sonar_cones(pose, reading)) == 16
     clone = pickle.loads(pickle.dumps(suite))
-    again = clone.read(pose, _scene(), np.random.default_rng(0))
+    again = clone.read(pose, room, np.random.default_rng(0))
     np.testing.assert_array_equal(again.laser, reading.laser)
     assert isinstance(reading, SensorReading)
     with pytest.raises(TypeError, match="config must be a SonarConfig"):
         SensorSuite(LaserConfig())
     with pytest.raises(TypeError, match="exclude_owner must be an int"):
-        suite.read(pose, _scene(), np.random.default_rng(0), exclude_owner="robot")
+        suite.read(pose, room, np.random.default_rng(0), exclude_owner="robot")
 
 
 @pytest.mark.parametrize("module", ["geometry", "raycast", "sonar", "laser", "noise", "suite"])
