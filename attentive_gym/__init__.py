@@ -8,8 +8,10 @@ Layers, from the bottom up:
 - ``attentive_gym.envs``: the Gymnasium environments (``AttentiveRescue-v0``).
 - ``attentive_gym.wrappers``, ``attentive_gym.agents``, ``attentive_gym.experiments``.
 
-Importing the package registers the environments with Gymnasium (idempotently), so
-``gym.make("attentive_gym:AttentiveRescue-v0")`` works in spawned subprocesses too.
+Importing the package registers the environments with Gymnasium (idempotently, by
+string entry points: ``attentive_gym.registration``), so
+``gym.make("attentive_gym:AttentiveRescue-v0")`` works in spawned subprocesses too, and
+``import attentive_gym.attention`` loads neither pymunk, pygame nor torch.
 """
 
 try:  # the attention library must stay usable without gymnasium installed
@@ -18,7 +20,7 @@ except ImportError:  # pragma: no cover - exercised by tests/attention/test_stan
     _gymnasium = None
 
 if _gymnasium is not None:
-    from attentive_gym.envs.registration import register_environments
+    from attentive_gym.registration import register_environments
 
     register_environments()
 

@@ -5,7 +5,7 @@ Both runs use the same PPO set-up as ``attentive-gym train`` (``RunSpec`` defaul
 5 epochs, one torch thread) and the same observation/action spaces; they differ only in
 the environment:
 
-- ``focus``: ``make_env("focus")``, the attended observation (49 numbers in a ``Dict``);
+- ``focus``: ``make_env("focus")``, the attended observation (64 numbers in a ``Dict``);
 - ``trivial``: a ``gym.Env`` with the same spaces that returns pre-drawn random
   observations (800-step episodes, reward 0): what PPO alone costs.
 

@@ -222,10 +222,14 @@ class AttentionOutput:
     @functools.cached_property
     def view(self) -> FocusView | None:
         """What the sensors see at the focus, None without focus."""
-        if self.focus is None:
-            return None
+        return None if self.focus is None else self.view_of(self.focus)
+
+    def view_of(self, region: int) -> FocusView:
+        """What the sensors see in ``region`` (an index in ``[0, J)``), focused or not."""
         grid, readings, valid, rates, nearest, region_slot, track_rows, _ = self._sources
-        j = self.focus
+        if not 0 <= region < grid.n_regions:
+            raise ValueError(f"region must be an index in [0, {grid.n_regions}), got {region!r}")
+        j = int(region)
         sonar_index = int(grid.region_sonar[j])
         beams = grid.beam_indices[j]
         sonar_range = float(readings[sonar_index])
@@ -348,6 +352,13 @@ class AttentionModel:
     def state(self) -> float:
         """The Global Attentive State gain g."""
         return self._gain
+
+    @property
+    def odometry_pose(self) -> np.ndarray | None:
+        """``(3,)`` copy of the robot's dead-reckoned pose (x m, y m, heading rad) in the
+        frame that odometry keeps fixed to the world since ``reset``, in which the tracks
+        live; None unless ``kinematics="tracker"``."""
+        return None if self._tracker is None else self._tracker.pose.copy()
 
     def set_goals(self, *goals: Goal) -> None:
         """Replace the goals; ``set_goals()`` clears them.

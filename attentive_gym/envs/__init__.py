@@ -3,11 +3,9 @@
 - ``rescue_env``: ``AttentiveRescueEnv``, registered as ``AttentiveRescue-v0``.
 - ``reward``: ``RewardConfig`` and the shaped rescue reward.
 - ``rendering``: ``WorldRenderer``, the pygame top-down view.
-- ``registration``: ``register_environments`` (called when the package is imported).
 """
 
-from attentive_gym.envs.registration import register_environments
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.envs.reward import RewardConfig
 
-__all__ = ["AttentiveRescueEnv", "RewardConfig", "register_environments"]
+__all__ = ["AttentiveRescueEnv", "RewardConfig"]

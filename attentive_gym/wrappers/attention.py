@@ -15,14 +15,20 @@ from typing import Any, Mapping
 import gymnasium as gym
 import numpy as np
 
-from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, Goal
-from attentive_gym.wrappers.encoders import ENCODERS
+from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, FocusView, Goal
+from attentive_gym.attention.working_memory import MEMORY_FIELDS, WorkingMemory
+from attentive_gym.wrappers.encoders import ENCODERS, FocusEncoder
 from attentive_gym.wrappers.overlay import draw_attention
 
-__all__ = ["AttentionWrapper", "OBSERVATION_MODES"]
+__all__ = ["AttentionWrapper", "OBSERVATION_MODES", "SELECTIONS", "DEFAULT_MEMORY_SLOTS"]
 
 #: The observation modes, the first being the default.
 OBSERVATION_MODES = tuple(ENCODERS)
+#: How the ``"focus"`` observation's region is chosen: the model's winner, or at random.
+SELECTIONS = ("winner", "random")
+#: Bodies the ``"focus"`` observation's working memory holds by default.
+DEFAULT_MEMORY_SLOTS = 3
+_NO_EVENT = (False, False, False)
 _REQUIRED_KEYS = ("sonar", "laser", "odometry", "goal")
 
 
@@ -40,6 +46,12 @@ class AttentionWrapper(gym.Wrapper):
             tracker assumes the sensors the robot has.
         weights: map weights for ``AttentionModel.set_weights`` (default: the config's).
         state: the Global Attentive State ("drowsy", "alert", "vigilant" or a gain).
+        memory_slots: ``"focus"`` only: bodies in the working memory of the last attended
+            tracks (``attentive_gym.attention.working_memory``; 0 = none; default 3).
+        selection: ``"focus"`` only: ``"winner"`` (default) attends the model's focus;
+            ``"random"`` attends a region drawn uniformly each step (a control: the same
+            bottleneck without the model's choice; ``"event"`` is then all zeros). The
+            draws come from the wrapper's own generator, seeded by ``reset(seed=...)``.
 
     The model is reset with the environment and fed the time of each sensor's scan
     (``info["sonar_time_s"]``, ``info["laser_time_s"]``), so that readings held between
@@ -55,10 +67,20 @@ class AttentionWrapper(gym.Wrapper):
         config: AttentionConfig | None = None,
         weights: Mapping[str, float] | None = None,
         state: str | float | None = None,
+        memory_slots: int | None = None,
+        selection: str = "winner",
     ) -> None:
         super().__init__(env)
         if mode not in ENCODERS:
             raise ValueError(f"unknown observation mode {mode!r}; allowed: {list(OBSERVATION_MODES)}")
+        if selection not in SELECTIONS:
+            raise ValueError(f"unknown selection {selection!r}; allowed: {list(SELECTIONS)}")
+        if mode != "focus" and (memory_slots is not None or selection != "winner"):
+            raise ValueError(f"memory_slots and selection apply to the 'focus' observation only, got mode={mode!r}")
+        if memory_slots is None:
+            memory_slots = DEFAULT_MEMORY_SLOTS
+        if not isinstance(memory_slots, int) or isinstance(memory_slots, bool) or memory_slots < 0:
+            raise ValueError(f"memory_slots must be an integer >= 0, got {memory_slots!r}")
         base = env.observation_space
         if not isinstance(base, gym.spaces.Dict) or any(k not in base.spaces for k in _REQUIRED_KEYS):
             raise ValueError(f"AttentionWrapper needs a Dict observation with keys {list(_REQUIRED_KEYS)}, got {base}")
@@ -68,9 +90,14 @@ class AttentionWrapper(gym.Wrapper):
             self.model.set_weights(weights)
         if state is not None:
             self.model.set_state(state)
-        # L's ceiling allows every named attentive state, or the higher gain asked for
-        self._encoder = ENCODERS[mode](self.model.config, base, gain=max(self.model.state, max(ATTENTIVE_STATES.values())))
+        if mode == "focus":
+            self._encoder = FocusEncoder(self.model.config, base, memory_slots)
+        else:  # L's ceiling allows every named attentive state, or the higher gain asked for
+            self._encoder = ENCODERS[mode](self.model.config, base, gain=max(self.model.state, max(ATTENTIVE_STATES.values())))
         self.observation_space = self._encoder.space
+        self.selection = selection
+        self.memory = WorkingMemory(memory_slots) if mode == "focus" and memory_slots else None
+        self._selection_rng: np.random.Generator | None = None
         self._chosen_goal: Goal | None = None
         self._goal_chosen = False
         self.last_output: AttentionOutput | None = None
@@ -92,6 +119,10 @@ class AttentionWrapper(gym.Wrapper):
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         raw, info = self.env.reset(seed=seed, options=options)
         self.model.reset()
+        if self.memory is not None:
+            self.memory.reset()
+        if seed is not None or self._selection_rng is None:
+            self._selection_rng = np.random.default_rng(None if seed is None else [seed, _SELECTION_STREAM])
         if not self._goal_chosen:
             task_goal = Goal.decode(raw["goal"])
             self.model.set_goals() if task_goal is None else self.model.set_goals(task_goal)
@@ -112,13 +143,37 @@ class AttentionWrapper(gym.Wrapper):
                                  sonar_time_s=info.get("sonar_time_s"), laser_time_s=info.get("laser_time_s"))
         self.last_output = output
         info["attention"] = output
-        return self._encoder.encode(raw, output)
+        if self.mode != "focus":
+            return self._encoder.encode(raw, output)
+        view, event = self._attended(output)
+        return self._encoder.encode(raw, view, event, self._remember(output, view))
+
+    def _attended(self, output: AttentionOutput) -> tuple[FocusView | None, tuple[bool, bool, bool]]:
+        """The attended region's view and the step's (fired, bottom-up, top-down) event."""
+        if self.selection == "random":
+            return output.view_of(int(self._selection_rng.integers(self.model.grid.n_regions))), _NO_EVENT
+        return output.view, (output.fired, output.origin == "bottom-up", output.origin == "top-down")
+
+    def _remember(self, output: AttentionOutput, view: FocusView | None) -> np.ndarray | None:
+        """Write the attended track into the working memory; its rows now (None without one)."""
+        if self.memory is None:
+            return None
+        pose = self.model.odometry_pose
+        if pose is None:  # no tracks without the tracker: the memory stays empty
+            return np.zeros((self.memory.slots, len(MEMORY_FIELDS)), np.float32)
+        if view is not None and view.track_id is not None:
+            self.memory.attend(output.t, pose, view.track_id, view.track_position_m, view.track_velocity_mps,
+                               view.track_speed_mps, bool(output.goal_fulfilled[view.region]))
+        return self.memory.read(output.t, pose, self.model.config.max_distance_m)
 
     def _draw_overlay(self, renderer, surface) -> None:
         """Draw the latest focus and saliency (called by the base environment's renderer)."""
         if self.last_output is not None:
             draw_attention(renderer, surface, self.env.unwrapped.world.robot.pose, self.model.grid, self.last_output)
 
+
+#: Second word of the random selection's seed, so that its stream differs from the env's.
+_SELECTION_STREAM = 0x5E1EC7
 
 #: σ of a uniform noise on [−a, a], in units of a.
 _UNIFORM_SIGMA_PER_HALF_WIDTH = 1.0 / math.sqrt(3.0)

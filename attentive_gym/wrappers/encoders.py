@@ -3,10 +3,12 @@
 One encoder per observation mode of ``AttentionWrapper``; each has an exact
 ``space`` (a ``gymnasium.spaces.Dict`` of float32 ``Box`` es) and ``encode(raw, output)``,
 where ``raw`` is the base environment's observation (``"sonar"`` (16,), ``"laser"``
-(180,), ``"odometry"`` (2,), ``"goal"`` (13,)) and ``output`` the model's step.
+(180,), ``"odometry"`` (2,), ``"goal"`` (13,)) and ``output`` the model's step (the focus
+encoder takes the attended region's ``FocusView`` instead, so that the region can be
+chosen otherwise: at random, or from the privileged state).
 
-- ``FocusEncoder`` (``"focus"``): only the winner-takes-all region's sub-representation,
-  49 numbers (layout in its docstring).
+- ``FocusEncoder`` (``"focus"``): only the attended region's sub-representation and a
+  working memory of the last attended bodies, 64 numbers (layout in its docstring).
 - ``SaliencyEncoder`` (``"saliency"``): the raw readings plus the maps L and M.
 - ``MaskedEncoder`` (``"masked"``): the raw readings with everything outside the focus
   replaced by the sensor's maximum range, plus 0/1 masks of what was kept.
@@ -17,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
-from attentive_gym.attention import AttentionConfig, AttentionOutput, Grid
+from attentive_gym.attention import AttentionConfig, AttentionOutput, FocusView, Grid
 from attentive_gym.attention.regions import SONAR_RING
 
 __all__ = ["ENCODERS", "FocusEncoder", "MaskedEncoder", "SaliencyEncoder", "LASER_BINS", "map_ceilings"]
@@ -53,76 +55,89 @@ def _passthrough_spaces(base: spaces.Dict) -> dict[str, spaces.Box]:
 
 
 class FocusEncoder:
-    """The focused region's sub-representation (MODEL.md §8), nothing from outside it.
+    """The attended region's sub-representation (docs/model.md §8) and a working memory of
+    the last attended bodies; nothing from outside what was attended.
 
     Keys (all float32; every region-specific entry is 0 when there is no focus):
 
-    - ``"region"`` (J + 1,): one-hot of the focused region, last slot = no focus.
+    - ``"region"`` (J + 1,): one-hot of the attended region, last slot = no focus.
     - ``"event"`` (3,): fired (a new course started), origin bottom-up, origin top-down.
-    - ``"saliency"`` (1,): L at the focus, in [0, the ceiling of ``map_ceilings``].
-    - ``"bearing"`` (2,): cos and sin of the region's bearing (robot frame).
     - ``"sonar"`` (2,): the region's sonar range (m, [0, sonar max]) and echo flag.
     - ``"laser"`` (6,): minimum laser range (m) in each of 6 equal sub-sectors of the
       region's beams, right to left.
-    - ``"motion"`` (4,): range rate (m/s, + away, clipped to ±max speed) and the
-      direction label one-hot (towards, static, away).
     - ``"distance"`` (1,): nearest valid reading in the region (m); the laser's
       maximum when none.
+    - ``"motion"`` (4,): range rate (m/s, + away, clipped to ±max speed) and the
+      direction label one-hot (towards, static, away).
     - ``"features"`` (6,): F1..F6 at the region.
+    - ``"memory"`` (K · 6,), when ``memory_slots`` = K > 0: the rows of
+      ``WorkingMemory.read``, most recently attended first (cos and sin of the bearing,
+      distance in m up to ``max_distance_m``, speed in m/s up to ``max_speed_mps``, goal
+      match, age in s up to the memory's horizon); an empty slot is all zeros.
     - ``"odometry"`` (2,), ``"goal"`` (13,): as in the base observation.
 
-    49 numbers with the sonar grid (J = 8). Needs ``grid="sonar"``: with one region per
-    laser beam the one-hot alone would be 181 numbers.
+    64 numbers with the sonar grid (J = 8) and K = 3. Needs ``grid="sonar"``: with one
+    region per laser beam the one-hot alone would be 181 numbers.
     """
 
-    def __init__(self, config: AttentionConfig, base: spaces.Dict, gain: float) -> None:
+    def __init__(self, config: AttentionConfig, base: spaces.Dict, memory_slots: int = 0,
+                 memory_horizon_s: float = 10.0) -> None:
         if config.grid != "sonar":
             raise ValueError(f"the 'focus' observation needs AttentionConfig(grid='sonar'), got grid={config.grid!r}")
         self.grid = Grid.make(config.grid)
         self._max_speed = config.max_speed_mps
         self._max_distance = config.max_distance_m
-        self._l_high = map_ceilings(config, gain)[1]
         j = self.grid.n_regions
+        memory_high = np.tile(np.array([1.0, 1.0, config.max_distance_m, config.max_speed_mps, 1.0, memory_horizon_s],
+                                       _F32), memory_slots)
+        memory_low = np.tile(np.array([-1.0, -1.0, 0.0, 0.0, 0.0, 0.0], _F32), memory_slots)
         self.space = spaces.Dict(
             {
                 "region": _box(0.0, 1.0, (j + 1,)),
                 "event": _box(0.0, 1.0, (3,)),
-                "saliency": _box(0.0, self._l_high, (1,)),
-                "bearing": _box(-1.0, 1.0, (2,)),
                 "sonar": spaces.Box(np.zeros(2, _F32), np.array([config.sonar_max_range_m, 1.0], _F32), dtype=_F32),
                 "laser": _box(0.0, config.laser_max_range_m, (LASER_BINS,)),
+                "distance": _box(0.0, config.max_distance_m, (1,)),
                 "motion": spaces.Box(np.array([-self._max_speed, 0, 0, 0], _F32),
                                      np.array([self._max_speed, 1, 1, 1], _F32), dtype=_F32),
-                "distance": _box(0.0, config.max_distance_m, (1,)),
                 "features": _box(0.0, 1.0, (6,)),
+                **({"memory": spaces.Box(memory_low, memory_high, dtype=_F32)} if memory_slots else {}),
                 **_passthrough_spaces(base),
             }
         )
+        self._memory_high = memory_high
         # per region: where each laser sub-sector starts within the region's beams
         self._bin_starts = [np.cumsum([0] + [len(b) for b in np.array_split(beams, LASER_BINS)[:-1]]).astype(np.intp)
                             for beams in self.grid.beam_indices]
         offsets = np.cumsum([0] + [space.shape[0] for space in self.space.values()])
         self._parts = {key: slice(a, b) for key, a, b in zip(self.space, offsets[:-1], offsets[1:])}
         self._size = int(offsets[-1])
-        self._bearings = [np.array([np.cos(b), np.sin(b)], _F32) for b in self.grid.bearings_rad]
 
-    def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
+    def encode(self, raw: dict[str, np.ndarray], view: FocusView | None, event: tuple[bool, bool, bool],
+               memory: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """The observation of attending ``view`` (None: no focus).
+
+        Args:
+            raw: the base observation.
+            view: what the sensors see in the attended region.
+            event: (fired, origin bottom-up, origin top-down) of the attention step.
+            memory: ``(K, 6)`` rows of ``WorkingMemory.read`` (needed when K > 0).
+        """
         flat = np.zeros(self._size, _F32)  # every entry's view below shares this buffer
         obs = {key: flat[part] for key, part in self._parts.items()}
         obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
-        view = output.view
+        if "memory" in obs:
+            np.minimum(memory.reshape(-1), self._memory_high, out=obs["memory"])
         if view is None:
             obs["region"][-1] = 1.0
             return obs
         obs["region"][view.region] = 1.0
-        obs["event"][:] = (output.fired, output.origin == "bottom-up", output.origin == "top-down")
-        obs["saliency"][0] = min(output.saliency, self._l_high)
-        obs["bearing"][:] = self._bearings[view.region]
+        obs["event"][:] = event
         obs["sonar"][:] = (view.sonar_range_m, view.sonar_echo)
         obs["laser"][:] = np.minimum.reduceat(view.laser_ranges_m, self._bin_starts[view.region])
+        obs["distance"][0] = self._max_distance if view.distance_m is None else min(view.distance_m, self._max_distance)
         obs["motion"][0] = min(max(view.range_rate_mps, -self._max_speed), self._max_speed)
         obs["motion"][2 + int(view.direction)] = 1.0
-        obs["distance"][0] = self._max_distance if view.distance_m is None else min(view.distance_m, self._max_distance)
         obs["features"][:] = view.features
         return obs
 

@@ -4,10 +4,12 @@
 |---|---|---|
 | ``"raw"`` | ``AttentiveRescue-v0`` | sonar, laser, odometry, goal |
 | ``"raw-stack"`` | ``AttentiveRescueStack-v0`` | the same, sensors stacked over 4 steps |
-| ``"focus"`` | ``AttentiveRescueFocus-v0`` | the attended region only (49 numbers) |
+| ``"focus"`` | ``AttentiveRescueFocus-v0`` | the attended region and a memory of the last 3 attended bodies (64 numbers) |
 | ``"saliency"`` | ``AttentiveRescueSaliency-v0`` | raw readings + maps L and M |
 | ``"masked"`` | ``AttentiveRescueMasked-v0`` | raw readings outside the focus masked + masks |
 | ``"goal-action"`` | ``AttentiveRescueGoalAction-v0`` | ``"focus"``, the action also picks goal and weights |
+| ``"oracle"`` | ``AttentiveRescueOracle-v0`` | ``"focus"``'s layout filled from the privileged state (a bound) |
+| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v0`` | ``"focus"`` of a region drawn at random each step (a control) |
 
 ``flatten=True`` turns the ``Dict`` observation into one ``Box`` (for ``MlpPolicy``);
 keep it False for ``MultiInputPolicy``.
@@ -15,30 +17,24 @@ keep it False for ``MultiInputPolicy``.
 
 from __future__ import annotations
 
-import functools
 from typing import Any, Mapping
 
 import gymnasium as gym
 
 from attentive_gym.attention import AttentionConfig
+from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.wrappers.attention import AttentionWrapper
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, GoalActionWrapper
+from attentive_gym.wrappers.oracle import OracleFocus
 from attentive_gym.wrappers.stack import StackedReadings
 
 __all__ = ["VARIANTS", "VARIANT_IDS", "make_env"]
 
-#: Variant name → registered environment id.
-VARIANT_IDS: dict[str, str] = {
-    "raw": "AttentiveRescue-v0",
-    "raw-stack": "AttentiveRescueStack-v0",
-    "focus": "AttentiveRescueFocus-v0",
-    "saliency": "AttentiveRescueSaliency-v0",
-    "masked": "AttentiveRescueMasked-v0",
-    "goal-action": "AttentiveRescueGoalAction-v0",
-}
 VARIANTS = tuple(VARIANT_IDS)
-_ATTENTION_MODES = {"focus": "focus", "saliency": "saliency", "masked": "masked", "goal-action": "focus"}
+_ATTENTION_MODES = {"focus": "focus", "saliency": "saliency", "masked": "masked", "goal-action": "focus",
+                    "random-focus": "focus"}
+_FOCUS_LAYOUT = ("focus", "goal-action", "random-focus", "oracle")
 
 
 def make_env(
@@ -49,6 +45,7 @@ def make_env(
     weights: Mapping[str, float] | None = None,
     n_frames: int = 4,
     goal_menu=DEFAULT_GOAL_MENU,
+    memory_slots: int | None = None,
     **env_kwargs: Any,
 ) -> gym.Env:
     """Build the rescue environment with the observation of ``variant``.
@@ -60,6 +57,9 @@ def make_env(
         weights: the model's map weights (attended variants only).
         n_frames: frames stacked by ``"raw-stack"``.
         goal_menu: goals the ``"goal-action"`` agent chooses from.
+        memory_slots: bodies in the working memory of the variants with the focus layout
+            (``"focus"``, ``"goal-action"``, ``"random-focus"``, ``"oracle"``; default 3,
+            0 = no ``"memory"`` entry).
         env_kwargs: keyword arguments of ``AttentiveRescueEnv`` (``scenario``,
             ``sensor_noise``, ``dt``, ``render_mode``, the arena's knobs, ...).
 
@@ -68,20 +68,22 @@ def make_env(
     """
     if variant not in VARIANT_IDS:
         raise ValueError(f"unknown variant {variant!r}; allowed: {list(VARIANTS)}")
-    if variant in ("raw", "raw-stack") and (attention is not None or weights is not None):
+    if variant in ("raw", "raw-stack", "oracle") and (attention is not None or weights is not None):
         raise ValueError(f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}")
+    if memory_slots is not None and variant not in _FOCUS_LAYOUT:
+        raise ValueError(f"memory_slots applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
     env: gym.Env = AttentiveRescueEnv(**env_kwargs)
     if variant == "raw-stack":
         env = StackedReadings(env, n_frames)
+    elif variant == "oracle":
+        env = OracleFocus(env, **({} if memory_slots is None else {"memory_slots": memory_slots}))
     elif variant in _ATTENTION_MODES:
-        env = AttentionWrapper(env, _ATTENTION_MODES[variant], config=attention, weights=weights)
+        focus = {"memory_slots": memory_slots, "selection": "random" if variant == "random-focus" else "winner"}
+        env = AttentionWrapper(env, _ATTENTION_MODES[variant], config=attention, weights=weights,
+                               **(focus if variant in _FOCUS_LAYOUT else {}))
         if variant == "goal-action":
             env = GoalActionWrapper(env, goal_menu)
     if flatten:
         env = gym.wrappers.FlattenObservation(env)
     return env
 
-
-def registered_entry_points() -> dict[str, Any]:
-    """Environment id → entry point, for the variants other than the base environment."""
-    return {env_id: functools.partial(make_env, variant) for variant, env_id in VARIANT_IDS.items() if variant != "raw"}

@@ -1,4 +1,4 @@
-"""``attentive_gym.attention`` imports neither gymnasium nor pymunk."""
+"""``attentive_gym.attention`` imports neither gymnasium nor pymunk, and stays light with them installed."""
 
 import subprocess
 import sys
@@ -23,6 +23,25 @@ def test_attention_library_works_without_gymnasium_and_pymunk():
         assert out.F.shape == (6, 8)
         bad = [m for m in ("gymnasium", "pymunk", "matplotlib") if sys.modules.get(m) is not None]
         assert not bad, bad
+        print("ok")
+        """
+    )
+    result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "ok"
+
+
+def test_importing_the_model_with_gymnasium_installed_loads_no_simulator_renderer_or_torch():
+    """Registration (run by ``import attentive_gym``) uses string entry points only."""
+    code = textwrap.dedent(
+        """
+        import sys
+        import attentive_gym.attention
+        import gymnasium as gym
+        assert "AttentiveRescueFocus-v0" in gym.registry and "AttentiveRescueOracle-v0" in gym.registry
+        heavy = [m for m in ("pymunk", "pygame", "torch", "stable_baselines3", "matplotlib",
+                             "attentive_gym.envs", "attentive_gym.wrappers") if m in sys.modules]
+        assert not heavy, heavy
         print("ok")
         """
     )

@@ -43,7 +43,7 @@ def test_sb3_check_env():
 
 
 def test_make_by_module_path_and_registration_is_idempotent():
-    from attentive_gym.envs.registration import register_environments
+    from attentive_gym.registration import register_environments
 
     register_environments()
     register_environments()

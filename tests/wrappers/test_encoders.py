@@ -24,9 +24,8 @@ def test_focus_observation_is_small_and_describes_the_focused_region(exp01_focus
     bins = np.array_split(view.laser_ranges_m, LASER_BINS)
     np.testing.assert_allclose(obs["laser"], [b.min() for b in bins], rtol=1e-6)
     np.testing.assert_allclose(obs["features"], out.F[:, j], rtol=1e-6)
-    assert obs["saliency"][0] == pytest.approx(out.saliency, rel=1e-6)
-    assert obs["bearing"] == pytest.approx([np.cos(np.radians(10)), np.sin(np.radians(10))], rel=1e-6)
     assert obs["motion"][1:].sum() == 1.0
+    assert obs["distance"][0] == pytest.approx(view.distance_m, rel=1e-6)
     assert env.observation_space.contains(obs)
 
 
@@ -49,7 +48,8 @@ def test_focus_observation_carries_nothing_from_outside_the_focus(exp01_focus_en
     F, L, M = out.F.copy(), out.L.copy(), out.M.copy()
     F[:, others], L[others], M[others] = 0.77, 0.0, 2.0
     perturbed = dataclasses.replace(out, F=F, L=L, M=M, _sources=(grid, readings, valid, rates, nearest, *tracker_sources))
-    again = encoder.encode(raw, perturbed)
+    event = (out.fired, out.origin == "bottom-up", out.origin == "top-down")
+    again = encoder.encode(raw, perturbed.view, event, obs["memory"].reshape(-1, 6))
     for key in obs:
         np.testing.assert_array_equal(again[key], obs[key], err_msg=key)
 
@@ -59,7 +59,7 @@ def test_focus_observation_without_focus_is_the_none_slot_only():
     obs, info = env.reset(seed=0)
     assert info["attention"].focus is None  # nothing moves in the first reading
     assert obs["region"][-1] == 1.0 and obs["region"][:-1].sum() == 0.0
-    for key in ("event", "saliency", "bearing", "sonar", "laser", "motion", "distance", "features"):
+    for key in ("event", "sonar", "laser", "motion", "distance", "features", "memory"):
         assert not obs[key].any(), key
 
 
@@ -104,7 +104,10 @@ def test_masked_observation_keeps_only_the_focused_readings(grid, run_until_focu
 
 def test_focus_encoder_space_has_the_documented_layout():
     env = make_env("raw")
-    encoder = FocusEncoder(AttentionConfig(), env.observation_space, gain=1.5)
+    encoder = FocusEncoder(AttentionConfig(), env.observation_space, memory_slots=3)
     sizes = {k: s.shape[0] for k, s in encoder.space.spaces.items()}
-    assert sizes == {"region": 9, "event": 3, "saliency": 1, "bearing": 2, "sonar": 2, "laser": LASER_BINS,
-                     "motion": 4, "distance": 1, "features": 6, "odometry": 2, "goal": 13}
+    assert sizes == {"region": 9, "event": 3, "sonar": 2, "laser": LASER_BINS, "distance": 1, "motion": 4,
+                     "features": 6, "memory": 18, "odometry": 2, "goal": 13}
+    assert sum(sizes.values()) == 64
+    without = FocusEncoder(AttentionConfig(), env.observation_space, memory_slots=0)
+    assert "memory" not in without.space.spaces and sum(s.shape[0] for s in without.space.values()) == 46

@@ -44,7 +44,7 @@ def test_ppo_multi_input_policy_trains_on_focus_observations_in_subprocesses():
         envs.close()
 
 
-@pytest.mark.parametrize("variant", ["masked", "goal-action"])
+@pytest.mark.parametrize("variant", ["masked", "goal-action", "oracle", "random-focus"])
 def test_ppo_mlp_policy_trains_on_flattened_observations(variant):
     envs = DummyVecEnv([lambda: make_env(variant, flatten=True)])
     model = PPO("MlpPolicy", envs, n_steps=32, batch_size=32, n_epochs=1, seed=0, device="cpu")

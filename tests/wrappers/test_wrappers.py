@@ -43,7 +43,7 @@ def test_observations_stay_in_their_space_and_flatten_exactly(variant):
     assert np.isfinite(observations).all()
 
 
-@pytest.mark.parametrize("variant", ["focus", "saliency", "masked", "goal-action", "raw-stack"])
+@pytest.mark.parametrize("variant", ["focus", "saliency", "masked", "goal-action", "raw-stack", "oracle", "random-focus"])
 def test_same_seed_gives_the_same_attended_observations(variant):
     first = rollout(make_env(variant), seed=11, steps=120)
     env = make_env(variant)
