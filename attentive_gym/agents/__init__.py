@@ -6,15 +6,17 @@
 - ``evaluate_policy`` (``evaluation``): success rate, return, collisions, episode length.
 - ``compare.compare``: every (variant, seed) pair in a process pool or on Ray, then
   ``results.csv``, ``learning_curves.png`` and ``summary.md``/``summary.csv``.
-- ``results``: atomic writes, t-based 95 % confidence intervals, summaries; ``plots``: the figure.
+- ``results``: atomic writes and summaries; ``statistics``: IQM, bootstrap CIs, probability of
+  improvement (as ``rliable``); ``plots``: the figure.
 
 Importing this package does not import torch or SB3 (the ``agents`` extra); the functions do.
 """
 
 from attentive_gym.agents.config import ALGOS, RunSpec, parse_seeds, parse_variants
-from attentive_gym.agents.results import mean_ci, summarise, t_critical
+from attentive_gym.agents.results import summarise
+from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
 
-__all__ = ["ALGOS", "RunSpec", "parse_seeds", "parse_variants", "mean_ci", "summarise", "t_critical",
+__all__ = ["ALGOS", "RunSpec", "parse_seeds", "parse_variants", "summarise", "bootstrap_ci", "iqm", "probability_of_improvement",
            "train", "evaluate_policy", "load_model"]
 
 

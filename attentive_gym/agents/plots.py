@@ -1,4 +1,4 @@
-"""Learning-curve figure: mean across seeds with a t-based 95 % confidence band, per variant."""
+"""Learning-curve figure: mean across seeds with a 95 % bootstrap confidence band, per variant."""
 
 from __future__ import annotations
 
@@ -8,16 +8,29 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from attentive_gym.agents.results import mean_ci
+from attentive_gym.agents.statistics import bootstrap_ci
 
-__all__ = ["curve_stats", "plot_learning_curves"]
+__all__ = ["curve_stats", "plot_learning_curves", "steps_label", "METRIC_BOUNDS"]
+
+#: The range of each bounded metric; confidence bands are clipped to it.
+METRIC_BOUNDS = {"success_rate": (0.0, 1.0), "mean_collision_steps": (0.0, float("inf")),
+                 "mean_episode_length": (0.0, float("inf"))}
+
+
+def steps_label(steps: float, _position=None) -> str:
+    """An env-step count as a tick label: 0, 500, 50k, 1.5M."""
+    for scale, suffix in ((1e6, "M"), (1e3, "k")):
+        if abs(steps) >= scale:
+            return f"{steps / scale:.3g}{suffix}"
+    return f"{steps:.0f}"
 
 
 def curve_stats(rows: Sequence[Mapping[str, Any]], variant: str, metric: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(env_steps, mean, ci_low, ci_high) of ``metric`` across seeds at each eval point of ``variant``.
 
-    Only eval points every seed of the variant reached are kept (so a band always spans
-    the same seeds).
+    The band is the 95 % bootstrap interval of the mean, clipped to ``METRIC_BOUNDS``; NaN
+    (no band) with one seed. Only eval points every seed of the variant reached are kept
+    (so a band always spans the same seeds).
     """
     by_steps: dict[int, list[float]] = {}
     seeds = {r["seed"] for r in rows if r["variant"] == variant}
@@ -25,7 +38,8 @@ def curve_stats(rows: Sequence[Mapping[str, Any]], variant: str, metric: str) ->
         if row["variant"] == variant:
             by_steps.setdefault(int(row["env_steps"]), []).append(float(row[metric]))
     steps = sorted(s for s, v in by_steps.items() if len(v) == len(seeds))
-    stats = np.array([mean_ci(by_steps[s]) for s in steps]).reshape(-1, 3)
+    bounds = METRIC_BOUNDS.get(metric, (-float("inf"), float("inf")))
+    stats = np.array([bootstrap_ci(by_steps[s], bounds=bounds) for s in steps]).reshape(-1, 3)
     return np.array(steps), stats[:, 0], stats[:, 1], stats[:, 2]
 
 
@@ -40,6 +54,7 @@ def plot_learning_curves(
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter
 
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     if not variants:
@@ -54,10 +69,11 @@ def plot_learning_curves(
             (line,) = ax.plot(steps, mean, marker=".", label=f"{variant} (n={n})")
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
         ax.set_xlabel("environment steps")
+        ax.xaxis.set_major_formatter(FuncFormatter(steps_label))
         ax.set_ylabel(labels.get(metric, metric))
         ax.grid(alpha=0.3)
     axes[0][0].legend(loc="best", fontsize=8)
-    fig.suptitle(title or "mean over seeds, shaded: 95 % CI (t)", fontsize=10)
+    fig.suptitle(title or "mean over seeds, shaded: 95 % bootstrap CI", fontsize=10)
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

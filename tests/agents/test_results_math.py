@@ -1,46 +1,67 @@
-"""Confidence intervals (checked against hand computation), summaries and atomic writes."""
+"""Bootstrap intervals, IQM and probability of improvement (checked against hand computation),
+summaries and atomic writes."""
 
 import math
 import os
 
+import numpy as np
 import pytest
+
+from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
 
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
-    mean_ci,
     read_csv,
     summarise,
     summary_markdown,
-    t_critical,
     write_csv_atomic,
     write_text_atomic,
 )
 
 
-def test_t_critical_matches_tables():
-    assert t_critical(1) == pytest.approx(12.706)
-    assert t_critical(4) == pytest.approx(2.776)
-    assert t_critical(30) == pytest.approx(2.042)
-    assert t_critical(40) == pytest.approx(2.021)
-    assert t_critical(10**9) == pytest.approx(1.960, abs=1e-3)
-    assert 2.042 > t_critical(35) > 2.021  # interpolated between the table rows
-    for bad in (0, -1, 2.5, True):
-        with pytest.raises(ValueError):
-            t_critical(bad)
+def test_iqm_by_hand():
+    assert iqm(np.array([1.0, 2.0, 3.0, 4.0, 100.0])) == 3.0  # drops 1 and 100
+    assert iqm(np.arange(8.0)) == 3.5  # the mean of 2, 3, 4, 5
+    assert iqm(np.array([0.7])) == 0.7
 
 
-def test_mean_ci_by_hand():
-    # x = 0.2, 0.4, 0.6: mean 0.4, s = 0.2, n = 3, t(2) = 4.303 → half width 4.303·0.2/√3 = 0.49687
-    mean, low, high = mean_ci([0.2, 0.4, 0.6])
-    assert mean == pytest.approx(0.4)
-    assert high - mean == pytest.approx(0.496868, abs=1e-5)
-    assert mean - low == pytest.approx(0.496868, abs=1e-5)
-    # x = 1..5: mean 3, s = √2.5 = 1.58114, t(4) = 2.776 → half width 2.776·1.58114/√5 = 1.96296
-    mean, low, high = mean_ci([1, 2, 3, 4, 5])
-    assert (mean, low, high) == pytest.approx((3.0, 1.03704, 4.96296), abs=1e-4)
-    assert mean_ci([7.0]) == (7.0, 7.0, 7.0)
-    assert all(math.isnan(v) for v in mean_ci([]))
-    assert mean_ci([1.0, float("nan"), 1.0]) == (1.0, 1.0, 1.0)
+def test_bootstrap_ci_hand_computed_cases():
+    assert math.isnan(bootstrap_ci([0.4], bounds=(0, 1))[1])  # one seed: no interval
+    assert bootstrap_ci([0.4], bounds=(0, 1))[0] == 0.4
+    assert bootstrap_ci([0.3, 0.3, 0.3], bounds=(0, 1)) == (0.3, 0.3, 0.3)  # all equal: zero width
+    assert bootstrap_ci([1.0, 1.0, 1.0, 1.0], bounds=(0, 1)) == (1.0, 1.0, 1.0)  # at the bound
+    # two seeds 0 and 1: resampled means 0, 0.5, 1 with chances 1/4, 1/2, 1/4, so the
+    # central 95 % runs from 0 to 1
+    assert bootstrap_ci([0.0, 1.0], bounds=(0, 1)) == (0.5, 0.0, 1.0)
+    point, low, high = bootstrap_ci([0.0, 0.0, 0.1, 1.0, 1.0], bounds=(0, 1))
+    assert 0.0 <= low < point < high <= 1.0  # a t-interval here would reach below 0 and above 1
+    assert all(math.isnan(v) for v in bootstrap_ci([]))
+    assert bootstrap_ci([1.0, float("nan"), 1.0]) == (1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="finite"):
+        bootstrap_ci([0.1, float("inf")])
+    with pytest.raises(ValueError, match="confidence"):
+        bootstrap_ci([0.1, 0.2], confidence=1.0)
+
+
+def test_bootstrap_ci_agrees_with_the_normal_interval_for_many_seeds_and_is_reproducible():
+    values = np.random.default_rng(0).normal(2.0, 1.0, 400)
+    point, low, high = bootstrap_ci(values)
+    half = 1.96 * values.std(ddof=1) / math.sqrt(values.size)
+    assert point == pytest.approx(values.mean())
+    assert (high - low) / 2 == pytest.approx(half, rel=0.1)
+    assert bootstrap_ci(values) == (point, low, high)
+    assert bootstrap_ci(values, iqm)[0] == pytest.approx(iqm(values))
+
+
+def test_probability_of_improvement_by_hand():
+    # pairs: 0.5 beats 2, 0.6 beats 2 and ties 1, 0.7 beats 3 → (2 + 2.5 + 3) / 9
+    point, low, high = probability_of_improvement([0.5, 0.6, 0.7], [0.1, 0.2, 0.6])
+    assert point == pytest.approx(7.5 / 9)
+    assert 0.0 <= low <= point <= high <= 1.0
+    assert probability_of_improvement([1.0, 1.0], [1.0, 1.0]) == (0.5, 0.5, 0.5)
+    assert probability_of_improvement([1.0, 1.0], [0.0, 0.0]) == (1.0, 1.0, 1.0)
+    single = probability_of_improvement([0.9], [0.1, 0.2])
+    assert single[0] == 1.0 and math.isnan(single[1])
 
 
 def _rows():
@@ -57,8 +78,14 @@ def _rows():
 def test_summarise_final_values_and_steps_to_threshold():
     a, b = summarise(_rows(), threshold=0.5)
     assert a["variant"] == "a" and a["n_seeds"] == 3 and a["final_env_steps"] == 200
-    mean, low, high = mean_ci([0.6, 0.8, 0.4])
-    assert (a["final_success_mean"], a["final_success_ci_low"], a["final_success_ci_high"]) == pytest.approx((mean, low, high))
+    point, low, high = bootstrap_ci([0.6, 0.8, 0.4], bounds=(0, 1))
+    assert (a["final_success_mean"], a["final_success_ci_low"], a["final_success_ci_high"]) == (point, low, high)
+    assert point == pytest.approx(0.6) and 0.4 <= low < point < high <= 0.8 + 1e-12
+    assert a["final_success_iqm"] == pytest.approx(0.6)  # three seeds: nothing is trimmed
+    # no "raw" here: the baseline is the first variant; b's 0.2 is below two of a's three seeds
+    assert a["improvement_over"] == b["improvement_over"] == "a"
+    assert a["prob_improvement"] == 0.5 and b["prob_improvement"] == pytest.approx(0.0)
+    assert math.isnan(b["final_success_ci_low"])  # one seed: no interval
     assert a["final_return_mean"] == pytest.approx(6.0)
     # seed 0 reaches 0.5 at 200, seed 1 at 100, seed 2 never
     assert a["seeds_reaching_threshold"] == 2
@@ -66,6 +93,7 @@ def test_summarise_final_values_and_steps_to_threshold():
     assert b["seeds_reaching_threshold"] == 0 and math.isnan(b["steps_to_threshold_mean"])
     text = summary_markdown([a, b])
     assert text.count("\n") == 4 and "| a | 3 | 200 | 0.60 [" in text and "| b |" in text and "0/1" in text
+    assert "0.20 (1 seed: no CI)" in text and "P(success > a)" in text
     with pytest.raises(ValueError):
         summarise(_rows(), threshold=1.5)
 
@@ -83,3 +111,19 @@ def test_csv_roundtrip_and_atomic_write(tmp_path):
         write_text_atomic(target, 123)  # not text: fails after the temp file was opened
     assert target.read_text() == "old"
     assert set(os.listdir(tmp_path)) == {"r.csv", "x.txt"}
+
+
+def test_learning_curve_ticks_read_in_thousands_and_millions():
+    from attentive_gym.agents.plots import steps_label
+
+    assert [steps_label(v) for v in (0, 500, 50_000, 150_000, 1_000_000, 1_500_000)] == \
+        ["0", "500", "50k", "150k", "1M", "1.5M"]
+
+
+def test_learning_curve_bands_stay_inside_the_success_range():
+    from attentive_gym.agents.plots import curve_stats
+
+    rows = [{"variant": "a", "seed": seed, "env_steps": 100, "success_rate": value}
+            for seed, value in enumerate((0.0, 0.0, 0.1, 1.0, 1.0))]
+    steps, mean, low, high = curve_stats(rows, "a", "success_rate")
+    assert steps.tolist() == [100] and 0.0 <= low[0] < mean[0] < high[0] <= 1.0

@@ -1,0 +1,122 @@
+"""Statistics across training seeds, as the RL field reports them (Agarwal et al., 2021).
+
+Few seeds make normal-approximation intervals misleading (a success rate's t-interval can
+reach below 0 and above 1). Here, following ``rliable``:
+
+- ``iqm``: the interquartile mean (the mean of the middle 50 % of the values), robust to
+  an outlying seed and less noisy than the median.
+- ``bootstrap_ci``: a percentile bootstrap confidence interval of a statistic, the seeds
+  resampled with replacement (stratified by variant: each variant is resampled on its
+  own), clipped to the metric's range.
+- ``probability_of_improvement``: P(X > Y) + ½ P(X = Y) for a run X of one variant and a
+  run Y of another, with its bootstrap interval (both samples resampled).
+
+Every function is deterministic: the resampling uses a fixed seed. One value gives no
+interval (NaN bounds): one seed says nothing about the spread across seeds.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+
+__all__ = ["BOOTSTRAP_REPS", "iqm", "mean", "bootstrap_ci", "probability_of_improvement"]
+
+#: Bootstrap resamples per interval.
+BOOTSTRAP_REPS = 2000
+_SEED = 20210829  # fixed, so that summaries are reproducible
+
+
+def _values(values: Iterable[float]) -> np.ndarray:
+    """The finite-or-NaN values as a float array, NaNs dropped; ±inf refused."""
+    x = np.asarray(list(values), dtype=float).reshape(-1)
+    if np.isinf(x).any():
+        raise ValueError(f"values must be finite numbers (NaN = missing), got {x.tolist()}")
+    return x[~np.isnan(x)]
+
+
+def mean(x: np.ndarray, axis: int = -1) -> np.ndarray:
+    """The arithmetic mean along ``axis``."""
+    return np.mean(x, axis=axis)
+
+
+def iqm(x: np.ndarray, axis: int = -1) -> np.ndarray:
+    """The interquartile mean along ``axis``: sort, drop ⌊n/4⌋ values at each end, average
+    the rest (``scipy.stats.trim_mean(x, 0.25)``)."""
+    x = np.sort(np.asarray(x, dtype=float), axis=axis)
+    n = x.shape[axis]
+    cut = int(0.25 * n)
+    return np.mean(np.take(x, np.arange(cut, n - cut), axis=axis), axis=axis)
+
+
+def bootstrap_ci(
+    values: Iterable[float],
+    statistic: Callable[[np.ndarray, int], np.ndarray] = mean,
+    bounds: tuple[float, float] = (-math.inf, math.inf),
+    confidence: float = 0.95,
+    reps: int = BOOTSTRAP_REPS,
+) -> tuple[float, float, float]:
+    """(point estimate, low, high) of ``statistic`` over ``values`` (one per seed).
+
+    Args:
+        values: one value per seed; NaNs are dropped.
+        statistic: ``f(x, axis)`` reducing along ``axis`` (``mean``, ``iqm``).
+        bounds: the metric's range (e.g. (0, 1) for a success rate); the interval is
+            clipped to it.
+        confidence: the interval's coverage, in (0, 1).
+        reps: bootstrap resamples.
+
+    Returns:
+        NaNs without values; NaN bounds with one value.
+    """
+    if not 0.0 < confidence < 1.0:
+        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    x = _values(values)
+    if x.size == 0:
+        return math.nan, math.nan, math.nan
+    point = float(statistic(x, -1))
+    if x.size == 1:
+        return point, math.nan, math.nan
+    rng = np.random.default_rng(_SEED)
+    resampled = statistic(x[rng.integers(0, x.size, size=(reps, x.size))], -1)
+    return (point, *_percentile_interval(resampled, point, confidence, bounds))
+
+
+def _percentile_interval(resampled: np.ndarray, point: float, confidence: float,
+                         bounds: tuple[float, float]) -> tuple[float, float]:
+    """The central ``confidence`` interval of the bootstrap distribution ``resampled``,
+    clipped to ``bounds`` and widened to hold ``point``."""
+    tail = 50.0 * (1.0 - confidence)
+    low, high = np.clip(np.percentile(resampled, [tail, 100.0 - tail]), *bounds)
+    return min(float(low), point), max(float(high), point)
+
+
+def _improvement(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """P(X > Y) + ½ P(X = Y) over all pairs, along the last axis of ``x`` (…, n) and ``y`` (…, m)."""
+    greater = (x[..., :, None] > y[..., None, :]).mean(axis=(-2, -1))
+    equal = (x[..., :, None] == y[..., None, :]).mean(axis=(-2, -1))
+    return greater + 0.5 * equal
+
+
+def probability_of_improvement(
+    x_values: Sequence[float], y_values: Sequence[float], confidence: float = 0.95, reps: int = BOOTSTRAP_REPS,
+) -> tuple[float, float, float]:
+    """(P(X > Y), low, high): the probability that a seed of X scores above a seed of Y
+    (ties count half), with a bootstrap interval resampling both; in [0, 1].
+
+    NaN bounds when either side has one value; NaNs when either has none.
+    """
+    if not 0.0 < confidence < 1.0:
+        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    x, y = _values(x_values), _values(y_values)
+    if x.size == 0 or y.size == 0:
+        return math.nan, math.nan, math.nan
+    point = float(_improvement(x, y))
+    if x.size == 1 or y.size == 1:
+        return point, math.nan, math.nan
+    rng = np.random.default_rng(_SEED)
+    resampled = _improvement(x[rng.integers(0, x.size, size=(reps, x.size))],
+                             y[rng.integers(0, y.size, size=(reps, y.size))])
+    return (point, *_percentile_interval(resampled, point, confidence, (0.0, 1.0)))
