@@ -1,4 +1,5 @@
-"""Learning-curve figure: mean across seeds with a 95 % bootstrap confidence band, per variant."""
+"""Figures of a comparison: learning curves (mean across seeds with a 95 % bootstrap band, per
+variant) and, for a clutter sweep, final success against the number of distractors."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import numpy as np
 
 from attentive_gym.agents.statistics import bootstrap_ci
 
-__all__ = ["curve_stats", "plot_learning_curves", "steps_label", "METRIC_BOUNDS"]
+__all__ = ["curve_stats", "plot_learning_curves", "plot_success_vs_distractors", "steps_label", "METRIC_BOUNDS"]
 
 #: The range of each bounded metric; confidence bands are clipped to it.
 METRIC_BOUNDS = {"success_rate": (0.0, 1.0), "mean_collision_steps": (0.0, float("inf")),
@@ -50,12 +51,9 @@ def plot_learning_curves(
     title: str | None = None,
 ) -> Path:
     """Write a PNG with one panel per metric: per-variant mean curve and 95 % CI band vs env steps."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter
 
+    plt = _pyplot()
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     if not variants:
         raise ValueError("no evaluation rows to plot")
@@ -74,6 +72,49 @@ def plot_learning_curves(
         ax.grid(alpha=0.3)
     axes[0][0].legend(loc="best", fontsize=8)
     fig.suptitle(title or "mean over seeds, shaded: 95 % bootstrap CI", fontsize=10)
+    return _save(fig, path)
+
+
+def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str | os.PathLike) -> Path:
+    """Write a PNG of final success rate (mean, 95 % bootstrap CI as error bars) against the
+    number of distractors, one line per variant, from rows of ``sweep.sweep_tables``."""
+    plt = _pyplot()
+    variants = list(dict.fromkeys(r["variant"] for r in summary))
+    if not variants:
+        raise ValueError("no summary rows to plot")
+    fig, ax = plt.subplots(figsize=(5.6, 3.9))
+    for variant in variants:
+        rows = sorted((r for r in summary if r["variant"] == variant), key=lambda r: r["num_distractors"])
+        x = np.array([r["num_distractors"] for r in rows], float)
+        y = np.array([r["final_success_mean"] for r in rows], float)
+        low = np.nan_to_num(y - np.array([r["final_success_ci_low"] for r in rows], float))
+        high = np.nan_to_num(np.array([r["final_success_ci_high"] for r in rows], float) - y)
+        seeds = min(r["n_seeds"] for r in rows)
+        ax.errorbar(x, y, yerr=[low, high], marker="o", capsize=3, label=f"{variant} (n={seeds})")
+    ax.set_xlabel("distractors in the arena")
+    ax.set_ylabel("final success rate")
+    ax.set_ylim(0.0, 1.0)
+    ax.set_xticks(sorted({r["num_distractors"] for r in summary}))
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title("mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
+    return _save(fig, path)
+
+
+def _pyplot():
+    """matplotlib's pyplot on the Agg backend (no display needed)."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path: str | os.PathLike) -> Path:
+    """Save ``fig`` as a PNG atomically (temp file + rename) and close it."""
+    import matplotlib.pyplot as plt
+
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -127,3 +127,40 @@ def test_learning_curve_bands_stay_inside_the_success_range():
             for seed, value in enumerate((0.0, 0.0, 0.1, 1.0, 1.0))]
     steps, mean, low, high = curve_stats(rows, "a", "success_rate")
     assert steps.tolist() == [100] and 0.0 <= low[0] < mean[0] < high[0] <= 1.0
+
+
+def _sweep_rows():
+    rows = []
+    for n, (raw, focus) in {1: (0.6, 0.5), 3: (0.4, 0.45), 6: (0.2, 0.4)}.items():
+        for variant, level in (("raw", raw), ("focus", focus)):
+            for seed, noise in enumerate((-0.02, 0.0, 0.02)):
+                for steps, success in ((0, 0.2), (100, level + noise)):
+                    rows.append({"num_distractors": n, "variant": variant, "seed": seed, "env_steps": steps,
+                                 "success_rate": success, "mean_return": success})
+    return rows
+
+
+def test_sweep_tables_summarise_each_distractor_count(tmp_path):
+    from attentive_gym.agents.plots import plot_success_vs_distractors
+    from attentive_gym.agents.sweep import sweep_tables
+
+    summary = sweep_tables(_sweep_rows())
+    assert [(r["num_distractors"], r["variant"]) for r in summary] == [
+        (n, v) for n in (1, 3, 6) for v in ("raw", "focus")]
+    focus = {r["num_distractors"]: r for r in summary if r["variant"] == "focus"}
+    assert focus[6]["final_success_mean"] == pytest.approx(0.4) and focus[6]["improvement_over"] == "raw"
+    assert focus[1]["prob_improvement"] == 0.0 and focus[6]["prob_improvement"] == 1.0
+    path = plot_success_vs_distractors(summary, tmp_path / "sweep.png")
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("text, ok", [("1,3,6", (1, 3, 6)), ("0", (0,)), ("1,1", None), ("1,", None), ("-1", None),
+                                      ("a", None)])
+def test_distractor_counts_are_parsed_strictly(text, ok):
+    from attentive_gym.agents.sweep import parse_distractors
+
+    if ok is None:
+        with pytest.raises(ValueError, match="distractor counts"):
+            parse_distractors(text)
+    else:
+        assert parse_distractors(text) == ok
