@@ -1,0 +1,207 @@
+"""The README's RL results, regenerated from the committed tidy CSVs.
+
+Two steps, so that batches of runs trained in different sessions add up:
+
+- ``python -m attentive_gym.agents.report add RUNS/results.csv [--algo recurrent-ppo]``:
+  merge a comparison's ``results.csv`` (or a sweep's ``sweep.csv``, with ``--clutter``) into
+  ``docs/results/rl_comparison.csv`` (``docs/results/rl_clutter.csv``). Rows carry their
+  ``algo``; a (variant, algo, seed[, num_distractors]) already there is replaced.
+- ``python -m attentive_gym.agents.report render``: write the figures under
+  ``docs/figures/`` and the README's block between ``<!-- rl-results:start -->`` and
+  ``<!-- rl-results:end -->``: the summary table, the targets of attention against the
+  bounds and controls, and the clutter table. ``--check`` writes nothing and exits 1 when
+  the README is not what the CSVs give.
+
+A variant trained with another algorithm than PPO is shown as ``"<variant> (<algo>)"``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from attentive_gym.agents.plots import curve_stats, plot_learning_curves, plot_success_vs_distractors
+from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown, write_csv_atomic, write_text_atomic
+from attentive_gym.agents.sweep import sweep_tables
+
+__all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "merge_rows", "labelled", "targets", "render_block", "main"]
+
+COMPARISON_COLUMNS = ("algo", *EVAL_COLUMNS)
+CLUTTER_COLUMNS = ("algo", "num_distractors", *EVAL_COLUMNS)
+#: Variants that bound or control attention, and the baselines; the rest are "attended".
+BASELINE, ORACLE = "raw", "oracle"
+_NOT_ATTENDED = {"raw", "raw-stack", "oracle", "random-focus"}
+START, END = "<!-- rl-results:start -->", "<!-- rl-results:end -->"
+_DEFAULT = {"comparison": Path("docs/results/rl_comparison.csv"), "clutter": Path("docs/results/rl_clutter.csv"),
+            "readme": Path("README.md"), "figures": Path("docs/figures")}
+
+
+def merge_rows(existing: Sequence[Mapping[str, Any]], new: Sequence[Mapping[str, Any]], algo: str,
+               keys: Sequence[str]) -> list[dict[str, Any]]:
+    """``existing`` rows with every run of ``new`` (tagged with ``algo``) replacing the rows of
+    the same run; a run is identified by ``keys`` (with ``algo``)."""
+    tagged = [{"algo": algo, **row} for row in new]
+    run = lambda row: tuple(row[k] for k in ("algo", *keys))  # noqa: E731
+    replaced = {run(row) for row in tagged}
+    return [dict(row) for row in existing if run(row) not in replaced] + tagged
+
+
+def labelled(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Rows whose variant names their algorithm when it is not PPO."""
+    return [{**row, "variant": row["variant"] if row["algo"] == "ppo" else f"{row['variant']} ({row['algo']})"}
+            for row in rows]
+
+
+def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """For every attended variant, the figures of the comparison's targets against ``raw``
+    and ``oracle`` (NaN where a variant is missing):
+
+    - ``steps_fraction``: the env steps at which its mean curve first reaches raw's final
+      mean success, as a fraction of raw's budget (target ≤ 0.5);
+    - ``above_raw``: its final-success CI lies wholly above raw's;
+    - ``gap_closed``: (its final success − raw's) / (oracle's − raw's) (target ≥ 0.7).
+    """
+    by_variant = {row["variant"]: row for row in summary}
+    raw, oracle = by_variant.get(BASELINE), by_variant.get(ORACLE)
+    out = []
+    for row in summary:
+        if row["variant"].split(" (")[0] in _NOT_ATTENDED:
+            continue
+        steps_fraction = gap = math.nan
+        above = False
+        if raw is not None:
+            steps, mean_curve, _, _ = curve_stats(rows, row["variant"], "success_rate")
+            reached = [s for s, m in zip(steps, mean_curve) if m >= raw["final_success_mean"]]
+            steps_fraction = reached[0] / raw["final_env_steps"] if reached else math.nan
+            above = row["final_success_ci_low"] > raw["final_success_ci_high"]
+            if oracle is not None and oracle["final_success_mean"] > raw["final_success_mean"]:
+                gap = (row["final_success_mean"] - raw["final_success_mean"]) / (
+                    oracle["final_success_mean"] - raw["final_success_mean"])
+        out.append({"variant": row["variant"], "steps_fraction": steps_fraction, "above_raw": above, "gap_closed": gap})
+    return out
+
+
+def _targets_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
+    def number(value, fmt):
+        return "—" if math.isnan(value) else f"{value:{fmt}}"
+
+    lines = ["| attended variant | env steps to raw's final success (÷ raw's budget; target ≤ 0.5) "
+             "| final success CI above raw's (target: yes) | gap raw → oracle closed (target ≥ 0.7) |",
+             "|---|---|---|---|"]
+    for row in rows:
+        lines.append(f"| {row['variant']} | {number(row['steps_fraction'], '.2f')} | {'yes' if row['above_raw'] else 'no'} "
+                     f"| {number(row['gap_closed'], '.2f')} |")
+    return "\n".join(lines) + "\n"
+
+
+def _clutter_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
+    counts = sorted({row["num_distractors"] for row in summary})
+    variants = list(dict.fromkeys(row["variant"] for row in summary))
+    cell = {(row["variant"], row["num_distractors"]): row for row in summary}
+    lines = ["| variant | " + " | ".join(f"{n} distractor{'s' * (n != 1)}" for n in counts) + " |",
+             "|---|" + "---|" * len(counts)]
+    for variant in variants:
+        values = []
+        for n in counts:
+            row = cell.get((variant, n))
+            if row is None:
+                values.append("—")
+            elif math.isnan(row["final_success_ci_low"]):
+                values.append(f"{row['final_success_mean']:.2f} (n={row['n_seeds']})")
+            else:
+                values.append(f"{row['final_success_mean']:.2f} [{row['final_success_ci_low']:.2f}, "
+                              f"{row['final_success_ci_high']:.2f}] (n={row['n_seeds']})")
+        lines.append(f"| {variant} | " + " | ".join(values) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapping[str, Any]], figures: Path,
+                 sources: Sequence[Path], write_figures: bool = True) -> str:
+    """The README block (markdown) of the results read from ``sources``; writes the figures
+    unless told not to."""
+    rows = labelled(comparison)
+    summary = summarise(rows)
+    parts = ["_Generated by `python -m attentive_gym.agents.report render` from "
+             + " and ".join(f"`{path.as_posix()}`" for path in sources) + "._", "",
+             f"![learning curves]({(figures / 'rl_learning_curves.png').as_posix()})", "",
+             summary_markdown(summary), "Attention against its bounds and controls:", "",
+             _targets_markdown(targets(rows, summary))]
+    if write_figures:
+        plot_learning_curves(rows, figures / "rl_learning_curves.png")
+    if clutter:
+        clutter_summary = sweep_tables(labelled(clutter))
+        parts += ["Final success against clutter (mean [95 % bootstrap CI]):", "", _clutter_markdown(clutter_summary),
+                  f"![final success against distractors]({(figures / 'rl_clutter.png').as_posix()})", ""]
+        if write_figures:
+            plot_success_vs_distractors(clutter_summary, figures / "rl_clutter.png")
+    return "\n".join(parts).rstrip() + "\n"
+
+
+def _replace_block(text: str, block: str, readme: Path) -> str:
+    if START not in text or END not in text:
+        raise ValueError(f"{readme} has no '{START}' … '{END}' block to fill")
+    head, rest = text.split(START, 1)
+    _, tail = rest.split(END, 1)
+    return f"{head}{START}\n{block}{END}{tail}"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m attentive_gym.agents.report", description=__doc__.split("\n")[0])
+    commands = parser.add_subparsers(dest="command", required=True)
+    add = commands.add_parser("add", help="merge a comparison's results.csv (or a sweep's sweep.csv) into docs/results")
+    add.add_argument("csv", type=Path)
+    add.add_argument("--algo", default="ppo", help="the algorithm the runs trained with (default: ppo)")
+    add.add_argument("--clutter", action="store_true", help="the file is a sweep's sweep.csv")
+    render = commands.add_parser("render", help="write the figures and the README's results block")
+    render.add_argument("--check", action="store_true", help="write nothing; exit 1 if the README is out of date")
+    for sub in (add, render):
+        sub.add_argument("--comparison", type=Path, default=_DEFAULT["comparison"])
+        sub.add_argument("--clutter-csv", type=Path, default=_DEFAULT["clutter"])
+    render.add_argument("--readme", type=Path, default=_DEFAULT["readme"])
+    render.add_argument("--figures", type=Path, default=_DEFAULT["figures"])
+    args = parser.parse_args(argv)
+    try:
+        return _add(args) if args.command == "add" else _render(args)
+    except (ValueError, OSError) as err:
+        print(f"report {args.command}: error: {err}", file=sys.stderr)
+        return 2
+
+
+def _add(args) -> int:
+    new = read_csv(args.csv)
+    if not new:
+        raise ValueError(f"{args.csv} holds no rows")
+    target, columns = (args.clutter_csv, CLUTTER_COLUMNS) if args.clutter else (args.comparison, COMPARISON_COLUMNS)
+    missing = [c for c in columns[1:] if c not in new[0]]
+    if missing:
+        raise ValueError(f"{args.csv} lacks the columns {missing} (a {'sweep.csv' if args.clutter else 'results.csv'} has them)")
+    keys = ("variant", "seed", *(("num_distractors",) if args.clutter else ()))
+    rows = merge_rows(read_csv(target) if target.is_file() else [], new, args.algo, keys)
+    write_csv_atomic(target, rows, columns)
+    print(f"{target}: {len(rows)} rows ({len(new)} from {args.csv})")
+    return 0
+
+
+def _render(args) -> int:
+    comparison = read_csv(args.comparison)
+    clutter = read_csv(args.clutter_csv) if args.clutter_csv.is_file() else []
+    sources = [args.comparison, *([args.clutter_csv] if clutter else [])]
+    block = render_block(comparison, clutter, args.figures, sources, write_figures=not args.check)
+    text = args.readme.read_text()
+    updated = _replace_block(text, block, args.readme)
+    if args.check:
+        if updated != text:
+            print(f"{args.readme}'s results block differs from what {args.comparison} gives; run without --check",
+                  file=sys.stderr)
+            return 1
+        return 0
+    write_text_atomic(args.readme, updated)
+    print(f"wrote {args.readme} and the figures in {args.figures}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

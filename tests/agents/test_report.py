@@ -1,0 +1,72 @@
+"""The README's RL results come from the committed CSVs, and batches merge into them."""
+
+import pytest
+
+from attentive_gym.agents.report import END, START, labelled, main, merge_rows, targets
+from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, write_csv_atomic
+
+
+def _rows(levels, steps=(0, 100, 200)):
+    """Evaluation rows: variant → per-seed final success, reached linearly from 0.1."""
+    rows = []
+    for variant, finals in levels.items():
+        for seed, final in enumerate(finals):
+            for k, step in enumerate(steps):
+                success = 0.1 + (final - 0.1) * k / (len(steps) - 1)
+                rows.append({**{c: 0 for c in EVAL_COLUMNS}, "variant": variant, "seed": seed, "env_steps": step,
+                             "success_rate": success, "mean_return": success})
+    return rows
+
+
+def test_targets_measure_speed_margin_and_gap_against_raw_and_oracle():
+    rows = labelled([{"algo": "ppo", **r} for r in _rows({"raw": [0.40, 0.42, 0.44], "oracle": [0.80, 0.82, 0.84],
+                                                           "focus": [0.70, 0.72, 0.74], "random-focus": [0.3, 0.3, 0.3]})])
+    (focus,) = targets(rows, summarise(rows))  # the controls and bounds are not "attended"
+    assert focus["variant"] == "focus" and focus["above_raw"]
+    assert focus["gap_closed"] == pytest.approx((0.72 - 0.42) / (0.82 - 0.42))
+    # focus's mean curve 0.1 → 0.41 → 0.72 first reaches raw's final 0.42 at 200 of raw's 200 steps
+    assert focus["steps_fraction"] == pytest.approx(1.0)
+
+
+def test_merging_a_batch_replaces_its_runs_and_keeps_the_rest():
+    old = [{"algo": "ppo", **r} for r in _rows({"raw": [0.4, 0.5], "focus": [0.3]})]
+    new = _rows({"focus": [0.6, 0.7]})
+    merged = merge_rows(old, new, "ppo", ("variant", "seed"))
+    focus = [r for r in merged if r["variant"] == "focus" and r["env_steps"] == 200]
+    assert sorted(r["success_rate"] for r in focus) == pytest.approx([0.6, 0.7])
+    assert len([r for r in merged if r["variant"] == "raw"]) == 6
+    lstm = merge_rows(merged, _rows({"raw": [0.9]}), "recurrent-ppo", ("variant", "seed"))
+    assert {r["variant"] for r in labelled(lstm)} == {"raw", "focus", "raw (recurrent-ppo)"}
+
+
+def test_render_fills_the_readme_block_and_check_detects_a_stale_one(tmp_path):
+    results = tmp_path / "results.csv"
+    write_csv_atomic(results, _rows({"raw": [0.4, 0.5, 0.45], "focus": [0.5, 0.6, 0.55], "oracle": [0.9, 0.8, 0.85]}),
+                     EVAL_COLUMNS)
+    comparison = tmp_path / "rl.csv"
+    readme = tmp_path / "README.md"
+    readme.write_text(f"# title\n\n{START}\nold\n{END}\n\nafter\n")
+    paths = ["--comparison", str(comparison), "--clutter-csv", str(tmp_path / "none.csv")]
+    assert main(["add", str(results), *paths]) == 0
+    assert len(read_csv(comparison)) == 27 and read_csv(comparison)[0]["algo"] == "ppo"
+    render = ["render", *paths, "--readme", str(readme), "--figures", str(tmp_path / "fig")]
+    assert main([*render, "--check"]) == 1  # the block still says "old"
+    assert main(render) == 0
+    text = readme.read_text()
+    assert text.startswith("# title") and text.endswith("after\n") and "\nold\n" not in text
+    assert "| focus | 3 | 200 |" in text and "gap raw → oracle closed" in text
+    assert (tmp_path / "fig" / "rl_learning_curves.png").is_file()
+    assert main([*render, "--check"]) == 0
+
+
+def test_bad_input_to_the_report_is_one_line(tmp_path, capsys):
+    empty = tmp_path / "empty.csv"
+    empty.write_text("variant,seed\n")
+    assert main(["add", str(empty), "--comparison", str(tmp_path / "rl.csv")]) == 2
+    assert "holds no rows" in capsys.readouterr().err
+    readme = tmp_path / "README.md"
+    readme.write_text("no block here\n")
+    write_csv_atomic(tmp_path / "rl.csv", [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})], ("algo", *EVAL_COLUMNS))
+    assert main(["render", "--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(tmp_path / "x.csv"),
+                 "--readme", str(readme), "--figures", str(tmp_path)]) == 2
+    assert "no '<!-- rl-results:start -->'" in capsys.readouterr().err
