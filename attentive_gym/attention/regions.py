@@ -1,8 +1,9 @@
-"""Sensor geometry and the attention grid (MODEL.md §1).
+"""Sensor geometry and the attention grid (docs/model.md §1).
 
 - Constants: the Pioneer sonar ring's bearings, the laser's beam count and bearings.
 - ``laser_bearings_rad``: bearing of every laser beam.
 - ``nearest_sonar``: the front sonar whose bearing is nearest to each given bearing.
+- ``region_name``: the paper's name of a front-sonar region, "s1" … "s8".
 - ``sonar_cone_bounds``, ``sonar_cone_reduction``: the laser beams inside each front
   sonar's cone, and a one-call plan to reduce over them.
 - ``Grid``: the J attention regions, the map from laser beams and sonars to regions, and
@@ -10,7 +11,8 @@
 
 Conventions: robot frame x forward, y left; bearings in radians, counter-clockwise from
 the heading. Laser beam ``i`` points at ``−90° + (i + 0.5)°`` (beam 0 is rightmost).
-Front sonars 0..7 point at +90, +50, +30, +10, −10, −30, −50, −90° (sonar 0 is leftmost).
+Front sonars 0..7 point at +90, +50, +30, +10, −10, −30, −50, −90° (sonar 0 is leftmost);
+the paper names them s1..s8, so region (and sonar) index ``j`` is ``s{j + 1}``.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ __all__ = [
     "front_sonar_bearings_rad",
     "laser_bearings_rad",
     "nearest_sonar",
+    "region_name",
     "sonar_cone_bounds",
     "sonar_cone_reduction",
     "Grid",
@@ -67,6 +70,19 @@ def nearest_sonar(bearings_rad: np.ndarray) -> np.ndarray:
     """
     sonar = front_sonar_bearings_rad()
     return np.argmin(np.abs(np.asarray(bearings_rad)[..., None] - sonar), axis=-1)
+
+
+def region_name(index: int, *, with_index: bool = False) -> str:
+    """The paper's name of front-sonar region ``index`` (0-based): ``region_name(3)`` is
+    "s4", ``region_name(3, with_index=True)`` is "s4 (region 3)".
+
+    Raises:
+        ValueError: for an index outside 0..7.
+    """
+    if not 0 <= index < FRONT_SONARS:
+        raise ValueError(f"a front-sonar region index is in 0..{FRONT_SONARS - 1}, got {index!r}")
+    name = f"s{int(index) + 1}"
+    return f"{name} (region {int(index)})" if with_index else name
 
 
 def sonar_cone_bounds(half_width_deg: float, n_beams: int = LASER_BEAMS) -> np.ndarray:

@@ -3,23 +3,26 @@
 - ``WorldRenderer``: draws the arena, walls, rubble, movers (the target outlined), the
   robot, its laser beams and sonar cones on an offscreen ``pygame.Surface``; returns an
   RGB array, or shows it in a window for ``render_mode="human"``.
+- ``draw_key``: a small key (colour swatches with labels) in the corner of a frame
+  farthest from a given point, e.g. the robot.
 
-Only ``pygame.display`` (and only for a window) is initialised, never ``pygame.init()``;
-set ``SDL_VIDEODRIVER=dummy`` on machines without a display.
+Only ``pygame.display`` (and only for a window) and ``pygame.font`` (for a key) are
+initialised, never ``pygame.init()``; set ``SDL_VIDEODRIVER=dummy`` on machines without
+a display.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import pygame  # noqa: E402
 
-__all__ = ["WorldRenderer", "COLOURS"]
+__all__ = ["WorldRenderer", "COLOURS", "draw_key"]
 
 COLOURS = {
     "floor": (245, 243, 238),
@@ -33,6 +36,14 @@ COLOURS = {
     "sonar": (60, 120, 220),
 }
 _MAX_WINDOW_PX = 640
+#: The key's look (px): label font height, swatch side, padding inside, margin to the frame's edge.
+_KEY_FONT_PX = 16
+_KEY_SWATCH_PX = 12
+_KEY_PAD_PX = 5
+_KEY_MARGIN_PX = 6
+_KEY_BACKGROUND = (255, 255, 255)
+_KEY_BORDER = (120, 120, 120)
+_KEY_TEXT = (20, 20, 20)
 
 
 class WorldRenderer:
@@ -121,3 +132,46 @@ class WorldRenderer:
         if self._window is not None:
             pygame.display.quit()
             self._window = None
+
+
+def draw_key(surface: pygame.Surface, entries: Sequence[tuple[str, tuple[int, int, int, int]]],
+             avoid_px: tuple[int, int]) -> pygame.Rect:
+    """Draw a key on ``surface`` in the corner farthest from the pixel ``avoid_px``.
+
+    Args:
+        surface: the frame.
+        entries: one row per ``(label, (r, g, b, a))``: a square swatch of that colour,
+            blended at opacity ``a`` (0..255) over the key's white background, then the label.
+        avoid_px: ``(x, y)`` pixel the key keeps away from (e.g. the robot's centre).
+
+    Returns:
+        The key's rectangle on ``surface`` (px).
+    """
+    if not pygame.font.get_init():
+        pygame.font.init()
+    font = pygame.font.Font(None, _KEY_FONT_PX)
+    labels = [font.render(label, True, _KEY_TEXT) for label, _ in entries]
+    row_px = max(_KEY_SWATCH_PX, *(label.get_height() for label in labels))
+    width = 3 * _KEY_PAD_PX + _KEY_SWATCH_PX + max(label.get_width() for label in labels)
+    height = _KEY_PAD_PX + len(entries) * (row_px + _KEY_PAD_PX)
+    key = pygame.Surface((width, height))
+    key.fill(_KEY_BACKGROUND)
+    for row, ((_, colour), label) in enumerate(zip(entries, labels)):
+        top = _KEY_PAD_PX + row * (row_px + _KEY_PAD_PX)
+        swatch = pygame.Surface((_KEY_SWATCH_PX, _KEY_SWATCH_PX), pygame.SRCALPHA)
+        swatch.fill(colour)
+        key.blit(swatch, (_KEY_PAD_PX, top + (row_px - _KEY_SWATCH_PX) // 2))
+        key.blit(label, (2 * _KEY_PAD_PX + _KEY_SWATCH_PX, top + (row_px - label.get_height()) // 2))
+    pygame.draw.rect(key, _KEY_BORDER, key.get_rect(), 1)
+    rect = _farthest_corner(surface.get_size(), key.get_size(), avoid_px)
+    surface.blit(key, rect)
+    return rect
+
+
+def _farthest_corner(frame_px: tuple[int, int], size_px: tuple[int, int], avoid_px: tuple[int, int]) -> pygame.Rect:
+    """A ``size_px`` rectangle in the corner of a ``frame_px`` frame (a margin in) whose
+    centre is farthest from ``avoid_px``."""
+    (frame_w, frame_h), (w, h) = frame_px, size_px
+    corners = [pygame.Rect(x, y, w, h) for x in (_KEY_MARGIN_PX, frame_w - w - _KEY_MARGIN_PX)
+               for y in (_KEY_MARGIN_PX, frame_h - h - _KEY_MARGIN_PX)]
+    return max(corners, key=lambda r: math.dist(r.center, avoid_px))

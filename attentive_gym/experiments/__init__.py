@@ -1,4 +1,4 @@
-"""The paper's five experiments (MODEL.md §9): registry, runner, checks and figures.
+"""The paper's five experiments (docs/model.md §9): registry, runner, checks and figures.
 
 - ``EXPERIMENTS`` / ``get_experiment``: what each experiment attends to (maps, weights,
   goals, goal changes, duration) on top of its built-in scenario.
@@ -6,9 +6,10 @@
   immobile robot in the scenario, the model attending (kinematics "tracker" by default,
   or "window", "literal"; sensor profile None or "usarsim"); returns an
   ``ExperimentResult`` (trace + ground truth) and can write ``NAME.npz`` and ``NAME.png``.
-- ``check_experiment(result)``: MODEL.md §9's criteria as named ``Check`` outcomes;
+- ``check_experiment(result)``: docs/model.md §9's criteria as named ``Check`` outcomes;
   ``pass_rates(name, noise, seeds, ...)`` over several seeds.
-- ``plot_experiment(result, path)``: the paper-like figure.
+- ``experiment_figure(result)`` / ``plot_experiment(result, path)``: the paper-like
+  figure (every panel on one time axis), as a ``Figure`` or saved as a PNG.
 - ``attentive_gym.experiments.table``: the README's table of checks per kinematics mode
   (``python -m attentive_gym.experiments.table``).
 
@@ -25,7 +26,7 @@ Example:
 """
 
 from attentive_gym.experiments.checks import CHECKS, Check, check_experiment, pass_rates
-from attentive_gym.experiments.figures import plot_experiment
+from attentive_gym.experiments.figures import experiment_figure, plot_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, EXPERIMENTS, Experiment, GoalChange, get_experiment
 from attentive_gym.experiments.result import ExperimentResult
 from attentive_gym.experiments.runner import DT_S, experiment_config, run_experiment
@@ -41,6 +42,7 @@ __all__ = [
     "GoalChange",
     "check_experiment",
     "experiment_config",
+    "experiment_figure",
     "get_experiment",
     "pass_rates",
     "plot_experiment",

@@ -1,4 +1,4 @@
-"""The criteria of MODEL.md §9 as named pass/fail checks with measured values.
+"""The criteria of docs/model.md §9 as named pass/fail checks with measured values.
 
 - ``Check``: one criterion's outcome (name, the criterion in words, passed, measured).
 - ``check_experiment(result)``: the checks of the result's experiment, in order.
@@ -11,9 +11,9 @@ quantity the run's kinematics mode estimates, over its window of the last K scan
 less often):
 
 - "window", "literal": the |radial speed| of a robot's centre over the window, what the
-  least-squares (or two-sample) range rate estimates (MODEL.md §3);
+  least-squares (or two-sample) range rate estimates (docs/model.md §3);
 - "tracker": the robot's full 2-D speed over the window (its displacement over the
-  window's time), what the tracks' constant-velocity filters estimate (MODEL.md §10).
+  window's time), what the tracks' constant-velocity filters estimate (docs/model.md §10).
 
 Which regions "see" a robot (its region(s), where the model puts its motion) follows the
 mode: with "window" and "literal", every region whose sonar's echo comes from it (each
@@ -23,7 +23,8 @@ motion goes to one region; the laser reaches 20 m, the sonar 5 m), and otherwise
 regions whose sonar sees it (the sonar filters). A robot is "steady" in a region when the
 region saw it at every step of the window. Exp02's criterion is about the target's entry
 into *sonar* range and reads the sonar alone. Times are in seconds; regions are the 8
-front-sonar regions, index 3 is the paper's sonar s4.
+front-sonar regions, named in messages by the paper's sonars with their 0-based index,
+e.g. "s4 (region 3)".
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ import numpy as np
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, ORIGIN_CODES
 from attentive_gym.attention.config import MAP_NAMES
-from attentive_gym.attention.regions import nearest_sonar
+from attentive_gym.attention.regions import nearest_sonar, region_name
 from attentive_gym.experiments.registry import get_experiment
 from attentive_gym.experiments.result import ExperimentResult
 from attentive_gym.experiments.runner import run_experiment
@@ -47,7 +48,7 @@ _TD, _BU = ORIGIN_CODES["top-down"], ORIGIN_CODES["bottom-up"]
 _F1, _F3, _F4 = MAP_NAMES.index("F1"), MAP_NAMES.index("F3"), MAP_NAMES.index("F4")
 _S4 = 3  # region of sonar s4 (+10°), where the paper's single targets are
 _EPS = 1e-9
-#: The bottom-up course's phases (s) and the top-down onset (s), MODEL.md §7 defaults.
+#: The bottom-up course's phases (s) and the top-down onset (s), docs/model.md §7 defaults.
 _PRE, _EXC, _COURSE, _TD_ONSET = 0.15, 0.30, 0.60, 0.20
 #: Below this true speed (m/s) a robot counts as turning round or stopped, not moving
 #: (Exp03; Exp05's "leaves").
@@ -60,7 +61,7 @@ class Check:
 
     Attributes:
         name: a short identifier, e.g. "first_winner_is_s4".
-        criterion: the criterion of MODEL.md §9 it tests, in words.
+        criterion: the criterion of docs/model.md §9 it tests, in words.
         passed: whether the run meets it.
         measured: what was measured, in words with numbers (s, m/s, gain units).
     """
@@ -165,6 +166,11 @@ def _check(name: str, criterion: str, passed: bool, measured: str) -> Check:
     return Check(name, criterion, bool(passed), measured)
 
 
+def _named(regions) -> str:
+    """Regions (0-based indices) in words, e.g. "s3 (region 2), s6 (region 5)", or "none"."""
+    return ", ".join(region_name(j, with_index=True) for j in regions) or "none"
+
+
 def _refire_check(run: _Run, regions: set[int] | None = None) -> Check:
     gaps = {}
     for k, j, _ in run.fires():
@@ -189,10 +195,10 @@ def _exp01(run: _Run) -> list[Check]:
     focused = np.flatnonzero(run.focus >= 0)
     first = int(focused[0]) if focused.size else None
     checks = [_check(
-        "first_winner_is_s4", "the first winner is region s4, a few (<= 5) steps after motion starts",
+        "first_winner_is_s4", f"the first winner is {_named([_S4])}, a few (<= 5) steps after motion starts",
         first is not None and run.focus[first] == _S4 and 0 <= first - start <= 5,
         "no winner" if first is None else
-        f"first winner region {run.focus[first]} at {run.t[first]:.2f} s, motion starts at {run.t[start]:.2f} s",
+        f"first winner {_named([run.focus[first]])} at {run.t[first]:.2f} s, motion starts at {run.t[start]:.2f} s",
     )]
     s4_fires = [k for k, j, _ in run.fires() if j == _S4]
     if s4_fires:
@@ -218,7 +224,7 @@ def _exp01(run: _Run) -> list[Check]:
     ))
     far = sorted({int(j) for j in run.focus if j >= 0 and abs(j - _S4) > 1})
     checks.append(_check("far_regions_never_win", "regions more than one away from s4 never win", not far,
-                         f"far regions that won: {far}"))
+                         f"far regions that won: {_named(far)}"))
     return checks
 
 
@@ -233,13 +239,13 @@ def _exp02(run: _Run) -> list[Check]:
     )]
     early = sorted({j for k, j, _ in run.fires() if run.t[k] < 3.0})
     checks.append(_check("ior_visits_several_regions", "the focus visits several (>= 3) regions in the first 3 s",
-                         len(early) >= 3, f"regions fired in the first 3 s: {early}"))
+                         len(early) >= 3, f"regions fired in the first 3 s: {_named(early)}"))
     checks.append(_refire_check(run))
     seen = np.flatnonzero(run.sonar_sees[:, 0].any(axis=1))
     if not seen.size:
         ok, measured = False, "the target never enters a front sonar's cone"
     elif seen[0] == 0:
-        ok, measured = False, (f"the target starts inside sonar cone(s) {sorted(run.sonar_regions(0, 0))} "
+        ok, measured = False, (f"the target starts inside the cone(s) of {_named(sorted(run.sonar_regions(0, 0)))} "
                                "(it must start outside them)")
     else:
         k = int(seen[0])
@@ -248,7 +254,7 @@ def _exp02(run: _Run) -> list[Check]:
         window = run.focus[k:k + run.steps(_COURSE) + 2]
         drawn = np.flatnonzero(window == j)
         ok = F3[k] > F3[k - 1] and drawn.size > 0
-        measured = (f"enters sonar region {j} at {run.t[k]:.2f} s, F3 {F3[k - 1]:.2f} -> {F3[k]:.2f}, "
+        measured = (f"enters the cone of {_named([j])} at {run.t[k]:.2f} s, F3 {F3[k - 1]:.2f} -> {F3[k]:.2f}, "
                     + (f"focus there after {drawn[0] * run.dt:.2f} s" if drawn.size else "focus not drawn within 650 ms"))
     checks.append(_check("sonar_entry_draws_focus",
                          "the target's entry into sonar range raises F3 in its region and draws the focus there",
@@ -314,7 +320,7 @@ def _exp04(run: _Run) -> list[Check]:
     low = float(run.trace.M.min())
     k_low, j_low = np.unravel_index(int(np.argmin(run.trace.M)), run.trace.M.shape)
     checks.append(_check("no_ior", "no inhibition of return (M never below 1)", low >= 1.0 - _EPS,
-                         f"min M = {low:.3f}" + (f" (region {j_low} at {run.t[k_low]:.2f} s)" if low < 1.0 - _EPS
+                         f"min M = {low:.3f}" + (f" ({_named([j_low])} at {run.t[k_low]:.2f} s)" if low < 1.0 - _EPS
                                                  else "")))
     checks.extend(_top_down_timing(run, [(k, j) for k, j, o in at_target if o == _TD]))
     checks.append(_combined_beats_single(run, holds))
@@ -331,7 +337,7 @@ def _top_down_timing(run: _Run, td_fires: list[tuple[int, int]]) -> list[Check]:
     risen = np.flatnonzero(M[k:] > 1.0)
     delay = risen[0] * run.dt if risen.size else np.inf
     rise = _check("M_rises_within_onset", "M rises within 200 ms + a step of the fire",
-                  delay <= _TD_ONSET + run.dt + _EPS, f"M > 1 at region {j} {delay:.2f} s after the fire")
+                  delay <= _TD_ONSET + run.dt + _EPS, f"M > 1 at {_named([j])} {delay:.2f} s after the fire")
     ends = np.flatnonzero(F4[k:] < 1.0)
     if not ends.size or k + ends[0] + 2 >= len(run.t):
         return [rise, _check("release_within_two_steps", "the enhancement vanishes within two steps of the goal's end",
@@ -438,7 +444,7 @@ CHECKS: Mapping[str, tuple[str, ...]] = MappingProxyType({
 
 
 def check_experiment(result: ExperimentResult) -> list[Check]:
-    """The MODEL.md §9 checks of ``result``'s experiment, in the order of ``CHECKS``."""
+    """The docs/model.md §9 checks of ``result``'s experiment, in the order of ``CHECKS``."""
     if not isinstance(result, ExperimentResult):
         raise ValueError(f"check_experiment takes an ExperimentResult, got {type(result).__name__}")
     return _CHECKERS[result.experiment.name](_Run(result))

@@ -1,7 +1,9 @@
 """Drawing the attention's state over the world's picture.
 
-``draw_attention`` shades each region's sector around the robot by its saliency L and
-outlines the focused region's sector (bottom-up focus in orange, top-down in magenta).
+``draw_attention`` shades each region's sector around the robot by its saliency L
+(``SALIENCY_COLOUR``), outlines the focused region's sector (``FOCUS_COLOURS``: bottom-up
+in orange, top-down in magenta) and draws a key of the three in the frame's corner
+farthest from the robot.
 """
 
 from __future__ import annotations
@@ -13,14 +15,37 @@ import pygame
 
 from attentive_gym.attention import AttentionOutput, Grid
 from attentive_gym.attention.regions import laser_bearings_rad
+from attentive_gym.envs.rendering import draw_key
 
-__all__ = ["draw_attention", "SECTOR_RADIUS_M"]
+__all__ = ["draw_attention", "SECTOR_RADIUS_M", "SALIENCY_COLOUR", "FOCUS_COLOURS", "KEY"]
 
 #: Radius of the drawn region sectors (m).
 SECTOR_RADIUS_M = 2.0
-_SALIENCY_COLOUR = (250, 150, 20)
-_FOCUS_COLOURS = {"bottom-up": (255, 120, 0), "top-down": (200, 0, 200)}
+#: Shading of the saliency L (RGB), at opacity ``L / max(L)`` of ``_SALIENCY_MAX_ALPHA``.
+SALIENCY_COLOUR = (0, 150, 160)
+#: Outline of the focused region by origin (RGB).
+FOCUS_COLOURS = {"bottom-up": (255, 120, 0), "top-down": (200, 0, 200)}
+_SALIENCY_MAX_ALPHA = 150
+#: The key's rows: label and swatch colour (RGBA), the saliency's at its full shading.
+KEY: tuple[tuple[str, tuple[int, int, int, int]], ...] = (
+    ("bottom-up focus", (*FOCUS_COLOURS["bottom-up"], 255)),
+    ("top-down focus", (*FOCUS_COLOURS["top-down"], 255)),
+    ("saliency L", (*SALIENCY_COLOUR, _SALIENCY_MAX_ALPHA)),
+)
+_FOCUS_OUTLINE_PX = 3
 _HALF_BEAM_RAD = math.radians(0.5)
+
+
+def draw_attention(renderer, surface: pygame.Surface, pose, grid: Grid, output: AttentionOutput) -> None:
+    """Draw ``output`` (one model step) and the key on ``surface`` for a robot at ``pose``
+    (x m, y m, heading rad)."""
+    edges = _region_edges_rad(grid)
+    _shade_saliency(renderer, surface, pose, edges, output.L)
+    if output.focus is not None:
+        right, left = edges[output.focus]
+        outline = _sector(renderer, pose, right, left, SECTOR_RADIUS_M * 1.25)
+        pygame.draw.polygon(surface, FOCUS_COLOURS[output.origin], outline, _FOCUS_OUTLINE_PX)
+    draw_key(surface, KEY, renderer.to_px(pose[:2]))
 
 
 def _region_edges_rad(grid: Grid) -> np.ndarray:
@@ -36,17 +61,13 @@ def _sector(renderer, pose, right_rad: float, left_rad: float, radius_m: float) 
     return [renderer.to_px((x, y)), *rim]
 
 
-def draw_attention(renderer, surface: pygame.Surface, pose, grid: Grid, output: AttentionOutput) -> None:
-    """Draw ``output`` (one model step) on ``surface`` for a robot at ``pose`` (x m, y m, heading rad)."""
-    edges = _region_edges_rad(grid)
-    peak = max(float(output.L.max()), 1e-9)
+def _shade_saliency(renderer, surface: pygame.Surface, pose, edges: np.ndarray, saliency: np.ndarray) -> None:
+    """Shade region j's sector (``edges`` ``(J, 2)`` rad) at an opacity proportional to
+    ``saliency[j] / max(saliency)`` (``saliency`` ``(J,)``, L in gain units)."""
+    peak = max(float(saliency.max()), 1e-9)
     layer = pygame.Surface(surface.get_size(), pygame.SRCALPHA)
     for region, (right, left) in enumerate(edges):
-        alpha = int(150 * min(float(output.L[region]) / peak, 1.0))
+        alpha = int(_SALIENCY_MAX_ALPHA * min(float(saliency[region]) / peak, 1.0))
         if alpha > 0:
-            pygame.draw.polygon(layer, (*_SALIENCY_COLOUR, alpha), _sector(renderer, pose, right, left, SECTOR_RADIUS_M))
+            pygame.draw.polygon(layer, (*SALIENCY_COLOUR, alpha), _sector(renderer, pose, right, left, SECTOR_RADIUS_M))
     surface.blit(layer, (0, 0))
-    if output.focus is not None:
-        right, left = edges[output.focus]
-        outline = _sector(renderer, pose, right, left, SECTOR_RADIUS_M * 1.25)
-        pygame.draw.polygon(surface, _FOCUS_COLOURS[output.origin], outline, 3)

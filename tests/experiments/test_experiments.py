@@ -1,6 +1,6 @@
-"""The paper's five experiments: MODEL.md §9's criteria, the runner, the CLI and figures.
+"""The paper's five experiments: docs/model.md §9's criteria, the runner, the CLI and figures.
 
-The criteria are tested in the tracker mode (the default) and in the window mode (MODEL.md
+The criteria are tested in the tracker mode (the default) and in the window mode (docs/model.md
 §3): noise-free exactly, and in >= 80 % of 20 seeds at 5 % Gaussian noise. A criterion
 that does not reproduce is a strict xfail carrying the measured reason, so a fix shows up.
 """
@@ -30,10 +30,10 @@ MIN_PASS_RATE = 0.8
 MODES = ("tracker", "window")
 
 # --- why a criterion does not reproduce, measured (see the README's experiment table) ---------
-_MEAN = ("C is the weighted mean of the active maps (MODEL.md §6), so with F4 = 1 adding F1 < 1 lowers C: "
+_MEAN = ("C is the weighted mean of the active maps (docs/model.md §6), so with F4 = 1 adding F1 < 1 lowers C: "
          "L(F1+F4) is 0.80 x max(L(F1), L(F4))")
 _IOR_ALTERNATES = ("inhibition of return alternates the focus between the two most salient regions of the static "
-                   "room (2 and 5): while one is inhibited the other wins, and a third never does")
+                   "room (s3 and s6, regions 2 and 5): while one is inhibited the other wins, and a third never does")
 #: The tracker's speed lags every start and turn: it rises from 0 to the true speed over 0.3-0.5 s.
 _LAG = "the track's speed lags each start and turnaround by 0.3-0.5 s: "
 
@@ -139,6 +139,15 @@ def _noisy_rates(mode, name):
 def test_criterion_holds_in_80_percent_of_20_noisy_seeds(mode, name, check):
     rate = _noisy_rates(mode, name)[check]
     assert rate >= MIN_PASS_RATE, f"{check} passes in {rate:.0%} of {len(SEEDS)} seeds at {NOISE:.0%} noise ({mode})"
+
+
+def test_check_messages_name_regions_by_their_sonar_and_index():
+    first = _exact("window", "exp01")["first_winner_is_s4"]
+    assert first.passed and "s4 (region 3)" in first.criterion
+    assert first.measured.startswith("first winner s4 (region 3) at ")
+    assert _exact("window", "exp01")["far_regions_never_win"].measured == "far regions that won: none"
+    assert "regions fired in the first 3 s: s3 (region 2), s6 (region 5)" in _exact("window", "exp02")[
+        "ior_visits_several_regions"].measured
 
 
 def test_same_seed_gives_the_same_trace_bit_for_bit():
