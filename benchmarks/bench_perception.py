@@ -4,7 +4,7 @@ Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [-
 [--seconds 20] [--control-episodes 20] [--sections speed,focus,control,cost] [--csv PATH]``
 (about 1.5 minutes on 2 cores with the defaults).
 
-For each kinematics mode (``AttentionConfig(kinematics=...)``, MODEL.md §3 and §10), the
+For each kinematics mode (``AttentionConfig(kinematics=...)``, docs/model.md §3 and §10), the
 robot still or driving (a scripted wander, ``Wander``), and each sensor noise setting
 (``NOISE_SETTINGS``: Gaussian σ = 0, 2 % and 5 %, and the env's ``sensor_profile="usarsim"``:
 uniform ±5 %, 5 Hz scans), in the procedural 10 m arena with 3 distractors, it prints

@@ -2,7 +2,7 @@
 no gymnasium, no pymunk.
 
 - ``AttentionModel`` / ``AttentionConfig`` / ``AttentionOutput`` / ``FocusView``: the
-  model of MODEL.md, stepped with timestamped (seconds) sonar and laser readings (metres).
+  model of docs/model.md, stepped with timestamped (seconds) sonar and laser readings (metres).
 - ``Goal`` and friends: top-down goals over speed, direction and distance.
 - ``TraceRecorder`` / ``load_trace`` / ``Trace``: record a run to ``.npz`` and read it back.
 - ``load_log`` / ``replay_log`` / ``SensorLog``: replay readings logged from a robot.

@@ -1,4 +1,4 @@
-"""Optimal assignment of segments to tracks (MODEL.md §10): a compiled Hungarian method.
+"""Optimal assignment of segments to tracks (docs/model.md §10): a compiled Hungarian method.
 
 - ``min_cost_assignment``: the assignment of rows to columns of a rectangular cost
   matrix with the least total cost (the shortest-augmenting-path Hungarian method,

@@ -1,4 +1,4 @@
-"""The attentional map M (MODEL.md §7): courses, kernels and the closed-form gain map.
+"""The attentional map M (docs/model.md §7): courses, kernels and the closed-form gain map.
 
 - ``rise_decay_kernel``: the phase kernel ``h_T``, a difference of exponentials with peak 1.
 - ``lateral_spread``: ``G(i, j) = exp(−(i − j)² / (2σ²))``.

@@ -1,4 +1,4 @@
-"""Configuration of the attentional model (MODEL.md, every section).
+"""Configuration of the attentional model (docs/model.md, every section).
 
 - ``AttentionConfig``: frozen dataclass holding every parameter of the model, with its
   default and unit; validated at construction.
@@ -32,7 +32,7 @@ __all__ = [
     "parse_state",
 ]
 
-#: Global Attentive State levels (MODEL.md §7): gain ``g`` multiplying the saliency map.
+#: Global Attentive State levels (docs/model.md §7): gain ``g`` multiplying the saliency map.
 ATTENTIVE_STATES: Mapping[str, float] = {"drowsy": 0.5, "alert": 1.0, "vigilant": 1.5}
 
 #: The six feature maps in the order of the rows of ``F``.
@@ -91,7 +91,7 @@ def parse_state(state: str | float) -> float:
 
 @dataclass(frozen=True)
 class AttentionConfig:
-    """Every parameter of the attentional model (MODEL.md), with defaults and units.
+    """Every parameter of the attentional model (docs/model.md), with defaults and units.
 
     Sensorial memory and kinematics (§2, §3, §10):
         kinematics: "tracker" (default): objects segmented from each laser scan and
@@ -109,7 +109,7 @@ class AttentionConfig:
         sonar_ego_model: how a static world's sonar reading is predicted after a move:
             "laser" (default) from the laser scan re-projected into the new pose and read
             through the sonar cone (right for walls seen obliquely, whose range does not
-            change when driving past them); "point" is MODEL.md's ``−v dt cos θ``, exact
+            change when driving past them); "point" is docs/model.md's ``−v dt cos θ``, exact
             for a point-like echo on the sonar axis only.
         sonar_cone_half_width_deg: half-width of a sonar cone (deg), used by the "laser"
             sonar ego-motion model.

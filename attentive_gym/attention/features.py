@@ -1,4 +1,4 @@
-"""Feature maps F1–F6 (MODEL.md §4, §5) as pure functions over arrays.
+"""Feature maps F1–F6 (docs/model.md §4, §5) as pure functions over arrays.
 
 Bottom-up (values in [0, 1]):
 

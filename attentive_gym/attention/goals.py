@@ -1,8 +1,8 @@
-"""Top-down goals: small, validated value objects (MODEL.md §5).
+"""Top-down goals: small, validated value objects (docs/model.md §5).
 
 - ``Feature``: what a goal constrains (speed in m/s, distance in m, direction label).
 - ``Relation``: ``EQUAL``, ``BETWEEN``, ``GREATER`` or ``SMALLER``.
-- ``Direction``: the direction labels of MODEL.md §3 (towards −1, static 0, away +1).
+- ``Direction``: the direction labels of docs/model.md §3 (towards −1, static 0, away +1).
 - ``Goal``: one constraint, e.g. ``Goal.between("speed", 0.5, 0.9)``; it encodes to and
   decodes from a fixed-length float vector so that it can live in an observation or an
   action (``Goal.encode`` / ``Goal.decode``, layout in ``GOAL_ENCODING_FIELDS``).
@@ -49,7 +49,7 @@ class Relation(str, enum.Enum):
 
 
 class Direction(enum.IntEnum):
-    """Direction labels of MODEL.md §3, with the same integer values as ``d_n``."""
+    """Direction labels of docs/model.md §3, with the same integer values as ``d_n``."""
 
     TOWARDS = -1  # range decreasing: approaching the robot
     STATIC = 0

@@ -1,4 +1,4 @@
-"""Small Kalman filters of the tracker (MODEL.md §10): compiled, allocation-free kernels.
+"""Small Kalman filters of the tracker (docs/model.md §10): compiled, allocation-free kernels.
 
 - ``cv_predict`` / ``cv_update``: the 2-D constant-velocity filter of one track, state
   ``(px, py, vx, vy)`` in metres and m/s, covariance ``(4, 4)``.

@@ -1,16 +1,16 @@
-"""Kinematics from sensorial memory (MODEL.md §3): pure functions over arrays.
+"""Kinematics from sensorial memory (docs/model.md §3): pure functions over arrays.
 
 - ``slope_weights``: least-squares slope weights for samples at given times.
 - ``speeds``, ``direction_labels``: ``s = min(|v|, MAX_SPEED)`` and ``d ∈ {−1, 0, +1}``.
 - ``planar_displacement``: the robot's motion over an interval from its odometry.
 - ``predict_scan``: a static world's laser scan after the robot moved.
-- ``point_range_change``: MODEL.md's sonar prediction ``−v dt cos θ`` (point-like echo).
+- ``point_range_change``: docs/model.md's sonar prediction ``−v dt cos θ`` (point-like echo).
 - ``virtual_sonar``: the nearest laser echo inside each sonar cone.
 - ``scan_points``, ``ego_range_change``: compiled kernels of the model's step, the same
   arithmetic as ``predict_scan``, ``point_range_change`` and ``virtual_sonar``.
 
 Units: seconds, metres, m/s, radians. Range rates are positive when the range grows
-(moving away), as in MODEL.md (d = +1 away, −1 towards).
+(moving away), as in docs/model.md (d = +1 away, −1 towards).
 """
 
 from __future__ import annotations
@@ -120,7 +120,7 @@ def predict_scan(ranges_m: np.ndarray, cos_b: np.ndarray, sin_b: np.ndarray, bea
 def point_range_change(dx_m: float, dy_m: float, cos_b: np.ndarray, sin_b: np.ndarray) -> np.ndarray:
     """Range change of point-like echoes on the given bearings after a translation (m).
 
-    First order in the displacement: ``Δs = −(dx cos θ + dy sin θ)``; MODEL.md's
+    First order in the displacement: ``Δs = −(dx cos θ + dy sin θ)``; docs/model.md's
     ``−v dt cos θ`` for a straight move. Rotation does not change a point's range.
     """
     return -(dx_m * cos_b + dy_m * sin_b)

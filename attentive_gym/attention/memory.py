@@ -1,4 +1,4 @@
-"""Sensorial memory (MODEL.md §2): ring buffers of the last W readings.
+"""Sensorial memory (docs/model.md §2): ring buffers of the last W readings.
 
 - ``SensorMemory``: the last ``W`` readings of O1 (8 front sonars) and O2 (180 laser
   beams), each with its timestamp, its validity and its ego-motion-compensated value;

@@ -1,4 +1,4 @@
-"""The attentional model (MODEL.md §1–§8): one ``step`` per timestamped sensor reading.
+"""The attentional model (docs/model.md §1–§8): one ``step`` per timestamped sensor reading.
 
 - ``AttentionModel``: sensorial memory → feature maps F1–F6 → combined map C with
   origins → attentional map M → saliency L → winner-takes-all; holds the goals, the
@@ -265,7 +265,7 @@ class AttentionModel:
     Args:
         config: parameters (``AttentionConfig()`` by default).
 
-    Per step (MODEL.md §8): store readings → F1–F3 → F4–F6 and goal masks → C and
+    Per step (docs/model.md §8): store readings → F1–F3 → F4–F6 and goal masks → C and
     origins → update top-down holds → M(t) → L → winner-takes-all (a fire appends a
     course at t) → output. Goals, weights and state set between steps apply from the
     next step; ``reset()`` clears the memory and courses but keeps them.
@@ -278,7 +278,7 @@ class AttentionModel:
 
     Region quantities (sonar grid; on the laser grid the region's sonar is the one whose
     cone holds the beam): the speed and range rate are the sonar channel's (as F1): with
-    ``kinematics="tracker"`` those of the region's tracked body (MODEL.md §10; F1 and F4
+    ``kinematics="tracker"`` those of the region's tracked body (docs/model.md §10; F1 and F4
     then see the full 2-D speed, where the paper's Δs/Δt sees only radial motion), else
     the sonar's range rate; the direction label is the sonar channel's when it is moving,
     else the majority label of the region's laser beams; the distance is the nearest

@@ -1,4 +1,4 @@
-"""Laser scan segmentation (MODEL.md §10): a scan split into objects, each measured.
+"""Laser scan segmentation (docs/model.md §10): a scan split into objects, each measured.
 
 - ``segment_scan``: break the scan at no-echo beams and at range jumps larger than a
   threshold that grows with the range (``jump_m + jump_sigmas · √2 · σ(r)``, σ(r) the

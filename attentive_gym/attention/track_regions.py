@@ -1,4 +1,4 @@
-"""From tracks to the model's per-reading and per-region kinematics (MODEL.md §10).
+"""From tracks to the model's per-reading and per-region kinematics (docs/model.md §10).
 
 - ``track_channels``: range rates, speeds and moving flags for every channel of the
   model (8 front sonars, then 180 laser beams), from the ``Tracker``'s state: a beam
@@ -9,7 +9,7 @@
 - ``track_table``: the live tracks in the robot frame, the rows of a ``TrackTable``.
 
 A track's range rate is its own ground velocity along the line of sight (m/s, + away):
-the robot's motion is already compensated, as in MODEL.md §3. Its speed is the norm of
+the robot's motion is already compensated, as in docs/model.md §3. Its speed is the norm of
 its 2-D ground velocity, so a body crossing in front of the robot has a speed (the
 paper's Δs/Δt sees only radial motion).
 """

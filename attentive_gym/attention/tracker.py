@@ -1,4 +1,4 @@
-"""Tracked kinematics (MODEL.md §10): objects of the laser scan tracked over time.
+"""Tracked kinematics (docs/model.md §10): objects of the laser scan tracked over time.
 
 - ``Tracker``: the state of every track and of the sonar filters, as plain arrays
   (struct of arrays, one row per track slot), and the robot's pose in a frame that
@@ -286,7 +286,7 @@ class Tracker:
             valid: ``(8,)`` bool, the sonar has an echo; a sonar without one restarts.
 
         The robot's own motion since the previous reading is taken out first, as for an
-        echo on the sonar's axis (MODEL.md §3's point model ``−(dx cos θ + dy sin θ)``).
+        echo on the sonar's axis (docs/model.md §3's point model ``−(dx cos θ + dy sin θ)``).
         """
         sonar_filters(t_s, self.pose, self.sonar_pose, readings_m, valid, self._sonar_cos, self._sonar_sin,
                       self.params, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t)

@@ -1,4 +1,4 @@
-"""The paper's five experiments as data (MODEL.md §9, Colombini et al. §IV).
+"""The paper's five experiments as data (docs/model.md §9, Colombini et al. §IV).
 
 - ``Experiment``: one experiment — its scenario, the active maps and their weights, the
   goals, goal changes during the run, and the duration.

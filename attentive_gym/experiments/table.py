@@ -29,7 +29,7 @@ __all__ = ["COLUMNS", "MIN_PASS_RATE", "measure", "markdown", "main"]
 #: The measured set-ups: (kinematics mode, sensor profile); None = Gaussian noise, a scan a step.
 COLUMNS: tuple[tuple[str, str | None], ...] = (("tracker", None), ("window", None), ("literal", None),
                                                ("tracker", "usarsim"))
-#: MODEL.md §9: a criterion must hold in at least this fraction of the noisy seeds.
+#: docs/model.md §9: a criterion must hold in at least this fraction of the noisy seeds.
 MIN_PASS_RATE = 0.8
 
 # (experiment, check) → {"exact": {column: bool}, "rate": {column: float}}

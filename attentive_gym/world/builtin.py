@@ -1,7 +1,7 @@
-"""The paper's five experimental set-ups as scenarios (MODEL.md §9).
+"""The paper's five experimental set-ups as scenarios (docs/model.md §9).
 
 The attentive robot stands still at the origin facing +x (it receives zero commands in
-the experiments); targets are P2AT-sized robots. Bearings follow MODEL.md §1: front
+the experiments); targets are P2AT-sized robots. Bearings follow docs/model.md §1: front
 sonar s1..s8 (indices 0..7) at +90, +50, +30, +10, −10, −30, −50, −90°, each a ±15°
 cone, so a body at +10° and 3 m lies in s4's cone only. Distances and speeds are those the
 paper states; the timings the paper leaves open are chosen so that every phase it

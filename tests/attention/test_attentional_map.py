@@ -1,4 +1,4 @@
-"""Time courses of the attentional map M (MODEL.md §7) and the Global Attentive State."""
+"""Time courses of the attentional map M (docs/model.md §7) and the Global Attentive State."""
 
 import math
 

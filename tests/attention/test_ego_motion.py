@@ -1,4 +1,4 @@
-"""Ego-motion compensation (MODEL.md §3): a robot driving past static walls sees no motion.
+"""Ego-motion compensation (docs/model.md §3): a robot driving past static walls sees no motion.
 
 The compensation of the sensorial memory (re-projected scans, the sonar models) serves the
 window's range rates; the tracker compensates in its odometry-fixed frame (test_tracker.py).

@@ -1,4 +1,4 @@
-"""F1–F6 against hand-computed values, including the resolved typos of MODEL.md §5."""
+"""F1–F6 against hand-computed values, including the resolved typos of docs/model.md §5."""
 
 import numpy as np
 import pytest

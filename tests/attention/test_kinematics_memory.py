@@ -1,4 +1,4 @@
-"""Sensorial memory and kinematics (MODEL.md §2, §3)."""
+"""Sensorial memory and kinematics (docs/model.md §2, §3)."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""AttentionModel: API, input validation, outputs and short scenarios (MODEL.md §6–§8)."""
+"""AttentionModel: API, input validation, outputs and short scenarios (docs/model.md §6–§8)."""
 
 import dataclasses
 

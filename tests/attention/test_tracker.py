@@ -1,4 +1,4 @@
-"""Tracked kinematics (MODEL.md §10): segmentation, assignment, filters and the tracker in the model."""
+"""Tracked kinematics (docs/model.md §10): segmentation, assignment, filters and the tracker in the model."""
 
 import math
 
