@@ -32,7 +32,7 @@ _NO_EVENT = (False, False, False)
 _REQUIRED_KEYS = ("sonar", "laser", "odometry", "goal")
 
 
-class AttentionWrapper(gym.Wrapper):
+class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     """Agents observe what the robot attends to.
 
     Args:
@@ -70,7 +70,9 @@ class AttentionWrapper(gym.Wrapper):
         memory_slots: int | None = None,
         selection: str = "winner",
     ) -> None:
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, mode=mode, config=config, weights=weights, state=state,
+                                                 memory_slots=memory_slots, selection=selection)
+        gym.Wrapper.__init__(self, env)
         if mode not in ENCODERS:
             raise ValueError(f"unknown observation mode {mode!r}; allowed: {list(OBSERVATION_MODES)}")
         if selection not in SELECTIONS:

@@ -46,7 +46,7 @@ def _find_attention(env: gym.Env) -> AttentionWrapper:
     raise ValueError("GoalActionWrapper must wrap an AttentionWrapper (e.g. GoalActionWrapper(AttentionWrapper(env)))")
 
 
-class GoalActionWrapper(gym.ActionWrapper):
+class GoalActionWrapper(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
     """Extend the motion action with a goal choice and six map weights.
 
     Args:
@@ -57,7 +57,8 @@ class GoalActionWrapper(gym.ActionWrapper):
     """
 
     def __init__(self, env: gym.Env, goal_menu: Sequence[Goal | None] = DEFAULT_GOAL_MENU, max_weight: float = 2.0) -> None:
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, goal_menu=goal_menu, max_weight=max_weight)
+        gym.ActionWrapper.__init__(self, env)
         self._attention = _find_attention(env)
         if not (isinstance(env.action_space, gym.spaces.Box) and env.action_space.shape == (2,)):
             raise ValueError(f"GoalActionWrapper needs a Box action of shape (2,), got {env.action_space}")

@@ -38,7 +38,7 @@ _TOP_DOWN_EVENT = (False, False, True)
 _NO_EVENT = (False, False, False)
 
 
-class OracleFocus(gym.Wrapper):
+class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
     """The focus observation of an attention that always sees the target truly.
 
     Args:
@@ -49,7 +49,8 @@ class OracleFocus(gym.Wrapper):
     """
 
     def __init__(self, env: gym.Env, memory_slots: int = DEFAULT_MEMORY_SLOTS, config: AttentionConfig | None = None) -> None:
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, memory_slots=memory_slots, config=config)
+        gym.Wrapper.__init__(self, env)
         if not isinstance(memory_slots, int) or isinstance(memory_slots, bool) or memory_slots < 0:
             raise ValueError(f"memory_slots must be an integer >= 0, got {memory_slots!r}")
         self.config = AttentionConfig() if config is None else config

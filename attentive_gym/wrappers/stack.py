@@ -19,7 +19,7 @@ __all__ = ["StackedReadings", "STACKED_KEYS"]
 STACKED_KEYS = ("sonar", "laser", "odometry")
 
 
-class StackedReadings(gym.ObservationWrapper):
+class StackedReadings(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
     """Stack the last ``n_frames`` sensor readings of a Dict observation.
 
     Args:
@@ -28,7 +28,8 @@ class StackedReadings(gym.ObservationWrapper):
     """
 
     def __init__(self, env: gym.Env, n_frames: int = 4) -> None:
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, n_frames=n_frames)
+        gym.ObservationWrapper.__init__(self, env)
         if isinstance(n_frames, bool) or not isinstance(n_frames, int) or n_frames < 2:
             raise ValueError(f"n_frames must be an int >= 2, got {n_frames!r}")
         base = env.observation_space

@@ -10,7 +10,16 @@ from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import attentive_gym  # noqa: F401  (registers the ids)
 from attentive_gym.attention import Goal
-from attentive_gym.wrappers import DEFAULT_GOAL_MENU, VARIANT_IDS, VARIANTS, AttentionWrapper, make_env
+from attentive_gym.wrappers import (
+    DEFAULT_GOAL_MENU,
+    VARIANT_IDS,
+    VARIANTS,
+    AttentionWrapper,
+    GoalActionWrapper,
+    OracleFocus,
+    StackedReadings,
+    make_env,
+)
 
 
 def rollout(env, seed, steps, action_seed=0):
@@ -153,3 +162,24 @@ def test_render_overlays_the_focus_on_the_world():
 
     assert attended.shape == plain.shape
     assert outlined(attended) > 50 and outlined(plain) == 0
+
+
+@pytest.mark.parametrize("wrap", [
+    lambda env: StackedReadings(env, n_frames=3),
+    lambda env: AttentionWrapper(env, "focus", memory_slots=2, selection="random"),
+    lambda env: GoalActionWrapper(AttentionWrapper(env, "focus", weights={"F4": 1.0})),
+    lambda env: OracleFocus(env, memory_slots=1),
+])
+def test_a_wrapped_environments_spec_rebuilds_it(wrap):
+    """The wrappers record their constructor arguments: gym.make(env.spec) gives the same env."""
+    env = wrap(gym.make("AttentiveRescue-v0", scenario="exp04", sensor_noise=0.02))
+    assert all(wrapper.kwargs is not None for wrapper in env.spec.additional_wrappers)
+    rebuilt = gym.make(env.spec)
+    assert rebuilt.observation_space == env.observation_space
+    first, again = env.reset(seed=4)[0], rebuilt.reset(seed=4)[0]
+    for _ in range(30):
+        action = env.action_space.sample()
+        first, *_ = env.step(action)
+        again, *_ = rebuilt.step(action)
+    for key in first:
+        np.testing.assert_array_equal(first[key], again[key])
