@@ -234,8 +234,7 @@ class AttentionOutput:
         beams = grid.beam_indices[j]
         sonar_range = float(readings[sonar_index])
         rows = np.flatnonzero(track_rows[:, _SLOT] == region_slot[sonar_index])
-        row = int(rows[0]) if region_slot[sonar_index] >= 0 and rows.size else -1
-        tracks = self.tracks
+        track = track_rows[rows[0]] if region_slot[sonar_index] >= 0 and rows.size else None  # TrackTable's row
         return FocusView(
             region=j,
             bearing_rad=float(grid.bearings_rad[j]),
@@ -247,11 +246,11 @@ class AttentionOutput:
             direction=Direction(int(self.directions[j])),
             distance_m=float(nearest[j]) if np.isfinite(nearest[j]) else None,
             features=self.F[:, j].copy(),
-            track_id=None if row < 0 else int(tracks.id[row]),
-            track_position_m=None if row < 0 else tracks.position_m[row].copy(),
-            track_velocity_mps=None if row < 0 else tracks.velocity_mps[row].copy(),
-            track_speed_mps=None if row < 0 else float(tracks.speed_mps[row]),
-            track_age_s=None if row < 0 else float(tracks.age_s[row]),
+            track_id=None if track is None else int(track[_ID]),
+            track_position_m=None if track is None else track[_X:_X + 2].copy(),
+            track_velocity_mps=None if track is None else track[_VX:_VX + 2].copy(),
+            track_speed_mps=None if track is None else float(track[_SPEED]),
+            track_age_s=None if track is None else float(track[_AGE]),
         )
 
 
@@ -711,6 +710,7 @@ _NO_REGION_TRACKS = np.full(FRONT_SONARS, -1, np.int64)
 _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
 #: The column of ``Tracker.snapshot``'s rows that holds a track's slot.
 _SLOT = TRACK_TABLE_FIELDS.index("slot")
+_ID, _X, _VX, _SPEED, _AGE = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed", "age"))
 
 #: The smallest time between two readings (s): closer readings would make the range-rate
 #: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 __all__ = ["MEMORY_FIELDS", "WorkingMemory"]
 
@@ -62,30 +63,54 @@ class WorkingMemory:
         ``position_m`` ``(2,)`` and ``velocity_mps`` ``(2,)`` are in the robot frame at
         ``pose``; an entry of the same track moves to the front, the oldest falls out.
         """
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        x, y = position_m
-        vx, vy = velocity_mps
-        entry = (pose[0] + c * x - s * y, pose[1] + s * x + c * y, c * vx - s * vy, s * vx + c * vy)
-        same = np.flatnonzero(self._ids == track_id)
-        last = int(same[0]) if same.size else self.slots - 1
-        for columns in (self._ids, self._state, self._speed, self._match, self._time):
-            columns[1:last + 1] = columns[:last].copy()  # shift the newer entries back by one
-        self._ids[0], self._state[0] = track_id, entry
-        self._speed[0], self._match[0], self._time[0] = speed_mps, float(goal_match), t
+        _attend(t, pose, track_id, position_m, velocity_mps, speed_mps, float(goal_match), self._ids, self._state,
+                self._speed, self._match, self._time)
 
     def read(self, t: float, pose: np.ndarray, max_distance_m: float) -> np.ndarray:
         """``(slots, 6)`` float32 rows of ``MEMORY_FIELDS`` at time ``t`` (s), the robot at
         ``pose``; distances are clipped to ``max_distance_m``."""
         rows = np.zeros((self.slots, len(MEMORY_FIELDS)), np.float32)
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        for k in range(self.slots):
-            age = t - self._time[k]
-            if self._ids[k] < 0 or age > self.horizon_s:
-                continue
-            x, y, vx, vy = self._state[k]
-            dx, dy = x + vx * age - pose[0], y + vy * age - pose[1]
-            forward, left = c * dx + s * dy, -s * dx + c * dy
-            distance = math.hypot(forward, left)
-            cos_b, sin_b = (forward / distance, left / distance) if distance > 0.0 else (1.0, 0.0)
-            rows[k] = (cos_b, sin_b, min(distance, max_distance_m), self._speed[k], self._match[k], age)
+        _read(t, pose, max_distance_m, self.horizon_s, self._ids, self._state, self._speed, self._match, self._time, rows)
         return rows
+
+
+@njit(cache=True)
+def _attend(t, pose, track_id, position_m, velocity_mps, speed_mps, goal_match, ids, state, speed, match, time):
+    """``WorkingMemory.attend`` on its arrays: shift the entries newer than the track's own
+    (or all but the oldest) back by one and write the track at the front, in the odometry frame."""
+    last = ids.shape[0] - 1
+    for k in range(ids.shape[0]):
+        if ids[k] == track_id:
+            last = k
+            break
+    for k in range(last, 0, -1):
+        ids[k], speed[k], match[k], time[k] = ids[k - 1], speed[k - 1], match[k - 1], time[k - 1]
+        state[k, :] = state[k - 1, :]
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    x, y = position_m[0], position_m[1]
+    vx, vy = velocity_mps[0], velocity_mps[1]
+    ids[0] = track_id
+    state[0, 0], state[0, 1] = pose[0] + c * x - s * y, pose[1] + s * x + c * y
+    state[0, 2], state[0, 3] = c * vx - s * vy, s * vx + c * vy
+    speed[0], match[0], time[0] = speed_mps, goal_match, t
+
+
+@njit(cache=True)
+def _read(t, pose, max_distance_m, horizon_s, ids, state, speed, match, time, rows):
+    """``WorkingMemory.read`` into ``rows`` ``(K, 6)`` (zeros on entry): dead-reckon each live
+    entry to ``t`` and express it in the robot frame at ``pose``."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    for k in range(ids.shape[0]):
+        age = t - time[k]
+        if ids[k] < 0 or age > horizon_s:
+            continue
+        dx = state[k, 0] + state[k, 2] * age - pose[0]
+        dy = state[k, 1] + state[k, 3] * age - pose[1]
+        forward, left = c * dx + s * dy, -s * dx + c * dy
+        distance = math.hypot(forward, left)
+        if distance > 0.0:
+            rows[k, 0], rows[k, 1] = forward / distance, left / distance
+        else:
+            rows[k, 0] = 1.0
+        rows[k, 2] = min(distance, max_distance_m)
+        rows[k, 3], rows[k, 4], rows[k, 5] = speed[k], match[k], age
