@@ -1,37 +1,162 @@
-"""Run many training runs in parallel: a spawn-context process pool (default) or Ray.
+"""Run many training runs in parallel: one spawned process per run (default) or Ray tasks.
 
-``run_many(jobs, backend, workers)`` submits ``run_job(spec_dict, run_dir)`` for each job
-and yields one ``JobOutcome`` per job as it finishes. A run that raises is recorded in its
-own ``run_dir/error.txt`` and reported as failed; the other runs go on (with the process
-pool, a worker that dies outright fails only the runs it had, the pool is rebuilt for the
-rest).
+``run_many(jobs, backend, workers)`` runs ``run_job(spec_dict, run_dir)`` for each job, at
+most ``workers`` at a time, and yields one ``JobOutcome`` per job as it finishes. A run that
+raises is recorded in its own ``run_dir/error.txt`` and reported as failed; with the process
+backend a process that dies outright fails only its own run. The other runs go on.
+
+**Stopping.** While ``run_many`` runs, SIGINT (Ctrl-C) and SIGTERM raise ``Interrupted``:
+the runs in progress are stopped (process backend: SIGTERM, then SIGKILL after
+``STOP_GRACE_S``; Ray: their tasks are cancelled) and the queued runs never start. Run
+processes ignore SIGINT themselves (Ctrl-C reaches the whole process group; the parent
+decides) and stop quietly on SIGTERM. Every file of a run is written atomically, so a
+stopped run's folder keeps its last checkpoint and running the same jobs again resumes it.
+A signal whose exception a finalizer dropped is not lost: the wait loops here and the
+training loop (every env step) call ``raise_if_stopped``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
+import multiprocessing.connection
 import os
+import signal
+import sys
+import threading
+import time
 import traceback
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator, Sequence
+from typing import Any, Callable, Iterable, Iterator, Sequence
 
-__all__ = ["BACKENDS", "JobOutcome", "run_job", "run_many", "ray_available"]
+__all__ = ["BACKENDS", "STOP_SIGNALS", "STOP_GRACE_S", "Interrupted", "JobOutcome", "raise_on_stop_signals",
+           "raise_if_stopped", "signals_blocked", "run_job", "run_many", "ray_available"]
 
 #: Backends of ``run_many``.
 BACKENDS = ("process", "ray")
+#: Signals that stop ``run_many`` (and ``attentive-gym train``).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+#: Seconds a stopped run's process gets to exit after SIGTERM before it is killed.
+STOP_GRACE_S = 10.0
+#: Seconds between two looks at the stop signals while waiting for runs (see ``raise_if_stopped``).
+_POLL_S = 0.5
+#: Stop signals received in this process (inside ``raise_on_stop_signals``, or in a run process), oldest first.
+_received: list[int] = []
+
+
+class Interrupted(KeyboardInterrupt):
+    """A stop signal arrived. ``signum``: which one; ``exit_status``: the shell's ``128 + signum``.
+
+    ``str()`` is one line: ``"interrupted by SIGINT"`` plus ``detail`` (what finished, how to resume).
+    """
+
+    def __init__(self, signum: int, detail: str = ""):
+        self.signum = int(signum)
+        self.detail = detail
+        message = f"interrupted by {signal.Signals(self.signum).name}"
+        super().__init__(f"{message}; {detail}" if detail else message)
+
+    @property
+    def exit_status(self) -> int:
+        return 128 + self.signum
+
+
+def _raise_interrupted(signum: int, _frame: Any) -> None:
+    _received.append(signum)
+    raise Interrupted(signum)
+
+
+def raise_if_stopped() -> None:
+    """Raise ``Interrupted`` if a stop signal was received, in case its own exception got lost.
+
+    A signal handler runs between any two bytecodes, also inside a finalizer or a C
+    library's callback (pymunk frees its spaces in one), where Python drops the exception;
+    long loops call this to stop all the same.
+    """
+    if _received:
+        raise Interrupted(_received[0])
+
+
+def _quiet_about_lost_interrupts(passed_on: Callable[[Any], None]) -> Callable[[Any], None]:
+    """A ``sys.unraisablehook`` silent about an ``Interrupted`` that a finalizer dropped (``raise_if_stopped``
+    raises it again), passing anything else on to ``passed_on``."""
+
+    def hook(unraisable: Any) -> None:
+        if not isinstance(unraisable.exc_value, Interrupted):
+            passed_on(unraisable)
+
+    return hook
+
+
+@contextlib.contextmanager
+def _lost_interrupts_quiet() -> Iterator[None]:
+    """Inside the block a dropped ``Interrupted`` is not reported (no "Exception ignored ... Traceback")."""
+    previous = sys.unraisablehook
+    sys.unraisablehook = _quiet_about_lost_interrupts(previous)
+    try:
+        yield
+    finally:
+        sys.unraisablehook = previous
+
+
+@contextlib.contextmanager
+def _stop_signal_handler(handler: Any) -> Iterator[None]:
+    """``handler`` for SIGINT and SIGTERM inside the block (main thread only; elsewhere a no-op)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {signum: signal.signal(signum, handler) for signum in STOP_SIGNALS}
+    try:
+        yield
+    finally:
+        for signum, old in previous.items():
+            signal.signal(signum, old)
+
+
+@contextlib.contextmanager
+def raise_on_stop_signals() -> Iterator[None]:
+    """Inside the block SIGINT and SIGTERM raise ``Interrupted`` (main thread only) and are recorded for
+    ``raise_if_stopped``; the record is cleared on entry and exit."""
+    _received.clear()
+    try:
+        with _stop_signal_handler(_raise_interrupted), _lost_interrupts_quiet():
+            yield
+    finally:
+        _received.clear()
+
+
+def _stop_signals_ignored() -> contextlib.AbstractContextManager[None]:
+    """SIGINT and SIGTERM ignored inside the block (main thread only), so that stopping is not cut short."""
+    return _stop_signal_handler(signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def signals_blocked(signals: Iterable[int] = STOP_SIGNALS) -> Iterator[None]:
+    """Block ``signals`` in this thread inside the block; one that arrives is delivered at its end.
+
+    Processes started inside the block inherit the blocked mask, so they never see those
+    signals unless they unblock them (SB3's ``SubprocVecEnv`` workers do not).
+    """
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, signals)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 @dataclass(frozen=True)
 class JobOutcome:
-    """How one run ended: ``ok`` with its ``env_steps``, or not with the ``error`` text."""
+    """How one run ended: ``ok`` with its ``env_steps``, or not with the ``error`` text.
+
+    ``wall_s``: the run's own wall time in this call, in seconds (``None`` if unknown: a crashed Ray worker).
+    """
 
     run_dir: str
     ok: bool
     env_steps: int | None = None
     error: str | None = None
+    wall_s: float | None = None
 
 
 def run_job(spec_dict: dict[str, Any], run_dir: str) -> JobOutcome:
@@ -41,18 +166,19 @@ def run_job(spec_dict: dict[str, Any], run_dir: str) -> JobOutcome:
     from attentive_gym.agents.results import write_text_atomic
     from attentive_gym.agents.training import train
 
+    start_s = time.perf_counter()
     try:
         metrics = train(RunSpec.from_dict(spec_dict), run_dir)
         error_file = Path(run_dir) / "error.txt"
         error_file.unlink(missing_ok=True)
-        return JobOutcome(run_dir, True, int(metrics["env_steps"]))
+        return JobOutcome(run_dir, True, int(metrics["env_steps"]), wall_s=time.perf_counter() - start_s)
     except Exception as err:  # noqa: BLE001 - isolate the run, report it
         text = "".join(traceback.format_exception(err))
         try:
             write_text_atomic(Path(run_dir) / "error.txt", text)
         except OSError:
             pass
-        return JobOutcome(run_dir, False, error=f"{type(err).__name__}: {err}")
+        return JobOutcome(run_dir, False, error=f"{type(err).__name__}: {err}", wall_s=time.perf_counter() - start_s)
 
 
 def ray_available() -> bool:
@@ -74,60 +200,127 @@ def _check(backend: str, workers: int) -> None:
 
 
 def run_many(jobs: Sequence[tuple[dict[str, Any], str]], backend: str = "process", workers: int = 2) -> Iterator[JobOutcome]:
-    """Run ``(spec_dict, run_dir)`` jobs with ``workers`` in parallel; yields outcomes as they finish."""
+    """Run ``(spec_dict, run_dir)`` jobs with ``workers`` in parallel; yields outcomes as they finish.
+
+    Raises ``Interrupted`` on SIGINT or SIGTERM (see the module docstring); closing the
+    generator early also stops the runs in progress.
+    """
     _check(backend, workers)
     if not jobs:
         return
     if backend == "ray":
         yield from _run_ray(jobs, workers)
     else:
-        yield from _run_pool(jobs, workers)
+        yield from _run_processes(jobs, workers)
 
 
-def _run_pool(jobs, workers, max_attempts: int = 2) -> Iterator[JobOutcome]:
-    """A spawn pool; when a worker dies every unfinished run is retried in a new pool, up to
-    ``max_attempts`` pools per run (the run that kills its worker fails, the others finish)."""
-    pending = list(jobs)
-    attempts = {run_dir: 0 for _, run_dir in jobs}
-    while pending:
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=min(workers, len(pending)), mp_context=context) as pool:
-            futures = {pool.submit(run_job, spec, run_dir): (spec, run_dir) for spec, run_dir in pending}
-            pending = []
-            not_done = set(futures)
-            while not_done:
-                done, not_done = wait(not_done, return_when=FIRST_COMPLETED)
-                for future in done:
-                    spec, run_dir = futures[future]
-                    try:
-                        yield future.result()
-                    except BrokenProcessPool:
-                        attempts[run_dir] += 1
-                        if attempts[run_dir] >= max_attempts:
-                            yield JobOutcome(run_dir, False, error="its worker process died (BrokenProcessPool)")
-                        else:
-                            pending.append((spec, run_dir))
-                    except Exception as err:  # noqa: BLE001
-                        yield JobOutcome(run_dir, False, error=f"{type(err).__name__}: {err}")
+# --- process backend ---------------------------------------------------------------------
+@dataclass(frozen=True)
+class _RunProcess:
+    """A run's process, the read end of the pipe its ``JobOutcome`` comes through, its start (monotonic s)."""
+
+    run_dir: str
+    process: multiprocessing.process.BaseProcess
+    outcome: multiprocessing.connection.Connection
+    start_s: float
 
 
-def _run_ray(jobs, workers) -> Iterator[JobOutcome]:
+def _job_process(spec_dict: dict[str, Any], run_dir: str, outcome: multiprocessing.connection.Connection) -> None:
+    """A run process's entry: SIGINT ignored, SIGTERM stops the run quietly (exit status 143)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _raise_interrupted)
+    sys.unraisablehook = _quiet_about_lost_interrupts(sys.unraisablehook)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)  # blocked by the parent from birth
+    try:
+        outcome.send(run_job(spec_dict, run_dir))
+    except Interrupted as stop:
+        sys.exit(stop.exit_status)
+
+
+def _start(context, spec_dict: dict[str, Any], run_dir: str) -> _RunProcess:
+    """Start one run's process; call with the stop signals blocked (it inherits them blocked)."""
+    reader, writer = context.Pipe(duplex=False)
+    process = context.Process(target=_job_process, args=(spec_dict, run_dir, writer), name=Path(run_dir).name)
+    process.start()
+    writer.close()
+    return _RunProcess(run_dir, process, reader, time.monotonic())
+
+
+def _collect(run: _RunProcess) -> JobOutcome:
+    """The outcome of a run whose process has exited."""
+    run.process.join()
+    try:
+        return run.outcome.recv()
+    except EOFError:  # it exited without sending one
+        return JobOutcome(run.run_dir, False, error=f"its process died (exit status {run.process.exitcode})",
+                          wall_s=time.monotonic() - run.start_s)
+    finally:
+        run.outcome.close()
+
+
+def _stop(runs: Iterable[_RunProcess], grace_s: float = STOP_GRACE_S) -> None:
+    """SIGTERM every run's process, SIGKILL those still alive after ``grace_s`` seconds."""
+    runs = list(runs)
+    with _stop_signals_ignored():
+        for run in runs:
+            run.process.terminate()
+        deadline = time.monotonic() + grace_s
+        for run in runs:
+            run.process.join(max(0.0, deadline - time.monotonic()))
+            if run.process.is_alive():
+                run.process.kill()
+                run.process.join()
+            run.outcome.close()
+
+
+def _run_processes(jobs: Sequence[tuple[dict[str, Any], str]], workers: int) -> Iterator[JobOutcome]:
+    """At most ``workers`` run processes at a time (spawn); a new one starts when one exits."""
+    context = multiprocessing.get_context("spawn")
+    queued = list(jobs)
+    running: dict[int, _RunProcess] = {}  # process sentinel → run
+    with raise_on_stop_signals():
+        try:
+            while queued or running:
+                while queued and len(running) < workers:
+                    with signals_blocked():  # registered before a stop signal can be delivered
+                        run = _start(context, *queued.pop(0))
+                        running[run.process.sentinel] = run
+                for sentinel in multiprocessing.connection.wait(list(running), timeout=_POLL_S):
+                    yield _collect(running.pop(sentinel))
+                raise_if_stopped()
+        finally:
+            _stop(running.values())
+
+
+# --- Ray backend --------------------------------------------------------------------------
+def _run_ray(jobs: Sequence[tuple[dict[str, Any], str]], workers: int) -> Iterator[JobOutcome]:
+    """Ray tasks; on a stop signal the unfinished ones are cancelled (their workers killed)."""
     import ray
 
     started = not ray.is_initialized()
     if started:
-        ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
+        ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)  # installs its own signal handlers
+    not_done: list = []
     try:
-        remote = ray.remote(num_cpus=1, max_retries=0)(run_job)
-        refs = {remote.remote(spec, run_dir): run_dir for spec, run_dir in jobs}
-        not_done = list(refs)
-        while not_done:
-            done, not_done = ray.wait(not_done, num_returns=1)
-            for ref in done:
-                try:
-                    yield ray.get(ref)
-                except Exception as err:  # noqa: BLE001 - a worker crash (RayTaskError, WorkerCrashedError)
-                    yield JobOutcome(refs[ref], False, error=f"{type(err).__name__}: {err}")
+        with raise_on_stop_signals():
+            try:
+                remote = ray.remote(num_cpus=1, max_retries=0)(run_job)
+                refs = {remote.remote(spec, run_dir): run_dir for spec, run_dir in jobs}
+                not_done = list(refs)
+                while not_done:
+                    done, not_done = ray.wait(not_done, num_returns=1, timeout=_POLL_S)
+                    for ref in done:
+                        try:
+                            yield ray.get(ref)
+                        except Exception as err:  # noqa: BLE001 - a worker crash (RayTaskError, WorkerCrashedError)
+                            yield JobOutcome(refs[ref], False, error=f"{type(err).__name__}: {err}")
+                    raise_if_stopped()
+            except KeyboardInterrupt:
+                raise_if_stopped()  # ray.wait turns our Interrupted into a plain KeyboardInterrupt
+                raise
     finally:
-        if started:
-            ray.shutdown()
+        with _stop_signals_ignored():
+            for ref in not_done:
+                ray.cancel(ref, force=True)
+            if started:
+                ray.shutdown()

@@ -2,7 +2,8 @@
 
 Each ``add_*`` adds one subcommand to an argparse sub-parser collection; the handlers raise
 ``ValueError`` for invalid input, which ``attentive_gym.cli.main`` prints as one line on
-stderr with exit status 2.
+stderr with exit status 2, and ``backends.Interrupted`` on Ctrl-C or SIGTERM (one line
+saying what is kept and how to resume; exit status 130 or 143).
 """
 
 from __future__ import annotations
@@ -11,8 +12,10 @@ import argparse
 import json
 import os
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
+from attentive_gym.agents.backends import BACKENDS, Interrupted, raise_on_stop_signals
+from attentive_gym.agents.config import ALGOS, QUICK, VEC_ENVS, RunSpec
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_env_kwargs"]
@@ -36,55 +39,77 @@ def parse_env_kwargs(text: str | None) -> dict[str, Any]:
     return value
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text.replace("_", ""))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
-    return value
+def _int_at_least(low: int) -> Callable[[str], int]:
+    """An argparse ``type``: the text as an integer >= ``low`` (``100_000`` allowed), else a usage error."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or value < low:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {text!r}")
+        return value
+
+    return parse
 
 
-def _non_negative_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}")
-    return value
+_positive_int = _int_at_least(1)
+_non_negative_int = _int_at_least(0)
+
+#: ``compare --quick``'s seeds, as the ``--seeds`` count they equal.
+_QUICK_SEEDS = len(QUICK["seeds"])
+#: ``compare``'s variants and seeds without ``--quick``.
+_COMPARE_VARIANTS = ("raw", "raw-stack", "focus")
+_COMPARE_SEEDS = 5
 
 
-def _add_run_options(parser: argparse.ArgumentParser, steps_default: int | None) -> None:
-    parser.add_argument("--algo", choices=("ppo", "sac"), default="ppo", help="SB3 algorithm (default: ppo)")
-    parser.add_argument("--steps", type=_positive_int, default=steps_default,
-                        help=f"training budget in env steps per run (default: {steps_default})")
-    parser.add_argument("--n-envs", type=_positive_int, default=4, help="vectorised training envs (default: 4)")
-    parser.add_argument("--vec-env", choices=("dummy", "subproc"), default="dummy",
-                        help="DummyVecEnv (one process, default) or SubprocVecEnv")
-    parser.add_argument("--eval-every", type=_positive_int, help="env steps between evaluations (default: steps/10)")
-    parser.add_argument("--eval-episodes", type=_positive_int, default=None, help="episodes per evaluation (default: 20)")
-    parser.add_argument("--checkpoint-every", type=_positive_int, help="env steps between checkpoints (default: steps/5)")
+def _with_quick(text: str, key: str, quick: bool) -> str:
+    """``"(default: <text>)"``, plus ``QUICK[key]`` (as JSON) with ``--quick`` where the command has that option."""
+    return f"(default: {text}; {json.dumps(QUICK[key])} with --quick)" if quick else f"(default: {text})"
+
+
+def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
+    """Options shared by ``train`` and ``compare``; ``quick``: the command has ``--quick`` (help shows its budget)."""
+    parser.add_argument("--algo", choices=ALGOS, default=RunSpec.algo,
+                        help=f"SB3 algorithm; recurrent-ppo is sb3-contrib's RecurrentPPO with an LSTM policy "
+                             f"(default: {RunSpec.algo})")
+    steps = _with_quick(str(RunSpec.total_steps), "total_steps", quick)
+    parser.add_argument("--steps", type=_positive_int, default=None,
+                        help=f"training budget in env steps per run {steps}")
+    parser.add_argument("--n-envs", type=_positive_int, default=RunSpec.n_envs,
+                        help=f"vectorised training envs (default: {RunSpec.n_envs})")
+    parser.add_argument("--vec-env", choices=VEC_ENVS, default=RunSpec.vec_env,
+                        help=f"DummyVecEnv (one process) or SubprocVecEnv (default: {RunSpec.vec_env})")
+    parser.add_argument("--eval-every", type=_positive_int,
+                        help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}")
+    episodes = _with_quick(str(RunSpec.eval_episodes), "eval_episodes", quick)
+    parser.add_argument("--eval-episodes", type=_positive_int, help=f"episodes per evaluation {episodes}")
+    parser.add_argument("--checkpoint-every", type=_positive_int,
+                        help=f"env steps between checkpoints {_with_quick('steps/5', 'checkpoint_every', quick)}")
     parser.add_argument("--env-kwargs", metavar="JSON",
-                        help='make_env keyword arguments, e.g. \'{"arena_size_m": 8, "num_distractors": 2}\'')
-    parser.add_argument("--algo-kwargs", metavar="JSON", help='SB3 keyword arguments, e.g. \'{"n_steps": 128}\'')
+                        help='make_env keyword arguments, e.g. \'{"arena_size_m": 8, "num_distractors": 2}\' '
+                             f"{_with_quick('none', 'env_kwargs', quick)}")
+    parser.add_argument("--algo-kwargs", metavar="JSON",
+                        help='SB3 keyword arguments over the run\'s defaults, e.g. \'{"n_steps": 128}\' (defaults: '
+                             f"ppo and recurrent-ppo {json.dumps(RunSpec().default_algo_kwargs())}, "
+                             f"sac {json.dumps(RunSpec(algo='sac').default_algo_kwargs())})")
 
 
-def _spec_from_args(args: argparse.Namespace, variant: str, seed: int, defaults: dict[str, Any] | None = None):
-    from attentive_gym.agents.config import RunSpec
-
+def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
+                    defaults: dict[str, Any] | None = None) -> RunSpec:
+    """The ``RunSpec`` of the parsed options; ``defaults`` (``QUICK``) fill what was not given."""
     defaults = defaults or {}
-    steps = args.steps if args.steps is not None else defaults.get("total_steps", 100_000)
+    steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
     algo_kwargs = parse_env_kwargs(args.algo_kwargs) if args.algo_kwargs else {}
     return RunSpec(
         variant=variant, algo=args.algo, total_steps=steps, seed=seed, n_envs=args.n_envs, vec_env=args.vec_env,
         eval_every=args.eval_every or defaults.get("eval_every", max(1, steps // 10)),
-        eval_episodes=args.eval_episodes or defaults.get("eval_episodes", 20),
+        eval_episodes=args.eval_episodes or defaults.get("eval_episodes", RunSpec.eval_episodes),
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
         env_kwargs=parse_env_kwargs(args.env_kwargs) if args.env_kwargs else dict(defaults.get("env_kwargs", {})),
         algo_kwargs=algo_kwargs,
-        torch_threads=getattr(args, "torch_threads", 1),
+        torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads),
     )
 
 
@@ -92,16 +117,19 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int, defaults:
 def add_train(subparsers) -> None:
     parser = subparsers.add_parser(
         "train", help="train an SB3 policy on one observation variant",
-        description="Train PPO (or SAC) on one observation variant with periodic evaluation, TensorBoard logs and "
-                    "checkpoints. Writes DIR/spec.json, eval.csv, checkpoint/, tb/, final_model.zip, metrics.json, "
-                    "done. Rerunning into an unfinished DIR resumes from its checkpoint.",
+        description="Train PPO (or SAC, or RecurrentPPO) on one observation variant with periodic evaluation, "
+                    "TensorBoard logs and checkpoints. Writes DIR/spec.json, eval.csv, checkpoint/, tb/, "
+                    "final_model.zip, metrics.json, done. The spec is checked (one env built, the SB3 keywords "
+                    "checked) before anything is written. Rerunning into an unfinished DIR, after Ctrl-C or a "
+                    "kill, resumes from its checkpoint.",
     )
     parser.add_argument("--variant", default="focus", metavar="NAME", help=f"one of {', '.join(VARIANTS)} (default: focus)")
     parser.add_argument("--seed", type=_non_negative_int, default=0, help="seed (default: 0)")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/train-<variant>-seed<seed>)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    parser.add_argument("--torch-threads", type=_positive_int, default=1, help="torch threads (default: 1)")
-    _add_run_options(parser, steps_default=100_000)
+    parser.add_argument("--torch-threads", type=_positive_int, default=RunSpec.torch_threads,
+                        help=f"torch threads (default: {RunSpec.torch_threads})")
+    _add_run_options(parser, quick=False)
     parser.set_defaults(handler=_run_train)
 
 
@@ -110,11 +138,26 @@ def _run_train(args: argparse.Namespace) -> int:
 
     spec = _spec_from_args(args, args.variant, args.seed)
     out = args.out or Path("runs") / f"train-{spec.run_name}"
-    metrics = train(spec, out, progress_bar=not args.no_progress)
+    with raise_on_stop_signals():
+        try:
+            metrics = train(spec, out, progress_bar=not args.no_progress)
+        except Interrupted as stop:
+            raise Interrupted(stop.signum, _train_resume_hint(out, spec)) from None
     final = metrics.get("final") or {}
     print(f"{spec.run_name}: {metrics['env_steps']} env steps; final success rate {final.get('success_rate', float('nan')):.2f}, "
           f"return {final.get('mean_return', float('nan')):.2f}; wrote {out}")
     return 0
+
+
+def _train_resume_hint(out: Path, spec: RunSpec) -> str:
+    """What an interrupted ``train`` keeps, and how to resume it."""
+    from attentive_gym.agents.training import checkpoint_steps
+
+    steps = checkpoint_steps(out)
+    if steps is None:
+        return (f"no checkpoint yet in {out} (one every {spec.checkpoint_every} env steps); "
+                "rerun the same command to start again")
+    return f"the checkpoint at {steps} env steps is kept in {out}; rerun the same command to resume from it"
 
 
 # --- evaluate ---------------------------------------------------------------------------
@@ -159,30 +202,38 @@ def add_compare(subparsers) -> None:
     parser = subparsers.add_parser(
         "compare", help="train every (variant, seed) pair and compare learning curves",
         description="Train every (variant, seed) pair in parallel, then write DIR/results.csv (one row per variant, "
-                    "seed and eval point), DIR/learning_curves.png (mean and 95%% CI across seeds) and "
-                    "DIR/summary.md + summary.csv (final success rate and return with 95%% CIs, env steps to the "
-                    "success threshold). A rerun into DIR trains only the unfinished runs.",
+                    "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds) and "
+                    "DIR/summary.md + summary.csv (final success rate and return with 95 % CIs, env steps to the "
+                    "success threshold). Every run's spec is checked before anything is trained. Ctrl-C (or "
+                    "SIGTERM) stops the runs in progress and starts no queued one; a rerun into DIR trains only "
+                    "the unfinished runs, each from its last checkpoint.",
     )
-    parser.add_argument("--variants", default=None, metavar="LIST", help="comma list (default: raw,raw-stack,focus)")
-    parser.add_argument("--seeds", default=None, metavar="N|LIST", help="a count (5 = seeds 0..4) or a comma list (default: 5)")
+    parser.add_argument("--variants", default=None, metavar="LIST",
+                        help=f"comma list of {', '.join(VARIANTS)} (default: {','.join(_COMPARE_VARIANTS)})")
+    parser.add_argument("--seeds", default=None, metavar="N|LIST",
+                        help=f"a count (5 = seeds 0..4) or a comma list of distinct seeds "
+                             f"(default: {_COMPARE_SEEDS}; {_QUICK_SEEDS} with --quick)")
     parser.add_argument("--out", type=Path, default=None, help="output folder (default: runs/compare, or runs/compare-quick)")
-    parser.add_argument("--backend", choices=("process", "ray"), default="process", help="process pool (default) or ray")
-    parser.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="runs in parallel (default: CPU count)")
+    parser.add_argument("--backend", choices=BACKENDS, default="process", help="process pool or ray (default: process)")
+    workers = os.cpu_count() or 1
+    parser.add_argument("--workers", type=_positive_int, default=workers,
+                        help=f"runs in parallel (default: the CPU count, {workers} here)")
     parser.add_argument("--threshold", type=float, default=0.5, help="success rate for 'steps to threshold' (default: 0.5)")
     parser.add_argument("--quick", action="store_true",
-                        help="a ~6-minute budget on 2 cores: raw,raw-stack,focus × 3 seeds × 150k steps in an "
-                             "8 m arena (explicit options still win)")
-    _add_run_options(parser, steps_default=None)
+                        help=f"a ~6-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
+                             f"{QUICK['total_steps']} steps in an {QUICK['env_kwargs']['arena_size_m']:g} m arena "
+                             "(explicit options still win)")
+    _add_run_options(parser, quick=True)
     parser.set_defaults(handler=_run_compare)
 
 
 def _run_compare(args: argparse.Namespace) -> int:
-    from attentive_gym.agents.compare import QUICK, compare
+    from attentive_gym.agents.compare import compare
     from attentive_gym.agents.config import parse_seeds, parse_variants
 
     defaults = dict(QUICK) if args.quick else {}  # _spec_from_args holds the plain defaults
-    variants = parse_variants(args.variants) if args.variants else tuple(defaults.get("variants", ("raw", "raw-stack", "focus")))
-    seeds = parse_seeds(args.seeds) if args.seeds else tuple(defaults.get("seeds", range(5)))
+    variants = parse_variants(args.variants) if args.variants else tuple(defaults.get("variants", _COMPARE_VARIANTS))
+    seeds = parse_seeds(args.seeds) if args.seeds else tuple(defaults.get("seeds", range(_COMPARE_SEEDS)))
     if not 0.0 <= args.threshold <= 1.0:
         raise ValueError(f"--threshold must be a success rate in [0, 1], got {args.threshold}")
     base = _spec_from_args(args, variants[0], seeds[0], defaults)

@@ -9,22 +9,25 @@
 - ``summary.csv`` / ``summary.md``: final success rate and return with 95 % CIs and env
   steps to reach the success threshold.
 
-A rerun (after a kill or a crash) trains only the runs without a ``done`` marker, resuming
-each from its checkpoint; finished runs are read, not retrained. ``QUICK`` is the budget
-of ``attentive-gym compare --quick``: about ten minutes on two cores.
+Every run's spec is validated (``training.validate_spec``, once per variant) before anything
+is written or trained. A rerun (after Ctrl-C, a kill or a crash) trains only the runs without
+a ``done`` marker, resuming each from its checkpoint; finished runs are read, not retrained.
+SIGINT or SIGTERM stop the runs in progress and start no queued one: ``compare`` raises
+``Interrupted`` saying what finished. ``QUICK`` (from ``config``) is the budget of
+``attentive-gym compare --quick``: about ten minutes on two cores.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from attentive_gym.agents.backends import run_many
-from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.backends import Interrupted, JobOutcome, run_many
+from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.plots import plot_learning_curves
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
@@ -36,21 +39,10 @@ from attentive_gym.agents.results import (
     write_json_atomic,
     write_text_atomic,
 )
-from attentive_gym.agents.training import is_done
+from attentive_gym.agents.training import is_done, validate_spec
+from attentive_gym.progress import Progress, format_duration
 
 __all__ = ["QUICK", "CompareResult", "compare", "collect", "run_dir_of"]
-
-#: ``--quick``: 3 variants × 3 seeds × 150 000 PPO steps, 10 eval episodes every 15 000
-#: steps, in the main comparison's smaller arena (8 m, 2 distractors, 3 rubble per 100 m²).
-QUICK: dict[str, Any] = {
-    "variants": ("raw", "raw-stack", "focus"),
-    "seeds": (0, 1, 2),
-    "total_steps": 150_000,
-    "eval_every": 15_000,
-    "eval_episodes": 10,
-    "checkpoint_every": 50_000,
-    "env_kwargs": {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0},
-}
 
 
 @dataclass
@@ -97,41 +89,71 @@ def compare(
         seeds: training seeds (distinct, ≥ 0).
         base: the run template; its ``variant`` and ``seed`` are replaced per pair.
         out: output folder (created).
-        backend: ``"process"`` (spawn pool) or ``"ray"``.
+        backend: ``"process"`` (one spawned process per run) or ``"ray"``.
         workers: runs in parallel.
         threshold: success rate for "env steps to threshold" in the summary.
-        log: progress lines.
+        log: progress lines, one per finished run (its own wall time, the elapsed time, an ETA).
+
+    Raises:
+        ValueError: a run's spec cannot start, or ``out`` holds another comparison (nothing
+            is written or trained then).
+        Interrupted: SIGINT or SIGTERM stopped the comparison; its text says how many runs
+            are done and how to resume.
     """
     if not variants or not seeds:
         raise ValueError("compare needs at least one variant and one seed")
     specs = [base.replace(variant=v, seed=s) for s in seeds for v in variants]
+    for variant in variants:  # the seed changes nothing that validation checks
+        validate_spec(base.replace(variant=variant))
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    settings = _settings(variants, seeds, base, threshold)
-    settings_path = out / "compare.json"
-    if settings_path.is_file():
-        old = json.loads(settings_path.read_text())
-        if old != json.loads(json.dumps(settings)):
-            raise ValueError(f"{out} holds a comparison with other settings ({settings_path}); use another --out folder")
-    else:
-        write_json_atomic(settings_path, settings)
-    todo = [(spec.to_dict(), str(run_dir_of(out, spec))) for spec in specs if not is_done(run_dir_of(out, spec))]
-    result_skipped = [spec.run_name for spec in specs if is_done(run_dir_of(out, spec))]
-    if result_skipped:
-        log(f"{len(result_skipped)} run(s) already done, {len(todo)} to train")
+    _bind_settings(out, _settings(variants, seeds, base, threshold))
+    skipped = [spec.run_name for spec in specs if is_done(run_dir_of(out, spec))]
+    todo = [(spec.to_dict(), str(run_dir_of(out, spec))) for spec in specs if spec.run_name not in skipped]
+    if skipped:
+        log(f"{len(skipped)} run(s) already done, {len(todo)} to train")
     trained, failed = [], {}
-    t0 = time.perf_counter()
-    for i, outcome in enumerate(run_many(todo, backend=backend, workers=workers), 1):
-        name = Path(outcome.run_dir).name
-        if outcome.ok:
-            trained.append(name)
-            log(f"[{i}/{len(todo)}] {name}: done, {outcome.env_steps} env steps ({time.perf_counter() - t0:.0f} s)")
-        else:
-            failed[name] = outcome.error or "failed"
-            log(f"[{i}/{len(todo)}] {name}: FAILED: {outcome.error} (see {outcome.run_dir}/error.txt)")
+    progress = Progress(len(todo))
+    try:
+        with contextlib.closing(run_many(todo, backend=backend, workers=workers)) as outcomes:
+            for outcome in outcomes:
+                name = Path(outcome.run_dir).name
+                if outcome.ok:
+                    trained.append(name)
+                else:
+                    failed[name] = outcome.error or "failed"
+                log(progress.line(_outcome_text(name, outcome)))
+    except Interrupted as stop:
+        raise Interrupted(stop.signum, _resume_hint(out, specs)) from None
     result = collect(out, specs, threshold=threshold)
-    result.trained, result.skipped, result.failed = trained, result_skipped, failed
+    result.trained, result.skipped, result.failed = trained, skipped, failed
     return result
+
+
+def _bind_settings(out: Path, settings: dict[str, Any]) -> None:
+    """Write ``out/compare.json``, or check that the comparison already there has ``settings``."""
+    path = out / "compare.json"
+    if path.is_file():
+        if json.loads(path.read_text()) != json.loads(json.dumps(settings)):
+            raise ValueError(f"{out} holds a comparison with other settings ({path}); use another --out folder")
+        return
+    write_json_atomic(path, settings)
+
+
+def _outcome_text(name: str, outcome: JobOutcome) -> str:
+    """``"focus-seed0: done, 100000 env steps in 2m43s"`` or ``"focus-seed0: FAILED after 3s: <error>"``."""
+    took = format_duration(outcome.wall_s) if outcome.wall_s is not None else "an unknown time"
+    if outcome.ok:
+        return f"{name}: done, {outcome.env_steps} env steps in {took}"
+    error_file = Path(outcome.run_dir) / "error.txt"
+    see = f" (see {error_file})" if error_file.is_file() else ""
+    return f"{name}: FAILED after {took}: {outcome.error}{see}"
+
+
+def _resume_hint(out: Path, specs: Sequence[RunSpec]) -> str:
+    """What an interrupted comparison finished, and how to train the rest."""
+    missing = [spec for spec in specs if not is_done(run_dir_of(out, spec))]
+    return (f"{len(specs) - len(missing)}/{len(specs)} runs done in {out}; rerun the same command to train only "
+            f"the {len(missing)} missing one(s) (a stopped run resumes from its last checkpoint)")
 
 
 def collect(out: str | os.PathLike, specs: Sequence[RunSpec], threshold: float = 0.5) -> CompareResult:

@@ -11,16 +11,29 @@ from __future__ import annotations
 import dataclasses
 import json
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "RunSpec", "parse_variants", "parse_seeds"]
+__all__ = ["ALGOS", "VEC_ENVS", "QUICK", "RunSpec", "parse_variants", "parse_seeds"]
 
-#: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``.
-ALGOS = ("ppo", "sac")
+#: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
+#: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
+ALGOS = ("ppo", "sac", "recurrent-ppo")
 #: Vectorisation of the training environments: SB3 ``DummyVecEnv`` or ``SubprocVecEnv``.
 VEC_ENVS = ("dummy", "subproc")
+
+#: ``compare --quick``: 3 variants × 3 seeds × 150 000 PPO steps, 10 eval episodes every
+#: 15 000 steps, in the main comparison's smaller arena (8 m, 2 distractors, 3 rubble per 100 m²).
+QUICK: dict[str, Any] = {
+    "variants": ("raw", "raw-stack", "focus"),
+    "seeds": (0, 1, 2),
+    "total_steps": 150_000,
+    "eval_every": 15_000,
+    "eval_episodes": 10,
+    "checkpoint_every": 50_000,
+    "env_kwargs": {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0},
+}
 
 
 def _check_int(name: str, value: Any, low: int) -> int:
@@ -35,7 +48,7 @@ class RunSpec:
 
     Attributes:
         variant: observation variant, one of ``attentive_gym.wrappers.VARIANTS``.
-        algo: ``"ppo"`` or ``"sac"``.
+        algo: one of ``ALGOS`` (``"ppo"``, ``"sac"``, ``"recurrent-ppo"``).
         total_steps: training budget in environment steps (summed over the ``n_envs``).
         seed: seeds SB3 (``seed=``), the training environments and, offset by 10 000,
             the evaluation episodes.
@@ -91,11 +104,12 @@ class RunSpec:
     def default_algo_kwargs(self) -> dict[str, Any]:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.
 
-        PPO: rollouts of 256 steps per env, minibatch 256, 5 epochs, lr 3e-4, gamma 0.99,
-        a small ent_coef for exploration. SAC: SB3's defaults with a 100 000-step buffer
-        and 1 000 warm-up steps.
+        PPO and RecurrentPPO: rollouts of 256 steps per env, minibatch 256, 5 epochs,
+        lr 3e-4, gamma 0.99, a small ent_coef for exploration (RecurrentPPO keeps
+        sb3-contrib's LSTM: one layer of 256 units). SAC: SB3's defaults with a
+        100 000-step buffer and 1 000 warm-up steps.
         """
-        if self.algo == "ppo":
+        if self.algo in ("ppo", "recurrent-ppo"):
             return {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4,
                     "gamma": 0.99, "ent_coef": 0.005}
         return {"buffer_size": 100_000, "learning_starts": 1_000, "batch_size": 256}
@@ -125,29 +139,59 @@ class RunSpec:
         return dataclasses.replace(self, **changes)
 
 
+def _split_list(text: str, what: str) -> list[str]:
+    """``"a, b"`` → ``["a", "b"]``; an empty item (``"a,"``, ``"a,,b"``) raises ``ValueError``."""
+    parts = [part.strip() for part in text.split(",")]
+    if "" in parts:
+        raise ValueError(f"empty item in the {what} list {text!r}; separate the items by single commas")
+    return parts
+
+
+def _check_distinct(items: Sequence[Any], what: str, text: str) -> None:
+    twice = next((item for i, item in enumerate(items) if item in items[:i]), None)
+    if twice is not None:
+        raise ValueError(f"{what} {twice!r} is listed twice in {text!r}; each may appear once")
+
+
 def parse_variants(text: str) -> tuple[str, ...]:
-    """``"raw,raw-stack,focus"`` → ``("raw", "raw-stack", "focus")``; unknown names raise ``ValueError``."""
-    names = tuple(part.strip() for part in text.split(",") if part.strip())
-    if not names:
+    """``"raw,raw-stack,focus"`` → ``("raw", "raw-stack", "focus")``.
+
+    Unknown, empty (``"raw,"``) or repeated items raise ``ValueError`` naming the item.
+    """
+    if not text.strip():
         raise ValueError(f"no variant given; allowed: {list(VARIANTS)}")
+    names = tuple(_split_list(text, "variant"))
     for name in names:
         if name not in VARIANTS:
             raise ValueError(f"unknown variant {name!r}; allowed: {list(VARIANTS)}")
-    if len(set(names)) != len(names):
-        raise ValueError(f"variant listed twice in {text!r}")
+    _check_distinct(names, "variant", text)
     return names
 
 
-def parse_seeds(text: str | int) -> tuple[int, ...]:
-    """Seeds from a count (``"5"`` → 0..4) or a list (``"0,3,7"``); bad values raise ``ValueError``."""
-    text = str(text).strip()
+_SEEDS_FORMAT = "a count (e.g. 5) or a comma list of distinct integers >= 0 (e.g. 0,3,7)"
+
+
+def _seed_number(part: str, text: str) -> int:
     try:
-        if "," in text:
-            seeds = tuple(int(part) for part in text.split(",") if part.strip())
-        else:
-            seeds = tuple(range(int(text)))
+        return int(part)
     except ValueError:
-        raise ValueError(f"seeds must be a count (e.g. 5) or a comma list (e.g. 0,1,2), got {text!r}") from None
-    if not seeds or any(s < 0 for s in seeds) or len(set(seeds)) != len(seeds):
-        raise ValueError(f"seeds must be a positive count or distinct non-negative integers, got {text!r}")
+        raise ValueError(f"seeds must be {_SEEDS_FORMAT}, got {text!r}") from None
+
+
+def parse_seeds(text: str | int) -> tuple[int, ...]:
+    """Seeds from a count (``"5"`` → 0..4) or a list (``"0,3,7"``).
+
+    A count < 1, a non-integer, or a negative, empty (``"0,1,"``) or repeated item in a list
+    raises ``ValueError`` naming what was wrong.
+    """
+    text = str(text).strip()
+    if "," not in text:
+        count = _seed_number(text, text)
+        if count < 1:
+            raise ValueError(f"seeds must be {_SEEDS_FORMAT}; a count must be >= 1, got {text!r}")
+        return tuple(range(count))
+    seeds = tuple(_seed_number(part, text) for part in _split_list(text, "seed"))
+    if min(seeds) < 0:
+        raise ValueError(f"seeds must be {_SEEDS_FORMAT}, got {text!r}")
+    _check_distinct(seeds, "seed", text)
     return seeds

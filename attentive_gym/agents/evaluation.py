@@ -4,18 +4,21 @@
 environments side by side and batches the policy's forward passes (one ``model.predict``
 per step for all of them); episode ``i`` is always reset with seed ``seed + i``, so every
 evaluation of a run (and every run with the same ``seed``) sees the same arenas.
+
+Recurrent policies (RecurrentPPO's LSTM) get SB3's ``state`` and ``episode_start``: each
+environment's state is carried from one step of an episode to the next and reset at the
+first step of each episode (``episode_start`` True). Feed-forward policies return no state.
 """
 
 from __future__ import annotations
 
-import time
 from dataclasses import asdict, dataclass
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import gymnasium as gym
 import numpy as np
 
-__all__ = ["EvalResult", "evaluate_policy", "EVAL_SEED_OFFSET"]
+__all__ = ["EvalResult", "evaluate_policy", "record_videos", "PolicyMemory", "predict_batch", "EVAL_SEED_OFFSET"]
 
 #: Evaluation episodes use seeds ``run seed + EVAL_SEED_OFFSET + i`` (disjoint from training's).
 EVAL_SEED_OFFSET = 10_000
@@ -42,10 +45,60 @@ class EvalResult:
         return data
 
 
+class _Running(NamedTuple):
+    """An episode in progress: its env slot, episode index, last observation, and whether it has just begun."""
+
+    slot: int
+    index: int
+    obs: Any
+    episode_start: bool
+
+
 def _stack(observations: list[Any]) -> Any:
     if isinstance(observations[0], dict):
         return {key: np.stack([o[key] for o in observations]) for key in observations[0]}
     return np.stack(observations)
+
+
+class PolicyMemory:
+    """A recurrent policy's state for ``n_envs`` environments, so that any subset can be predicted at once.
+
+    SB3's ``state`` is a tuple of arrays with the environment on axis 1 (RecurrentPPO: the
+    LSTM's hidden and cell states, each ``(n_layers, n_envs, hidden_size)``); feed-forward
+    policies return ``None`` and nothing is kept.
+    """
+
+    def __init__(self, n_envs: int):
+        self.n_envs = n_envs
+        self.state: tuple[np.ndarray, ...] | None = None
+
+    def take(self, envs: list[int]) -> tuple[np.ndarray, ...] | None:
+        """The state of environments ``envs`` (in that order), or ``None`` before any was stored."""
+        if self.state is None:
+            return None
+        return tuple(part[:, envs] for part in self.state)
+
+    def store(self, envs: list[int], state: tuple[np.ndarray, ...] | None) -> None:
+        """Keep ``state`` (as returned by ``predict`` for ``envs``) for those environments."""
+        if state is None:
+            return
+        if self.state is None:
+            self.state = tuple(np.zeros((part.shape[0], self.n_envs, *part.shape[2:]), part.dtype) for part in state)
+        for kept, part in zip(self.state, state):
+            kept[:, envs] = part
+
+
+def predict_batch(model: Any, observations: list[Any], memory: PolicyMemory, envs: list[int],
+                  episode_start: np.ndarray, deterministic: bool) -> np.ndarray:
+    """Actions for the environments ``envs`` (one observation each), carrying ``memory``.
+
+    ``episode_start[k]`` is True at the first step of environment ``envs[k]``'s episode: a
+    recurrent policy resets that environment's state to zeros before this step.
+    """
+    actions, state = model.predict(_stack(observations), state=memory.take(envs), episode_start=episode_start,
+                                   deterministic=deterministic)
+    memory.store(envs, state)
+    return actions
 
 
 def evaluate_policy(
@@ -61,7 +114,8 @@ def evaluate_policy(
     """Run ``episodes`` episodes of ``model`` (anything with SB3's ``predict``).
 
     Args:
-        model: the policy; ``model.predict(batched_obs, deterministic=...)`` → (actions, _).
+        model: the policy; ``model.predict(batched_obs, state=..., episode_start=..., deterministic=...)``
+            → (actions, state), as SB3's (``state`` is ``None`` for feed-forward policies).
         make_env_fn: builds one environment (called ``min(n_parallel, episodes)`` times
             unless ``envs`` is given).
         episodes: number of episodes (≥ 1).
@@ -80,29 +134,31 @@ def evaluate_policy(
         collisions = np.zeros(episodes)
         lengths = np.zeros(episodes, dtype=int)
         successes = np.zeros(episodes, dtype=bool)
+        memory = PolicyMemory(len(envs))
         next_episode = 0
-        active: list[tuple[gym.Env, int, Any]] = []  # (env, episode index, last observation)
-        for env in envs:
+        active: list[_Running] = []
+        for slot, env in enumerate(envs):
             if next_episode < episodes:
                 obs, _ = env.reset(seed=seed + next_episode)
-                active.append((env, next_episode, obs))
+                active.append(_Running(slot, next_episode, obs, True))
                 next_episode += 1
         while active:
-            actions, _ = model.predict(_stack([a[2] for a in active]), deterministic=deterministic)
+            actions = predict_batch(model, [a.obs for a in active], memory, [a.slot for a in active],
+                                    np.array([a.episode_start for a in active]), deterministic)
             still = []
-            for (env, index, _), action in zip(active, actions):
-                obs, reward, terminated, truncated, info = env.step(action)
+            for (slot, index, _, _), action in zip(active, actions):
+                obs, reward, terminated, truncated, info = envs[slot].step(action)
                 returns[index] += float(reward)
                 collisions[index] += bool(info.get("collision", False))
                 lengths[index] += 1
                 if terminated or truncated:
                     successes[index] = bool(info.get("success", False))
                     if next_episode < episodes:
-                        obs, _ = env.reset(seed=seed + next_episode)
-                        still.append((env, next_episode, obs))
+                        obs, _ = envs[slot].reset(seed=seed + next_episode)
+                        still.append(_Running(slot, next_episode, obs, True))
                         next_episode += 1
                 else:
-                    still.append((env, index, obs))
+                    still.append(_Running(slot, index, obs, False))
             active = still
     finally:
         if own:
@@ -134,14 +190,15 @@ def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, ep
 
     env = gym.wrappers.RecordVideo(make_env_fn(render_mode="rgb_array"), str(video_dir),
                                    episode_trigger=lambda _: True, name_prefix="eval", disable_logger=True)
+    memory = PolicyMemory(1)
     try:
         for i in range(episodes):
             obs, _ = env.reset(seed=seed + i)
-            done = False
+            done, start = False, True
             while not done:
-                action, _ = model.predict(_stack([obs]), deterministic=True)
+                action = predict_batch(model, [obs], memory, [0], np.array([start]), deterministic=True)
                 obs, _, terminated, truncated, _ = env.step(action[0])
-                done = terminated or truncated
+                done, start = terminated or truncated, False
     finally:
         env.close()
     return sorted(str(p) for p in Path(video_dir).glob("*.mp4"))

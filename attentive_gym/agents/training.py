@@ -1,8 +1,11 @@
-"""Train one SB3 policy (PPO or SAC) on one observation variant, with evaluation and checkpoints.
+"""Train one SB3 policy (PPO, SAC or RecurrentPPO) on one observation variant, with evaluation and checkpoints.
 
-``train(spec, run_dir)`` writes into ``run_dir``:
+``train(spec, run_dir)`` first checks that the run can start (``validate_spec``: one env is
+built, the algorithm's keywords are checked) and writes nothing if it cannot. Then it writes
+into ``run_dir``:
 
-- ``spec.json``: the ``RunSpec`` (a rerun into the same folder must use the same spec);
+- ``spec.json``: the ``RunSpec`` (once the folder holds a checkpoint, a rerun into it must use
+  the same spec);
 - ``eval.csv``: one row per evaluation (``results.EVAL_COLUMNS``), at 0, every
   ``spec.eval_every`` env steps and at the end;
 - ``checkpoint/model.zip`` (+ ``replay_buffer.pkl`` for SAC, + ``meta.json``): the latest
@@ -16,29 +19,36 @@ model (and SAC's replay buffer) is loaded, and evaluation rows after the checkpo
 dropped, so an interrupted run loses at most one checkpoint interval. PPO's rollout buffer
 cannot be saved by SB3, so checkpoints are taken at rollout boundaries (after an update,
 before the next rollout) where it is empty; a resumed run therefore ends at exactly the
-step count of an uninterrupted one.
+step count of an uninterrupted one. RecurrentPPO resumes the same way; its LSTM state
+starts from zeros at the resumed run's first (fresh) episodes.
 """
 
 from __future__ import annotations
 
 import functools
+import inspect
 import json
 import os
+import signal
 import time
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import gymnasium as gym
 
+from attentive_gym.agents.backends import raise_if_stopped, signals_blocked
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
 from attentive_gym.wrappers.variants import make_env
 
-__all__ = ["train", "load_model", "env_factory", "eval_seed", "is_done", "DONE_MARKER", "RunResult"]
+__all__ = ["train", "validate_spec", "load_model", "env_factory", "eval_seed", "is_done", "checkpoint_steps",
+           "DONE_MARKER", "RunResult"]
 
 DONE_MARKER = "done"
 _CHECKPOINT = "checkpoint"
+#: Constructor parameters of the SB3 algorithms that ``train`` sets itself (not ``algo_kwargs``).
+_SET_BY_TRAIN = ("self", "policy", "env", "seed", "device", "verbose", "tensorboard_log", "_init_setup_model")
 
 
 def env_factory(spec: RunSpec, **overrides: Any) -> Callable[..., gym.Env]:
@@ -56,20 +66,76 @@ def is_done(run_dir: str | os.PathLike) -> bool:
     return (Path(run_dir) / DONE_MARKER).is_file()
 
 
+def checkpoint_steps(run_dir: str | os.PathLike) -> int | None:
+    """Env steps of ``run_dir``'s checkpoint (``None`` without one)."""
+    meta = Path(run_dir) / _CHECKPOINT / "meta.json"
+    return int(json.loads(meta.read_text())["env_steps"]) if meta.is_file() else None
+
+
 def _algo_class(algo: str):
+    """The SB3 class of ``algo``: ``PPO``, ``SAC`` or sb3-contrib's ``RecurrentPPO``."""
+    if algo == "recurrent-ppo":
+        try:
+            from sb3_contrib import RecurrentPPO
+        except ImportError:
+            raise ValueError("algo 'recurrent-ppo' needs sb3-contrib: pip install -e '.[agents]' "
+                             "(or pip install sb3-contrib)") from None
+        return RecurrentPPO
     from stable_baselines3 import PPO, SAC
 
     return {"ppo": PPO, "sac": SAC}[algo]
 
 
+def _policy_name(algo: str, observation_space: gym.Space) -> str:
+    """The SB3 policy: ``MultiInput…`` for a ``Dict`` space, else ``Mlp…``; ``…LstmPolicy`` for RecurrentPPO."""
+    inputs = "MultiInput" if isinstance(observation_space, gym.spaces.Dict) else "Mlp"
+    return f"{inputs}{'Lstm' if algo == 'recurrent-ppo' else ''}Policy"
+
+
+def _check_algo_kwargs(spec: RunSpec) -> None:
+    """``algo_kwargs`` must name parameters of the algorithm's constructor that ``train`` leaves free."""
+    algo_cls = _algo_class(spec.algo)
+    reserved = sorted(set(spec.algo_kwargs) & set(_SET_BY_TRAIN))
+    if reserved:
+        raise ValueError(f"algo_kwargs: {', '.join(map(repr, reserved))} cannot be given: train sets the policy, "
+                         "env, seed (--seed), device, verbose and tensorboard_log itself")
+    parameters = inspect.signature(algo_cls.__init__).parameters
+    allowed = sorted(name for name in parameters if name not in _SET_BY_TRAIN)
+    unknown = sorted(set(spec.algo_kwargs) - set(allowed))
+    if unknown:
+        raise ValueError(f"algo_kwargs: {algo_cls.__name__} takes no {', '.join(map(repr, unknown))}; "
+                         f"allowed: {', '.join(allowed)}")
+
+
+def _check_env(spec: RunSpec) -> None:
+    """Build one environment of ``spec`` and close it; a bad keyword or value raises ``ValueError``."""
+    try:
+        env = env_factory(spec)()
+    except TypeError as err:  # an unknown env keyword: the user's input
+        raise ValueError(f"env_kwargs: {err}") from None
+    env.close()
+
+
+def validate_spec(spec: RunSpec) -> None:
+    """Raise ``ValueError`` (one line, naming what is allowed) if ``spec`` cannot start; writes nothing.
+
+    Checks that ``algo_kwargs`` are keywords of the algorithm (and sb3-contrib is installed for
+    recurrent-ppo) and builds one environment with ``env_kwargs`` (a missing scenario, an
+    unknown keyword or a bad value fail here), then closes it.
+    """
+    _check_algo_kwargs(spec)
+    _check_env(spec)
+
+
 def _make_vec_env(spec: RunSpec):
-    from stable_baselines3.common.monitor import Monitor
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
     factory = env_factory(spec)
     fns = [functools.partial(_monitored, factory) for _ in range(spec.n_envs)]
     if spec.vec_env == "subproc":
-        return SubprocVecEnv(fns, start_method="spawn")
+        # the env processes never see Ctrl-C (sent to the whole process group): this process stops them
+        with signals_blocked([signal.SIGINT]):
+            return SubprocVecEnv(fns, start_method="spawn")
     return DummyVecEnv(fns)
 
 
@@ -85,8 +151,11 @@ class RunResult(dict):
 
 def _save_atomic_zip(model, path: Path) -> None:
     tmp = path.with_name(f".{path.stem}.tmp.zip")
-    model.save(tmp)
-    os.replace(tmp, path)
+    try:
+        model.save(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool) -> None:
@@ -130,6 +199,7 @@ def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: f
                 self.checkpoint()
 
         def _on_step(self) -> bool:
+            raise_if_stopped()
             return True
 
         def _on_training_end(self) -> None:
@@ -153,14 +223,24 @@ def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: f
     return RunCallback()
 
 
-def _check_spec_file(spec: RunSpec, run_dir: Path) -> None:
+def _holds_progress(run_dir: Path) -> bool:
+    """Whether ``run_dir`` holds training worth keeping: a checkpoint or the done marker."""
+    return (run_dir / _CHECKPOINT / "model.zip").is_file() or is_done(run_dir)
+
+
+def _bind_spec(spec: RunSpec, run_dir: Path) -> None:
+    """Write ``run_dir/spec.json``, or check that the run already there has ``spec``.
+
+    A different spec is refused once the folder holds progress (``_holds_progress``); before
+    that, as after a start that failed, the folder is simply taken over.
+    """
     path = run_dir / "spec.json"
-    if path.is_file():
+    if path.is_file() and _holds_progress(run_dir):
         old = RunSpec.from_dict(json.loads(path.read_text()))
         if old != spec:
             raise ValueError(f"{run_dir} holds a run with a different spec ({path}); use another --out folder")
-    else:
-        write_text_atomic(path, spec.to_json() + "\n")
+        return
+    write_text_atomic(path, spec.to_json() + "\n")
 
 
 def train(
@@ -173,6 +253,9 @@ def train(
     callbacks: Sequence[Any] = (),
 ) -> RunResult:
     """Train (or resume, or skip if ``done``) the run ``spec`` into ``run_dir``.
+
+    Raises ``ValueError`` before writing anything when ``spec`` cannot start
+    (``validate_spec``) or ``run_dir`` holds another run.
 
     Args:
         spec: the run.
@@ -188,16 +271,14 @@ def train(
     import torch
 
     run_dir = Path(run_dir)
+    validate_spec(spec)
     run_dir.mkdir(parents=True, exist_ok=True)
-    _check_spec_file(spec, run_dir)
+    _bind_spec(spec, run_dir)
     if is_done(run_dir):
         return RunResult(json.loads((run_dir / "metrics.json").read_text()))
     torch.set_num_threads(spec.torch_threads)
     algo_cls = _algo_class(spec.algo)
-    try:
-        eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
-    except TypeError as err:  # unknown env keyword: the user's input
-        raise ValueError(f"env_kwargs: {err}") from None
+    eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
     vec = _make_vec_env(spec)
     try:
         ckpt = run_dir / _CHECKPOINT / "model.zip"
@@ -217,8 +298,8 @@ def train(
         else:
             for leftover in ("eval.csv",):
                 (run_dir / leftover).unlink(missing_ok=True)
-            model = algo_cls("MultiInputPolicy", vec, seed=spec.seed, device="cpu", verbose=verbose,
-                             tensorboard_log=tb, **spec.merged_algo_kwargs())
+            model = algo_cls(_policy_name(spec.algo, vec.observation_space), vec, seed=spec.seed, device="cpu",
+                             verbose=verbose, tensorboard_log=tb, **spec.merged_algo_kwargs())
             resumed_from = 0
         callback = _make_callback(spec, run_dir, rows, start_wall, eval_envs)
         remaining = spec.total_steps - int(model.num_timesteps)

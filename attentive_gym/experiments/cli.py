@@ -1,21 +1,24 @@
 """``attentive-gym experiment NAME|all [--noise S] [--seed N] [--kinematics MODE] [--profile P] [--out DIR]``.
 
-Runs one experiment (or all five, with a tqdm progress bar), prints each MODEL.md §9
-check as PASS/FAIL with its measured values, and with ``--out`` writes ``DIR/NAME.npz``
-(the trace) and ``DIR/NAME.png`` (the figure). ``--kinematics`` picks the model's
-kinematics mode (tracker, window, literal), ``--profile`` the env's sensor profile
-(usarsim). Exit status 0 whatever the checks say.
+Runs one experiment (or all five, with a progress line on stderr after each: its time, the
+elapsed time and an ETA), prints each docs/model.md §9 check as PASS/FAIL with its measured
+values, and with ``--out`` writes ``DIR/NAME.npz`` (the trace) and ``DIR/NAME.png`` (the
+figure). ``--kinematics`` picks the model's kinematics mode (tracker, window, literal),
+``--profile`` the env's sensor profile (usarsim). Exit status 0 whatever the checks say.
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
+import time
 from pathlib import Path
 
 from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.experiments.checks import check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, get_experiment
 from attentive_gym.experiments.runner import _check_kinematics, _check_profile, run_experiment
+from attentive_gym.progress import Progress, format_duration
 from attentive_gym.sensors import SENSOR_PROFILES
 
 __all__ = ["add_experiment_parser"]
@@ -28,7 +31,7 @@ def add_experiment_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "experiment",
         help="reproduce one of the paper's experiments (or all)",
-        description=("Run one of the paper's experiments with the robot immobile, print the MODEL.md §9 checks "
+        description=("Run one of the paper's experiments with the robot immobile, print the docs/model.md §9 checks "
                      f"and optionally write DIR/NAME.npz and DIR/NAME.png. NAME: {', '.join(EXPERIMENT_NAMES)} "
                      f"or {_ALL}."),
     )
@@ -49,16 +52,18 @@ def add_experiment_parser(subparsers) -> None:
 def _run(args: argparse.Namespace) -> int:
     names = EXPERIMENT_NAMES if args.name == _ALL else (get_experiment(args.name).name,)
     _check_kinematics(args.kinematics), _check_profile(args.profile)  # before any run starts
-    if args.name == _ALL:
-        from tqdm import tqdm
-
-        names = tqdm(names, desc="experiments", unit="exp")
+    progress = Progress(len(names)) if args.name == _ALL else None
     lines = []
     for name in names:
+        start_s = time.monotonic()
         result = run_experiment(name, noise=args.noise, seed=args.seed, out_dir=args.out,
                                 kinematics=args.kinematics, profile=args.profile)
         checks = check_experiment(result)
-        lines.append(f"{name}: {sum(c.passed for c in checks)}/{len(checks)} checks pass")
+        verdict = f"{name}: {sum(c.passed for c in checks)}/{len(checks)} checks pass"
+        if progress is not None:
+            print(progress.line(f"{verdict} in {format_duration(time.monotonic() - start_s)}"),
+                  file=sys.stderr, flush=True)
+        lines.append(verdict)
         lines.extend(f"  {'PASS' if c.passed else 'FAIL'} {c.name}: {c.measured}" for c in checks)
         lines.extend(f"  wrote {path}" for path in result.paths)
     print("\n".join(lines))

@@ -2,6 +2,7 @@
 
 import json
 import struct
+from pathlib import Path
 
 import pytest
 
@@ -83,6 +84,42 @@ def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
     assert not failed.ok and "bogus_knob" in failed.error
     assert "Traceback" in (tmp_path / "bad" / "error.txt").read_text()
     assert not (tmp_path / "bad" / "done").exists()
+
+
+def _run_processes_of(parent_pid):
+    """Pids of ``parent_pid``'s spawned run processes (multiprocessing's resource tracker aside), from /proc."""
+    pids = []
+    for proc in Path("/proc").glob("[0-9]*"):
+        try:
+            ppid = int((proc / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            cmdline = (proc / "cmdline").read_bytes()
+        except (OSError, IndexError):
+            continue
+        if ppid == parent_pid and b"spawn_main" in cmdline and b"resource_tracker" not in cmdline:
+            pids.append(int(proc.name))
+    return pids
+
+
+def test_a_run_whose_process_dies_fails_alone(tmp_path, tiny):
+    import os
+    import signal
+    import threading
+    import time
+
+    def kill_the_first_run():
+        deadline = time.monotonic() + 120
+        while not (tmp_path / "r0" / "spec.json").is_file() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        for pid in _run_processes_of(os.getpid()):
+            os.kill(pid, signal.SIGKILL)
+
+    jobs = [(tiny(total_steps=2048, seed=s).to_dict(), str(tmp_path / f"r{s}")) for s in (0, 1)]
+    killer = threading.Thread(target=kill_the_first_run)
+    killer.start()
+    first, second = run_many(jobs, workers=1)
+    killer.join()
+    assert first.run_dir == jobs[0][1] and not first.ok and first.error == "its process died (exit status -9)"
+    assert second.ok and second.env_steps == 2048 and (tmp_path / "r1" / "done").is_file()
 
 
 def test_bad_backend_and_workers(tmp_path):

@@ -34,9 +34,30 @@ def test_parsers():
     assert parse_variants(" raw, focus ") == ("raw", "focus")
     assert parse_seeds("3") == (0, 1, 2)
     assert parse_seeds("4,7") == (4, 7)
-    for bad in ("0", "-1", "a", "1,1", "2,-3"):
-        with pytest.raises(ValueError):
+    for bad in ("0", "-1", "a", "2,-3"):
+        with pytest.raises(ValueError, match="seeds must be"):
             parse_seeds(bad)
-    for bad in ("", "raw,raw"):
-        with pytest.raises(ValueError):
-            parse_variants(bad)
+    with pytest.raises(ValueError, match="no variant given"):
+        parse_variants(" ")
+
+
+@pytest.mark.parametrize("text, message", [
+    ("raw,", "empty item in the variant list 'raw,'"),
+    (",raw", "empty item in the variant list ',raw'"),
+    ("raw,,focus", "empty item in the variant list 'raw,,focus'"),
+    ("raw,focus,raw", "variant 'raw' is listed twice in 'raw,focus,raw'"),
+])
+def test_variant_lists_with_empty_or_repeated_items_are_refused(text, message):
+    with pytest.raises(ValueError, match=message):
+        parse_variants(text)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("0,1,", "empty item in the seed list '0,1,'"),
+    ("0,,1", "empty item in the seed list '0,,1'"),
+    ("1,1", "seed 1 is listed twice in '1,1'"),
+    ("0,2,02", "seed 2 is listed twice in '0,2,02'"),
+])
+def test_seed_lists_with_empty_or_repeated_items_are_refused(text, message):
+    with pytest.raises(ValueError, match=message):
+        parse_seeds(text)

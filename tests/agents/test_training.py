@@ -87,7 +87,7 @@ def test_sac_resume_keeps_the_replay_buffer(tmp_path, tiny):
 
 def test_evaluate_policy_counts_episodes(tiny):
     class Forward:
-        def predict(self, obs, deterministic=True):
+        def predict(self, obs, state=None, episode_start=None, deterministic=True):
             n = len(obs["sonar"])
             return np.tile(np.array([1.0, 0.0], np.float32), (n, 1)), None
 
