@@ -6,24 +6,28 @@ Subcommands (one small function each, registered in ``_SUBCOMMANDS``):
   ``attentive_gym.attention.replay``) through the attentional model and write
   ``DIR/trace.npz`` and ``DIR/trace.png``.
 - ``experiment NAME|all [--noise S] [--seed N] [--out DIR]``: reproduce the paper's
-  experiments and print MODEL.md §9's checks (``attentive_gym.experiments.cli``).
+  experiments and print docs/model.md §9's checks (``attentive_gym.experiments.cli``).
 - ``train [--variant V] [--algo ppo|sac] [--steps N] [--seed S] [--n-envs K] [--out DIR]``,
   ``evaluate MODEL [--episodes N] [--video DIR]`` and ``compare --variants A,B --seeds N
   --steps N --out DIR [--backend process|ray] [--workers W] [--quick]``: SB3 agents on the
   observation variants (``attentive_gym.agents.cli``; needs the ``agents`` extra).
 
 Errors in the user's input (a malformed log, an invalid goal, map list or configuration)
-print one line on stderr and exit with status 2; ``main`` returns the exit status.
+print one line on stderr and exit with status 2. Ctrl-C (and SIGTERM for ``train`` and
+``compare``) prints one line, without a traceback, and exits with the shell's 128 + the
+signal's number (130 for SIGINT). ``main`` returns the exit status.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
 from pathlib import Path
 from typing import Callable, Sequence
 
+from attentive_gym.agents.backends import Interrupted
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.experiments.cli import add_experiment_parser
 
@@ -40,11 +44,15 @@ def _add_attend(subparsers) -> None:
         description=(
             "Replay sonar and laser readings logged from a robot through the attentional model. "
             "LOG is a CSV with header t,sonar_0..sonar_15 (or sonar_0..sonar_7),laser_0..laser_179 "
-            "and optional v,w odometry columns (s, m, m/s, rad/s), or an NPZ with arrays t (T,), "
-            "sonar (T,16|8), laser (T,180) and optional odometry (T,2). Writes DIR/trace.npz and DIR/trace.png."
+            "and optional v,w odometry columns (s, m, m/s, rad/s), an NPZ with arrays t (T,), "
+            "sonar (T,16|8), laser (T,180) and optional odometry (T,2), or a ROS bag: a ROS 1 .bag, "
+            "a ROS 2 bag folder or its .db3 or .mcap file (needs the 'ros' extra). A bag's "
+            "sensor_msgs/LaserScan, sensor_msgs/Range (one topic per sonar) and nav_msgs/Odometry "
+            "topics are found by message type; the flags below name them otherwise. "
+            "Writes DIR/trace.npz and DIR/trace.png."
         ),
     )
-    parser.add_argument("log", type=Path, help="the logged run (.csv or .npz)")
+    parser.add_argument("log", type=Path, help="the logged run (.csv, .npz, .bag, .db3, .mcap or a ROS 2 bag folder)")
     parser.add_argument("--out", type=Path, required=True, help="output folder")
     parser.add_argument("--goal", action="append", default=[], metavar="SPEC",
                         help="a top-down goal, e.g. speed:between:0.5:0.9, speed:greater:0.6, "
@@ -56,11 +64,23 @@ def _add_attend(subparsers) -> None:
     parser.add_argument("--config", metavar="JSON",
                         help="AttentionConfig fields as a JSON object, or the path of a .json file holding one")
     parser.add_argument("--no-figure", action="store_true", help="write trace.npz only")
+    bag = parser.add_argument_group("ROS bags", "topics of a bag, when they are not one of each message type")
+    bag.add_argument("--laser-topic", metavar="TOPIC", help="the sensor_msgs/LaserScan topic (the time base)")
+    bag.add_argument("--sonar-topics", metavar="A,B,...",
+                     help="the sensor_msgs/Range topics, P2AT sonar 0 first: 8 (front) or 16 (whole ring), "
+                          "or any number with --sonar-bearings (default: all Range topics in natural name order; "
+                          "none: the front sonars are read from the laser)")
+    bag.add_argument("--odom-topic", metavar="TOPIC", help="the nav_msgs/Odometry topic (ego-motion)")
+    bag.add_argument("--sonar-bearings", metavar="DEG,DEG,...",
+                     help="one bearing (deg, counter-clockwise from the heading) per sonar topic, for sonars "
+                          "that are not the P2AT ring: each stands in for the nearest front sonar, the laser "
+                          "for the others")
     parser.set_defaults(handler=_run_attend)
 
 
 def _run_attend(args: argparse.Namespace) -> int:
     from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
+    from attentive_gym.attention.rosbag import parse_bag_topics
     from attentive_gym.attention.trace import save_trace
 
     config = AttentionConfig()
@@ -75,7 +95,8 @@ def _run_attend(args: argparse.Namespace) -> int:
         model.set_weights(parse_maps(args.maps))
     if args.state:
         model.set_state(_parse_state_arg(args.state))
-    log = load_log(args.log)
+    topics = parse_bag_topics(args.laser_topic, args.sonar_topics, args.odom_topic, args.sonar_bearings)
+    log = load_log(args.log, topics=topics, config=config)
     trace = replay_log(log, model)
     args.out.mkdir(parents=True, exist_ok=True)
     trace_path = save_trace(trace, args.out / "trace.npz")
@@ -116,7 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 invalid input)."""
+    """Run the command line; returns the exit status (0 ok, 2 invalid input, 128 + signal number when stopped)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -124,6 +145,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ValueError, OSError, json.JSONDecodeError) as err:
         print(f"attentive-gym {args.command}: error: {err}", file=sys.stderr)
         return EXIT_USAGE
+    except KeyboardInterrupt as stop:
+        stop = stop if isinstance(stop, Interrupted) else Interrupted(signal.SIGINT)
+        print(f"attentive-gym {args.command}: {stop}", file=sys.stderr)
+        return stop.exit_status
 
 
 if __name__ == "__main__":

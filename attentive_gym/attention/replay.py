@@ -1,7 +1,8 @@
 """Replay readings logged from a robot through the model (the numpy side of ``attentive-gym attend``).
 
 - ``SensorLog``: timestamps, sonar, laser and optional odometry of a logged run.
-- ``load_log``: read a ``.csv`` or ``.npz`` log, with clear errors for malformed files.
+- ``load_log``: read a ``.csv`` or ``.npz`` log or a ROS bag, with clear errors for
+  malformed files.
 - ``replay_log``: step a model over a log and record the trace.
 - ``parse_goal``, ``parse_maps``: the command line's goal and map specifications.
 
@@ -16,6 +17,10 @@ Log formats (T readings; times in seconds, ranges in metres, strictly increasing
   optionally ``odometry`` (T, 2) = (v m/s, w rad/s).
 
 "No echo" readings must be logged as the sensor's maximum range (not inf or NaN).
+
+ROS 1 ``.bag`` files and ROS 2 bags (a folder with ``metadata.yaml``, or its ``.db3`` or
+``.mcap`` storage file) are read by ``attentive_gym.attention.rosbag`` (LaserScan, Range
+and Odometry messages; the optional ``rosbags`` package).
 """
 
 from __future__ import annotations
@@ -24,15 +29,18 @@ import csv
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
-from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES
+from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES, AttentionConfig
 from attentive_gym.attention.goals import Feature, Goal, Relation
 from attentive_gym.attention.model import AttentionModel
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
 from attentive_gym.attention.trace import Trace, TraceRecorder
+
+if TYPE_CHECKING:
+    from attentive_gym.attention.rosbag import BagTopics
 
 __all__ = ["SensorLog", "LogFormatError", "load_log", "replay_log", "parse_goal", "parse_maps"]
 
@@ -91,21 +99,38 @@ class SensorLog:
         return self
 
 
-def load_log(path: str | os.PathLike) -> SensorLog:
-    """Read a logged run from a ``.csv`` or ``.npz`` file (formats in the module docstring).
+def load_log(path: str | os.PathLike, *, topics: BagTopics | None = None,
+             config: AttentionConfig | None = None) -> SensorLog:
+    """Read a logged run: a ``.csv`` or ``.npz`` file (formats in the module docstring) or a
+    ROS bag (``.bag``, ``.db3``, ``.mcap`` or a ROS 2 bag folder; ``rosbag.read_bag``).
+
+    Args:
+        path: the log.
+        topics: bags only: which topics hold what (default: found by message type).
+        config: bags only: the model whose ranges and sonar cones the bag's readings are
+            converted for (default ``AttentionConfig()``).
 
     Raises:
         LogFormatError: for an unknown suffix, a missing or malformed column or array,
-            wrong widths, NaN/inf, negative ranges or non-increasing times.
+            wrong widths, NaN/inf, negative ranges or non-increasing times; for ``topics``
+            with a CSV or NPZ log; for a bag as ``rosbag.read_bag`` says.
         OSError: when the file cannot be read.
     """
+    from attentive_gym.attention import rosbag  # it imports this module
+
     path = Path(path)
+    if rosbag.is_bag_path(path):
+        return rosbag.read_bag(path, topics, config)
+    if topics is not None:
+        raise LogFormatError(f"{path}: topic options apply to ROS bags only "
+                             f"({', '.join(rosbag.BAG_SUFFIXES)} or a ROS 2 bag folder)")
     suffix = path.suffix.lower()
     if suffix == ".csv":
         return _load_csv(path)
     if suffix == ".npz":
         return _load_npz(path)
-    raise LogFormatError(f"{path}: unknown log format {suffix!r}; allowed: .csv or .npz")
+    raise LogFormatError(f"{path}: unknown log format {suffix!r}; allowed: .csv, .npz, "
+                         f"{', '.join(rosbag.BAG_SUFFIXES)} or a ROS 2 bag folder")
 
 
 def _load_csv(path: Path) -> SensorLog:
