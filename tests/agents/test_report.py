@@ -70,3 +70,14 @@ def test_bad_input_to_the_report_is_one_line(tmp_path, capsys):
     assert main(["render", "--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(tmp_path / "x.csv"),
                  "--readme", str(readme), "--figures", str(tmp_path)]) == 2
     assert "no '<!-- rl-results:start -->'" in capsys.readouterr().err
+
+
+def test_the_readme_block_is_what_the_committed_csvs_give():
+    """Nobody edits the README's RL results by hand: they are regenerated from docs/results."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    args = ["render", "--check", "--comparison", str(root / "docs/results/rl_comparison.csv"),
+            "--clutter-csv", str(root / "docs/results/rl_clutter.csv"), "--readme", str(root / "README.md"),
+            "--figures", str(root / "docs/figures")]
+    assert main(args) == 0
