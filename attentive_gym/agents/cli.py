@@ -223,6 +223,10 @@ def add_compare(subparsers) -> None:
                         help=f"a ~6-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
                              f"{QUICK['total_steps']} steps in an {QUICK['env_kwargs']['arena_size_m']:g} m arena "
                              "(explicit options still win)")
+    parser.add_argument("--distractors", metavar="LIST",
+                        help="a clutter sweep: the comparison at each distractor count of the comma list (e.g. 1,3,6), "
+                             "into DIR/distractors-N/, then DIR/sweep.csv, sweep_summary.csv and "
+                             "success_vs_distractors.png (final success against distractors per variant)")
     _add_run_options(parser, quick=True)
     parser.set_defaults(handler=_run_compare)
 
@@ -238,6 +242,8 @@ def _run_compare(args: argparse.Namespace) -> int:
         raise ValueError(f"--threshold must be a success rate in [0, 1], got {args.threshold}")
     base = _spec_from_args(args, variants[0], seeds[0], defaults)
     out = args.out or Path("runs") / ("compare-quick" if args.quick else "compare")
+    if args.distractors:
+        return _run_sweep(args, variants, seeds, base, out)
     print(f"compare: {len(variants)} variants × {len(seeds)} seeds × {base.total_steps} env steps "
           f"({args.backend}, {args.workers} workers) → {out}", flush=True)
     result = compare(variants, seeds, base, out, backend=args.backend, workers=args.workers, threshold=args.threshold,
@@ -245,6 +251,25 @@ def _run_compare(args: argparse.Namespace) -> int:
     if result.summary_md is not None:
         print(result.summary_md.read_text(), end="")
         print(f"wrote {result.results_csv}, {result.figure}, {result.summary_csv}, {result.summary_md}")
+    if result.failed:
+        print(f"{len(result.failed)} run(s) failed: {', '.join(result.failed)}; rerun the same command to retry them")
+        return 1
+    return 0
+
+
+def _run_sweep(args: argparse.Namespace, variants, seeds, base, out: Path) -> int:
+    """``compare --distractors``: the comparison at each distractor count."""
+    from attentive_gym.agents.sweep import clutter_sweep, parse_distractors
+
+    counts = parse_distractors(args.distractors)
+    if "num_distractors" in base.env_kwargs and args.env_kwargs:
+        raise ValueError("--distractors sets num_distractors; leave it out of --env-kwargs")
+    print(f"compare: clutter sweep over {len(counts)} distractor counts × {len(variants)} variants × {len(seeds)} seeds "
+          f"× {base.total_steps} env steps ({args.backend}, {args.workers} workers) → {out}", flush=True)
+    result = clutter_sweep(variants, seeds, base, counts, out, backend=args.backend, workers=args.workers,
+                           threshold=args.threshold, log=lambda line: print(line, flush=True))
+    if result.summary_csv is not None:
+        print(f"wrote {result.results_csv}, {result.summary_csv}, {result.figure}")
     if result.failed:
         print(f"{len(result.failed)} run(s) failed: {', '.join(result.failed)}; rerun the same command to retry them")
         return 1

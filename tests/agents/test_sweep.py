@@ -1,0 +1,31 @@
+"""The clutter sweep runs the comparison at each distractor count and tabulates it."""
+
+import json
+
+from attentive_gym.agents.results import read_csv
+from attentive_gym.agents.sweep import SWEEP_COLUMNS, SWEEP_SUMMARY_COLUMNS
+from attentive_gym.cli import main
+
+
+def test_compare_distractors_sweeps_the_clutter(tmp_path, tiny):
+    out = tmp_path / "sweep"
+    argv = ["compare", "--variants", "raw,focus", "--seeds", "1", "--steps", "128", "--n-envs", "2",
+            "--eval-every", "128", "--eval-episodes", "1", "--env-kwargs", json.dumps(tiny.env_kwargs),
+            "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--workers", "2", "--out", str(out), "--distractors", "1,3"]
+    assert main(argv) == 0
+    for n in (1, 3):
+        spec = json.loads((out / f"distractors-{n}" / "runs" / "raw-seed0" / "spec.json").read_text())
+        assert spec["env_kwargs"]["num_distractors"] == n
+    rows = read_csv(out / "sweep.csv")
+    assert list(rows[0]) == list(SWEEP_COLUMNS)
+    assert {(r["num_distractors"], r["variant"]) for r in rows} == {(n, v) for n in (1, 3) for v in ("raw", "focus")}
+    summary = read_csv(out / "sweep_summary.csv")
+    assert list(summary[0]) == list(SWEEP_SUMMARY_COLUMNS) and len(summary) == 4
+    assert (out / "success_vs_distractors.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_bad_distractor_list_is_refused_before_anything_is_written(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    assert main(["compare", "--variants", "raw", "--seeds", "1", "--out", str(out), "--distractors", "1,1"]) == 2
+    assert "distractor counts must be distinct" in capsys.readouterr().err
+    assert not out.exists()
