@@ -4,10 +4,11 @@
 - ``train`` (``training``): one run with periodic evaluation, TensorBoard logs,
   checkpoints/resume, ``final_model.zip``, ``metrics.json`` and a ``done`` marker.
 - ``evaluate_policy`` (``evaluation``): success rate, return, collisions, episode length.
-- ``compare.compare``: every (variant, seed) pair in a process pool or on Ray, then
+- ``compare.compare``: every (variant, seed) pair in parallel processes or on Ray, then
   ``results.csv``, ``learning_curves.png`` and ``summary.md``/``summary.csv``.
 - ``results``: atomic writes and summaries; ``statistics``: IQM, bootstrap CIs, probability of
-  improvement (as ``rliable``); ``plots``: the figure.
+  improvement (as ``rliable``); ``plots``: the figures; ``sweep``: the clutter sweep;
+  ``report``: the README's results from the shipped CSVs.
 
 Importing this package does not import torch or SB3 (the ``agents`` extra); the functions do.
 """
