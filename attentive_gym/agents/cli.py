@@ -60,7 +60,7 @@ _non_negative_int = _int_at_least(0)
 #: ``compare --quick``'s seeds, as the ``--seeds`` count they equal.
 _QUICK_SEEDS = len(QUICK["seeds"])
 #: ``compare``'s variants and seeds without ``--quick``.
-_COMPARE_VARIANTS = ("raw", "raw-stack", "focus")
+_COMPARE_VARIANTS = ("raw", "focus", "oracle", "random-focus")
 _COMPARE_SEEDS = 5
 
 

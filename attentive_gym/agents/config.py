@@ -23,13 +23,14 @@ ALGOS = ("ppo", "sac", "recurrent-ppo")
 #: Vectorisation of the training environments: SB3 ``DummyVecEnv`` or ``SubprocVecEnv``.
 VEC_ENVS = ("dummy", "subproc")
 
-#: ``compare --quick``: 3 variants × 3 seeds × 150 000 PPO steps, 10 eval episodes every
-#: 15 000 steps, in the main comparison's smaller arena (8 m, 2 distractors, 3 rubble per 100 m²).
+#: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
+#: oracle) × 3 seeds × 150 000 PPO steps, 10 eval episodes every 30 000 steps, in the main
+#: comparison's smaller arena (8 m, 2 distractors, 3 rubble per 100 m²).
 QUICK: dict[str, Any] = {
-    "variants": ("raw", "raw-stack", "focus"),
+    "variants": ("raw", "focus", "oracle"),
     "seeds": (0, 1, 2),
     "total_steps": 150_000,
-    "eval_every": 15_000,
+    "eval_every": 30_000,
     "eval_episodes": 10,
     "checkpoint_every": 50_000,
     "env_kwargs": {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0},
