@@ -450,9 +450,10 @@ class AttentionModel:
         speed_goal = self._goals.get(Feature.SPEED) if active[GOAL_MAP_OF_FEATURE[Feature.SPEED]] > 0.0 else None
         self._wanted_speed = np.full(2, np.inf) if speed_goal is None else np.array(_fulfilling_range(speed_goal))
         total = float(active.sum())
-        normaliser = 1.0 / total if (self.config.normalise_combined and total > 0.0) else 1.0
-        # weights of C_BU = w_BU @ F[:3] (row 0) and C_TD = w_TD @ F[3:] (row 1), normaliser folded in
-        self._combine = np.stack([active[list(BOTTOM_UP_MAPS)], active[list(TOP_DOWN_MAPS)]]) * normaliser
+        divisor = total if (self.config.normalise_combined and total > 0.0) else 1.0
+        # weights of C_BU = w_BU @ F[:3] (row 0) and C_TD = w_TD @ F[3:] (row 1), normaliser folded in;
+        # divided, not multiplied by 1/total, which overflows for subnormal weights
+        self._combine = np.stack([active[list(BOTTOM_UP_MAPS)], active[list(TOP_DOWN_MAPS)]]) / divisor
 
     # --- dynamics -----------------------------------------------------------------------
     def reset(self) -> None:

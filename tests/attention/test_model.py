@@ -195,3 +195,13 @@ def test_deep_copies_of_outputs_are_equal_and_independent():
     assert clone._sources[0] is grid and copy.deepcopy(grid) is grid
     with pytest.raises(ValueError, match="read-only"):
         grid.beam_region[0] = 3
+
+
+def test_subnormal_weights_give_finite_maps():
+    """Found by hypothesis: 1/Σw overflows for subnormal weights; C = Σ w F / Σ w stays finite."""
+    model = AttentionModel()
+    model.set_weights([5e-324] * 6)
+    model.set_goals(Goal.between("speed", 0.5, 0.9))
+    for k in range(3):
+        out = model.step(0.05 * k, np.full(16, 3.0 - 0.1 * k), np.full(180, 8.0), (0.2, 0.0))
+    assert np.isfinite(out.C).all() and np.isfinite(out.L).all() and np.isfinite(out.M).all()
