@@ -220,7 +220,7 @@ def add_compare(subparsers) -> None:
                         help=f"runs in parallel (default: the CPU count, {workers} here)")
     parser.add_argument("--threshold", type=float, default=0.5, help="success rate for 'steps to threshold' (default: 0.5)")
     parser.add_argument("--quick", action="store_true",
-                        help=f"a ~6-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
+                        help=f"a ~10-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
                              f"{QUICK['total_steps']} steps in an {QUICK['env_kwargs']['arena_size_m']:g} m arena "
                              "(explicit options still win)")
     parser.add_argument("--distractors", metavar="LIST",
