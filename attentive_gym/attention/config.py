@@ -129,6 +129,15 @@ class AttentionConfig:
             one (beams).
         max_object_extent_m: segments longer than this (end to end, m) are static
             structure (walls): never tracked, their speed is 0.
+        foreground_flank_beams: a run of beams inside static structure that lies nearer
+            than the surface around it, with a range jump at both ends, is a body of its
+            own (one standing in front of a wall); the surface is the line through this
+            many beams on each side of the run (beams; 0 turns the search off).
+        foreground_sigmas: how significantly nearer than that surface a run must lie, in
+            σ of its depth (from the range noise of its and its flanks' beams).
+        foreground_margin_m: the depth a run must exceed beyond that (m).
+        foreground_edge_sigmas: how significant the range jump at each end of such a run
+            must be (σ): a bend or a corner of one surface has none.
         track_accel_psd_m2ps3: spectral density ``q`` of the white-noise acceleration of
             the constant-velocity model (m²/s³); smaller is smoother, larger follows
             turns sooner.
@@ -207,6 +216,10 @@ class AttentionConfig:
     segment_jump_sigmas: float = 3.0
     segment_min_beams: int = 2
     max_object_extent_m: float = 1.2
+    foreground_flank_beams: int = 4
+    foreground_sigmas: float = 4.5
+    foreground_margin_m: float = 0.1
+    foreground_edge_sigmas: float = 2.0
     track_accel_psd_m2ps3: float = 0.02
     track_static_drift_m2ps: float = 0.0025
     track_switch_rate_hz: float = 0.4
@@ -266,6 +279,9 @@ class AttentionConfig:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ValueError(f"AttentionConfig.{name} must be an int >= 1, got {value!r}")
+        value = self.foreground_flank_beams
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise ValueError(f"AttentionConfig.foreground_flank_beams must be an int >= 0 (beams), got {value!r}")
         if self.slope_samples > self.memory_window:
             raise ValueError(
                 f"AttentionConfig.slope_samples must be <= memory_window={self.memory_window}, "
@@ -279,6 +295,8 @@ class AttentionConfig:
             ("sonar_ego_match_m", "m"),
             ("range_noise_floor_m", "m"),
             ("max_object_extent_m", "m"),
+            ("foreground_sigmas", "σ"),
+            ("foreground_edge_sigmas", "σ"),
             ("track_accel_psd_m2ps3", "m²/s³"),
             ("track_static_drift_m2ps", "m²/s"),
             ("track_switch_rate_hz", "1/s"),
@@ -309,6 +327,7 @@ class AttentionConfig:
             ("range_noise_rel", "fraction of the range"),
             ("segment_jump_m", "m"),
             ("segment_jump_sigmas", "σ"),
+            ("foreground_margin_m", "m"),
             ("sonar_min_range_m", "m"),
             ("no_echo_epsilon_m", "m"),
             ("A_exc", "gain units"),

@@ -7,6 +7,9 @@
   points pushed back along the line of sight by a fixed fraction of its extent, where
   the centre of a round or boxy body lies), its extent, its measurement covariance, and
   what the tracker may do with it (``STRUCTURE``, ``UPDATE_ONLY``, ``TRACKABLE``).
+- ``split_foreground``: bodies standing in front of structure, found inside its segments
+  as runs of beams significantly nearer than the surface around them (a body less than
+  a jump threshold in front of a wall merges with it into one long segment).
 - ``carve_body``: a body that a track expects, cut out of whatever segment holds it
   (a body touching a wall merges with it into static structure).
 - Column layout of the measurement table: ``SEGMENT_FIELDS``.
@@ -21,8 +24,8 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["segment_scan", "measure_segments", "carve_body", "SEGMENT_FIELDS", "SURFACE_OFFSET_FRACTION", "STRUCTURE",
-           "UPDATE_ONLY", "TRACKABLE"]
+__all__ = ["segment_scan", "measure_segments", "split_foreground", "carve_body", "SEGMENT_FIELDS",
+           "SURFACE_OFFSET_FRACTION", "STRUCTURE", "UPDATE_ONLY", "TRACKABLE"]
 
 #: Columns of ``measure_segments``' table, one row per segment.
 SEGMENT_FIELDS = ("start", "stop", "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
@@ -33,6 +36,17 @@ _START, _STOP, _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = range(len(SEGMENT
 #: centre, and its extent is 2R.
 SURFACE_OFFSET_FRACTION = math.pi / 8.0
 _SQRT2 = math.sqrt(2.0)
+#: ``split_foreground``: the fewest beams of a run; the part of a run's depth that the
+#: range jump at each of its ends inside a segment must show (a body's edges are as deep
+#: as it stands in front of its background, a bend's are not); the σ of the loose screen
+#: (2 beams either side of a beam boundary) for where a run may start or end.
+_FOREGROUND_MIN_BEAMS = 3
+_EDGE_DEPTH_FRACTION = 0.25
+_EDGE_SCREEN_SIGMAS = 1.0
+#: Runs are searched up to this many times ``max_extent_m``: the best run, when longer than
+#: that, is structure in front of structure (a big box before a wall), and none of its parts
+#: is a body.
+_SEARCH_EXTENT_FACTOR = 2.0
 #: Values of the ``candidate`` column: static structure, never tracked (longer than any
 #: body that moves); a segment with too few beams to start a track, which may still
 #: update one; a segment that may start a track.
@@ -121,6 +135,233 @@ def measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
             table[m, _CANDIDATE] = STRUCTURE
         else:
             table[m, _CANDIDATE] = TRACKABLE if stop - start >= min_beams else UPDATE_ONLY
+
+
+@njit(cache=True)
+def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, bounds, count, noise_rel, noise_floor_m,
+                     surface_sigma_m, max_extent_m, min_beams, flank_beams, sigmas, margin_m, edge_sigmas, table):
+    """Find bodies standing in front of structure: runs of beams inside a ``STRUCTURE``
+    segment that lie significantly nearer than the surface around them, with a range
+    jump at both ends; each becomes a segment of its own, appended after the ``count``
+    rows of ``segment_scan`` and ``measure_segments``.
+
+    A body less than a jump threshold in front of a wall or rubble merges with it into one
+    segment longer than ``max_extent_m``, which yields no measurement (or, split from it
+    on one side only, sits at one end of such a segment). A candidate run ``i <= k < j``
+    (at least 3 beams, at most ``2 · max_extent_m`` end to end) qualifies when:
+
+    - its **depth**, how much nearer its echo centroid lies, along its line of sight, than
+      the line through the centroids of its two flanks (``flank_beams`` beams on either
+      side, which may reach into the neighbouring segments but not past a beam without
+      echo: a wall behind it seen at any angle), exceeds ``margin_m + sigmas · σ``, σ the
+      depth's standard deviation from the range noise of the run's and the flanks'
+      beams propagated through that geometry (exact to first order, so that walls seen
+      at a grazing angle are not split by noise);
+    - both of its **ends are edges** (``_edge_z`` >= ``edge_sigmas``): an end at the
+      segment's end next to a farther beam (that jump passed the segment's test), or an
+      end inside the segment where the surface beyond lies farther than the run's beams
+      next to the end, both as a mean (by more than ``_EDGE_DEPTH_FRACTION`` of the
+      depth) and extrapolated as a line from up to ``2 · flank_beams`` beams beyond: a
+      convex corner, a bend, or the end of a wall cut off by the ``max_extent_m`` limit
+      continues smoothly there, a body's edge does not.
+
+    Among the candidates, the one with the largest ``(depth − margin_m) / σ`` wins and its
+    beams are taken; it becomes a segment when it is at most ``max_extent_m`` long (a
+    longer one is structure in front of structure, such as a big box before a wall, and
+    searching up to twice the limit keeps its parts from passing for bodies). The search
+    repeats among the beams not yet taken until none qualifies. To keep it cheap,
+    runs only start and end where a loose screen sees a step (the 2 beams outside at
+    least ``_EDGE_SCREEN_SIGMAS`` σ farther than the 2 inside) or at a segment's end,
+    and the depth is only computed where a cheap bound (the line between the flanks lies
+    nowhere farther than the farther flank's mean range) allows it to pass.
+
+    Args:
+        ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m: the scan, as in ``measure_segments``.
+        bounds, table: ``segment_scan``'s and ``measure_segments``' outputs, ``count`` rows of
+            each; the runs found are appended to both (as many as their rows hold).
+        noise_rel, noise_floor_m, surface_sigma_m: the noise model, as in ``measure_segments``.
+        max_extent_m: the longest run (end to end, m).
+        min_beams: a run with fewer beams is ``UPDATE_ONLY``, else ``TRACKABLE``.
+        flank_beams: beams on each side of a run that define the surface behind it (0: no
+            search).
+        sigmas, margin_m: the significance a run's depth needs (σ) and the depth it must
+            exceed beyond that (m).
+        edge_sigmas: the significance each end's range jump needs (σ).
+
+    Returns:
+        The number of rows in ``bounds`` and ``table``: ``count`` plus the runs found. Each
+        run is measured by ``_measure_run`` with both ends its own (its edges, which
+        nothing nearer hides); the segment around it stays ``STRUCTURE``.
+    """
+    n_beams = ranges_m.shape[0]
+    capacity = min(bounds.shape[0], table.shape[0])
+    w = flank_beams
+    total = count
+    if w < 1:
+        return total
+    structure = False
+    for m in range(count):
+        structure = structure or table[m, _CANDIDATE] == STRUCTURE
+    if not structure:
+        return total
+    # prefix sums of the echo points, the ranges and the echoes
+    px, py, pr = np.zeros(n_beams + 1), np.zeros(n_beams + 1), np.zeros(n_beams + 1)
+    echoes = np.zeros(n_beams + 1, np.int64)
+    for i in range(n_beams):
+        r = ranges_m[i]
+        px[i + 1], py[i + 1], pr[i + 1] = px[i] + r * cos_b[i], py[i] + r * sin_b[i], pr[i] + r
+        echoes[i + 1] = echoes[i] + (1 if r < no_echo_from_m else 0)
+    # where a run may start (opens) or end (closes), between beams k - 1 and k: a step or a
+    # structure segment's end; next_close[k], the first such end at or after k
+    opens, closes = np.zeros(n_beams + 1, np.bool_), np.zeros(n_beams + 1, np.bool_)
+    for k in range(2, n_beams - 1):
+        inside, outside = ranges_m[k] + ranges_m[k + 1], ranges_m[k - 2] + ranges_m[k - 1]
+        sigma = max(noise_rel * 0.25 * (inside + outside), noise_floor_m)
+        opens[k] = 0.5 * (outside - inside) >= _EDGE_SCREEN_SIGMAS * sigma
+        closes[k] = 0.5 * (inside - outside) >= _EDGE_SCREEN_SIGMAS * sigma
+    for m in range(count):
+        if table[m, _CANDIDATE] == STRUCTURE:
+            opens[bounds[m, 0]] = True
+            closes[bounds[m, 1]] = True
+    next_close = np.empty(n_beams + 2, np.int64)
+    next_close[n_beams + 1] = n_beams + 1
+    for k in range(n_beams, -1, -1):
+        next_close[k] = k if closes[k] else next_close[k + 1]
+    used = np.zeros(n_beams, np.bool_)
+    widest = _SEARCH_EXTENT_FACTOR * max_extent_m
+    for m in range(count):
+        if table[m, _CANDIDATE] != STRUCTURE:
+            continue
+        a, b = bounds[m, 0], bounds[m, 1]
+        while total < capacity:
+            best_z, best_i, best_j = sigmas, -1, -1
+            stop = a  # a run from i ends at the latest before the first beam taken after it
+            for i in range(a, b - _FOREGROUND_MIN_BEAMS + 1):
+                if not opens[i] or used[i] or i < w or echoes[i] - echoes[i - w] < w:
+                    continue
+                if stop <= i:
+                    stop = i + 1
+                    while stop < b and not used[stop]:
+                        stop += 1
+                xi, yi = ranges_m[i] * cos_b[i], ranges_m[i] * sin_b[i]
+                j = next_close[i + _FOREGROUND_MIN_BEAMS]
+                while j <= stop:
+                    n = j - i
+                    mean_range = (pr[j] - pr[i]) / n
+                    span = (n - 1) * beam_step_rad
+                    if span * mean_range > widest:
+                        break
+                    if j + w <= n_beams and echoes[j + w] - echoes[j] == w:
+                        # cheap necessary conditions first: the line between the flanks lies nowhere
+                        # farther than the farther flank's mean range, and the run's centroid is
+                        # nearer than its mean range by less than the span allows
+                        farther = max(pr[i] - pr[i - w], pr[j + w] - pr[j]) / w
+                        sigma = max(noise_rel * mean_range, noise_floor_m)
+                        needed = best_z * sigma / math.sqrt(n) + margin_m
+                        if farther - mean_range * math.cos(0.5 * span) >= needed and \
+                                farther - math.hypot(px[j] - px[i], py[j] - py[i]) / n >= needed:
+                            depth, variance = _line_depth(px, py, pr, i - w, i, j, j + w, i, j, noise_rel,
+                                                          noise_floor_m)
+                            if variance > 0.0 and depth > margin_m:
+                                z = (depth - margin_m) / math.sqrt(variance)
+                                last_x, last_y = ranges_m[j - 1] * cos_b[j - 1], ranges_m[j - 1] * sin_b[j - 1]
+                                if z > best_z and math.hypot(last_x - xi, last_y - yi) <= widest and \
+                                        _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth, noise_rel,
+                                                noise_floor_m) >= edge_sigmas:
+                                    best_z, best_i, best_j = z, i, j
+                    j = next_close[j + 1]
+            if best_i < 0:
+                break
+            for i in range(best_i, best_j):
+                used[i] = True
+            first_x, first_y = ranges_m[best_i] * cos_b[best_i], ranges_m[best_i] * sin_b[best_i]
+            last_x, last_y = ranges_m[best_j - 1] * cos_b[best_j - 1], ranges_m[best_j - 1] * sin_b[best_j - 1]
+            if math.hypot(last_x - first_x, last_y - first_y) > max_extent_m:
+                continue  # the body in front is larger than any that moves: structure, and so is any part of it
+            bounds[total, 0], bounds[total, 1] = best_i, best_j
+            _measure_run(ranges_m, cos_b, sin_b, beam_step_rad, best_i, best_j, -1.0, 0.0, noise_rel, noise_floor_m,
+                         surface_sigma_m, table[total])
+            table[total, _CANDIDATE] = TRACKABLE if best_j - best_i >= min_beams else UPDATE_ONLY
+            total += 1
+    return total
+
+
+@njit(cache=True)
+def _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth_m, noise_rel, noise_floor_m):
+    """How clearly both ends of the run ``i <= k < j`` (inside the segment ``a <= k < b``, in
+    front of its background by ``depth_m``) are the edges of a body: the smaller of the two
+    ends' significance (σ; see ``split_foreground``).
+
+    An end at the segment's end counts when the beam beyond it is farther (+inf), not when
+    it is nearer (occluded: −inf). An end inside the segment takes the smaller of two
+    tests of the range jump between the run's (up to) ``w`` beams next to it and the
+    segment's beams beyond it: their means (up to ``w`` beams beyond) differ by more than
+    ``_EDGE_DEPTH_FRACTION · depth_m``; and, with at least 4 beams beyond, the run's beams
+    lie in front of the line through the two halves of (up to) ``2 w`` beams beyond.
+    """
+    inner = max(1, min(w, (j - i) // 2))
+    worst = 1e300
+    for side in range(2):
+        if side == 0:
+            edge, beyond, outer, longer = i, i - 1, min(w, i - a), min(2 * w, i - a)
+            q0, q1, o0, o1 = i, i + inner, i - outer, i
+        else:
+            edge, beyond, outer, longer = j - 1, j, min(w, b - j), min(2 * w, b - j)
+            q0, q1, o0, o1 = j - inner, j, j, j + outer
+        if outer == 0:  # the segment's end
+            if ranges_m[beyond] < ranges_m[edge]:
+                return -1e300
+            continue
+        near, far = (pr[q1] - pr[q0]) / inner, (pr[o1] - pr[o0]) / outer
+        sigma_near, sigma_far = max(noise_rel * near, noise_floor_m), max(noise_rel * far, noise_floor_m)
+        z = (far - near - _EDGE_DEPTH_FRACTION * depth_m) / math.sqrt(sigma_near * sigma_near / inner
+                                                                      + sigma_far * sigma_far / outer)
+        if longer >= 4:
+            h = longer // 2
+            if side == 0:
+                step, variance = _line_depth(px, py, pr, i - 2 * h, i - h, i - h, i, q0, q1, noise_rel, noise_floor_m)
+            else:
+                step, variance = _line_depth(px, py, pr, j, j + h, j + h, j + 2 * h, q0, q1, noise_rel, noise_floor_m)
+            if variance <= 0.0:
+                return -1e300
+            z = min(z, step / math.sqrt(variance))
+        worst = min(worst, z)
+    return worst
+
+
+@njit(cache=True)
+def _line_depth(px, py, pr, a0, a1, b0, b1, q0, q1, noise_rel, noise_floor_m):
+    """How much nearer than the line through the centroids of the beams ``[a0, a1)`` and
+    ``[b0, b1)`` the centroid of the beams ``[q0, q1)`` lies, along its line of sight (m;
+    prefix sums ``px, py, pr`` of the echo points and ranges), and the variance of that
+    depth (m²) from the range noise of the three groups, propagated through the geometry
+    to first order (each centroid moves along its own line of sight). Variance 0 where
+    the geometry gives no depth (the line of sight parallel to the line, or the line
+    behind the sensor)."""
+    na, nb, nq = a1 - a0, b1 - b0, q1 - q0
+    ax, ay = (px[a1] - px[a0]) / na, (py[a1] - py[a0]) / na
+    bx, by = (px[b1] - px[b0]) / nb, (py[b1] - py[b0]) / nb
+    qx, qy = (px[q1] - px[q0]) / nq, (py[q1] - py[q0]) / nq
+    distance, range_a, range_b = math.hypot(qx, qy), math.hypot(ax, ay), math.hypot(bx, by)
+    if distance <= 0.0 or range_a <= 0.0 or range_b <= 0.0:
+        return 0.0, 0.0
+    ux, uy = qx / distance, qy / distance
+    dx, dy = bx - ax, by - ay
+    cross = ux * dy - uy * dx  # the line of sight against the line
+    if abs(cross) < 1e-6 * (abs(dx) + abs(dy)):
+        return 0.0, 0.0
+    behind = (ax * dy - ay * dx) / cross  # where the line of sight meets the line (m)
+    if behind <= 0.0:
+        return 0.0, 0.0
+    # first-order sensitivity of ``behind`` to each anchor moving along its own line of sight
+    eax, eay, ebx, eby = ax / range_a, ay / range_a, bx / range_b, by / range_b
+    gain_a = ((eax * dy - eay * dx) + behind * (ux * eay - uy * eax)) / cross
+    gain_b = ((ax * eby - ay * ebx) - behind * (ux * eby - uy * ebx)) / cross
+    sigma_q = max(noise_rel * (pr[q1] - pr[q0]) / nq, noise_floor_m)
+    sigma_a = max(noise_rel * (pr[a1] - pr[a0]) / na, noise_floor_m)
+    sigma_b = max(noise_rel * (pr[b1] - pr[b0]) / nb, noise_floor_m)
+    variance = sigma_q * sigma_q / nq + (gain_a * sigma_a) ** 2 / na + (gain_b * sigma_b) ** 2 / nb
+    return behind - distance, variance
 
 
 @njit(cache=True)

@@ -5,8 +5,9 @@
   odometry keeps fixed to the world. ``scan`` processes a laser scan, ``sonar`` a sonar
   reading, ``advance`` integrates odometry; ``tracks`` reports them.
 - ``TrackTable``: the tracks of one step, as the model outputs them (robot frame).
-- ``track_scan``: the compiled kernel of one scan: segment (``segmentation``), predict,
-  gate and assign (``association``), update (``kalman``), confirm, delete, give birth.
+- ``track_scan``: the compiled kernel of one scan: segment, split bodies off the structure
+  they stand in front of (``segmentation``), predict, gate and assign (``association``),
+  update (``kalman``), confirm, delete, give birth.
 
 Each track runs two filters on the same measurements: a constant-velocity Kalman filter
 and a static one (the body does not move; its measured centre may wander slowly as the
@@ -55,6 +56,7 @@ from attentive_gym.attention.segmentation import (
     carve_body,
     measure_segments,
     segment_scan,
+    split_foreground,
 )
 from attentive_gym.attention.track_regions import track_channels, track_table
 
@@ -72,7 +74,7 @@ _CARVE_PROBABILITY = 0.5
 # parameter vector of the kernels, built once from the configuration
 (_NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _JUMP, _JUMP_SIGMAS, _MIN_BEAMS, _MAX_EXTENT, _SURFACE, _Q, _DRIFT,
  _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _COAST, _MOUNT_X, _MOUNT_Y,
- _N_PARAMS) = range(21)
+ _FG_FLANK, _FG_SIGMAS, _FG_MARGIN, _FG_EDGE, _N_PARAMS) = range(25)
 _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in (
     "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate"))
 
@@ -203,6 +205,8 @@ class Tracker:
         params[_SONAR_Q] = config.sonar_accel_psd_m2ps3
         params[_COAST] = config.track_coast_s
         params[_MOUNT_X], params[_MOUNT_Y] = config.laser_mount_x_m, config.laser_mount_y_m
+        params[_FG_FLANK], params[_FG_SIGMAS] = config.foreground_flank_beams, config.foreground_sigmas
+        params[_FG_MARGIN], params[_FG_EDGE] = config.foreground_margin_m, config.foreground_edge_sigmas
         self.params = params
         self._beam_region = Grid.make("sonar").beam_region
         self._cone_bounds = sonar_cone_bounds(config.sonar_cone_half_width_deg).astype(np.int64)
@@ -325,9 +329,11 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
                counters):
     """One laser scan into the tracks, in place (the arrays of ``Tracker``).
 
-    1. Segment the scan and measure each segment (laser frame), then move the
-       candidates' measurements into the odometry frame with the laser's pose there
-       (``robot_pose`` ``(3,)`` and the laser's mounting point).
+    1. Segment the scan and measure each segment (laser frame); look for bodies standing
+       in front of static structure, which become segments of their own
+       (``segmentation.split_foreground``); then move the candidates' measurements into
+       the odometry frame with the laser's pose there (``robot_pose`` ``(3,)`` and the
+       laser's mounting point).
     2. Delete the tracks unseen for more than ``params[_COAST]`` seconds; predict the
        others to ``t_s``.
     3. Cost of each (track, candidate) pair: the squared Mahalanobis distance of the
@@ -350,6 +356,10 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
     measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, bounds, n_segments, params[_NOISE_REL],
                      params[_NOISE_FLOOR], params[_SURFACE], params[_MAX_EXTENT], int(params[_MIN_BEAMS]),
                      segments)
+    n_segments = split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, bounds, n_segments,
+                                  params[_NOISE_REL], params[_NOISE_FLOOR], params[_SURFACE], params[_MAX_EXTENT],
+                                  int(params[_MIN_BEAMS]), int(params[_FG_FLANK]), params[_FG_SIGMAS],
+                                  params[_FG_MARGIN], params[_FG_EDGE], segments)
     counters[1] = n_segments
     c, s = math.cos(robot_pose[2]), math.sin(robot_pose[2])
     pose = np.empty(3)  # the laser's
