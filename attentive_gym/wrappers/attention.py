@@ -16,8 +16,8 @@ import gymnasium as gym
 import numpy as np
 
 from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, FocusView, Goal
-from attentive_gym.attention.working_memory import MEMORY_FIELDS, WorkingMemory
-from attentive_gym.wrappers.encoders import ENCODERS, FocusEncoder
+from attentive_gym.attention.working_memory import WorkingMemory
+from attentive_gym.wrappers.encoders import ENCODERS, NO_EVENT, FocusEncoder
 from attentive_gym.wrappers.overlay import draw_attention
 
 __all__ = ["AttentionWrapper", "OBSERVATION_MODES", "SELECTIONS", "DEFAULT_MEMORY_SLOTS"]
@@ -28,7 +28,6 @@ OBSERVATION_MODES = tuple(ENCODERS)
 SELECTIONS = ("winner", "random")
 #: Bodies the ``"focus"`` observation's working memory holds by default.
 DEFAULT_MEMORY_SLOTS = 3
-_NO_EVENT = (False, False, False)
 _REQUIRED_KEYS = ("sonar", "laser", "odometry", "goal")
 
 
@@ -153,16 +152,14 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def _attended(self, output: AttentionOutput) -> tuple[FocusView | None, tuple[bool, bool, bool]]:
         """The attended region's view and the step's (fired, bottom-up, top-down) event."""
         if self.selection == "random":
-            return output.view_of(int(self._selection_rng.integers(self.model.grid.n_regions))), _NO_EVENT
+            return output.view_of(int(self._selection_rng.integers(self.model.grid.n_regions))), NO_EVENT
         return output.view, (output.fired, output.origin == "bottom-up", output.origin == "top-down")
 
     def _remember(self, output: AttentionOutput, view: FocusView | None) -> np.ndarray | None:
-        """Write the attended track into the working memory; its rows now (None without one)."""
-        if self.memory is None:
+        """Write the attended track into the working memory; its rows now (None: empty or no memory)."""
+        pose = None if self.memory is None else self.model.odometry_pose
+        if pose is None:  # no memory, or no tracks without the tracker: nothing to remember
             return None
-        pose = self.model.odometry_pose
-        if pose is None:  # no tracks without the tracker: the memory stays empty
-            return np.zeros((self.memory.slots, len(MEMORY_FIELDS)), np.float32)
         if view is not None and view.track_id is not None:
             self.memory.attend(output.t, pose, view.track_id, view.track_position_m, view.track_velocity_mps,
                                view.track_speed_mps, bool(output.goal_fulfilled[view.region]))

@@ -22,11 +22,13 @@ from gymnasium import spaces
 from attentive_gym.attention import AttentionConfig, AttentionOutput, FocusView, Grid
 from attentive_gym.attention.regions import SONAR_RING
 
-__all__ = ["ENCODERS", "FocusEncoder", "MaskedEncoder", "SaliencyEncoder", "LASER_BINS", "map_ceilings"]
+__all__ = ["ENCODERS", "NO_EVENT", "FocusEncoder", "MaskedEncoder", "SaliencyEncoder", "LASER_BINS", "map_ceilings"]
 
 #: Sub-sectors a focused region's laser beams are summarised into (min range in each).
 LASER_BINS = 6
 _F32 = np.float32
+#: The (fired, bottom-up, top-down) event of an attention step without a course of the model.
+NO_EVENT = (False, False, False)
 
 
 def _box(low, high, shape) -> spaces.Box:
@@ -121,12 +123,12 @@ class FocusEncoder:
             raw: the base observation.
             view: what the sensors see in the attended region.
             event: (fired, origin bottom-up, origin top-down) of the attention step.
-            memory: ``(K, 6)`` rows of ``WorkingMemory.read`` (needed when K > 0).
+            memory: ``(K, 6)`` rows of ``WorkingMemory.read``; None: every slot empty.
         """
         flat = np.zeros(self._size, _F32)  # every entry's view below shares this buffer
         obs = {key: flat[part] for key, part in self._parts.items()}
         obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
-        if "memory" in obs:
+        if memory is not None and "memory" in obs:
             np.minimum(memory.reshape(-1), self._memory_high, out=obs["memory"])
         if view is None:
             obs["region"][-1] = 1.0

@@ -30,12 +30,11 @@ from attentive_gym.attention import AttentionConfig, Direction, FocusView
 from attentive_gym.attention.regions import LASER_FOV_DEG
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
 from attentive_gym.wrappers.attention import DEFAULT_MEMORY_SLOTS
-from attentive_gym.wrappers.encoders import FocusEncoder
+from attentive_gym.wrappers.encoders import NO_EVENT, FocusEncoder
 
 __all__ = ["OracleFocus"]
 
 _TOP_DOWN_EVENT = (False, False, True)
-_NO_EVENT = (False, False, False)
 
 
 class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
@@ -68,10 +67,9 @@ class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
         return self._observe(raw, info), reward, terminated, truncated, info
 
     def _observe(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        memory = np.zeros((self._memory_slots, len(MEMORY_FIELDS)), np.float32)
         target = int(info["target_index"])
         if target < 0:
-            return self._encoder.encode(raw, None, _NO_EVENT, memory)
+            return self._encoder.encode(raw, None, NO_EVENT)
         x, y, heading = info["robot_pose"]
         c, s = math.cos(heading), math.sin(heading)
         dx, dy = np.asarray(info["mover_positions"][target], float) - (x, y)
@@ -81,10 +79,11 @@ class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
         distance = float(np.hypot(*position))
         speed = float(np.hypot(*velocity))
         bearing = (1.0, 0.0) if distance == 0.0 else (position[0] / distance, position[1] / distance)
+        memory = np.zeros((self._memory_slots, len(MEMORY_FIELDS)), np.float32)
         if self._memory_slots:
             memory[0] = (*bearing, min(distance, self.config.max_distance_m), speed, 1.0, 0.0)
         view = self._view(raw, position, velocity, distance, speed)
-        return self._encoder.encode(raw, view, _NO_EVENT if view is None else _TOP_DOWN_EVENT, memory)
+        return self._encoder.encode(raw, view, NO_EVENT if view is None else _TOP_DOWN_EVENT, memory)
 
     def _view(self, raw, position: np.ndarray, velocity: np.ndarray, distance: float, speed: float) -> FocusView | None:
         """The target's region as the focus would show it, None when it is in no region."""
