@@ -1,7 +1,9 @@
 """Idempotent registration of the package's environments with Gymnasium.
 
 ``AttentiveRescue-v0`` is the base environment; the other ids are its observation
-variants (``attentive_gym.wrappers.variants``). Entry points are strings, so that
+variants (``attentive_gym.wrappers.variants``). Every id has a vector entry point
+(``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``:
+``attentive_gym.envs.vector_env``). Entry points are strings, so that
 registering (which ``import attentive_gym`` does) loads neither the simulator nor the
 wrappers: ``import attentive_gym.attention`` stays light.
 """
@@ -24,6 +26,7 @@ VARIANT_IDS: dict[str, str] = {
 
 _BASE_ENTRY_POINT = "attentive_gym.envs.rescue_env:AttentiveRescueEnv"
 _VARIANT_ENTRY_POINT = "attentive_gym.wrappers.variants:make_env"
+_VECTOR_ENTRY_POINT = "attentive_gym.envs.vector_env:make_vector_env"
 
 
 def register_environments() -> None:
@@ -32,6 +35,8 @@ def register_environments() -> None:
         if env_id in registry:
             continue
         if variant == "raw":
-            register(id=env_id, entry_point=_BASE_ENTRY_POINT, max_episode_steps=None)
+            register(id=env_id, entry_point=_BASE_ENTRY_POINT, vector_entry_point=_VECTOR_ENTRY_POINT,
+                     max_episode_steps=None)
         else:
-            register(id=env_id, entry_point=_VARIANT_ENTRY_POINT, kwargs={"variant": variant}, max_episode_steps=None)
+            register(id=env_id, entry_point=_VARIANT_ENTRY_POINT, vector_entry_point=_VECTOR_ENTRY_POINT,
+                     kwargs={"variant": variant}, max_episode_steps=None)

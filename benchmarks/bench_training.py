@@ -1,22 +1,22 @@
 """PPO training speed on the attended environment against PPO on a trivial environment.
 
 Both runs use the same PPO set-up as ``attentive-gym train`` (``RunSpec`` defaults:
-``MultiInputPolicy``, 4 ``DummyVecEnv`` environments, 256-step rollouts, minibatch 256,
-5 epochs, one torch thread) and the same observation/action spaces; they differ only in
-the environment:
+``MultiInputPolicy``, 4 environments, 256-step rollouts, minibatch 256, 5 epochs, one
+torch thread) and the same observation/action spaces; they differ only in the environment:
 
-- ``focus``: ``make_env("focus")``, the attended observation (64 numbers in a ``Dict``);
+- ``focus``: ``make_env("focus")``, the attended observation (64 numbers in a ``Dict``),
+  in the native ``NativeVecEnv`` (``--vec-env dummy``: SB3's ``DummyVecEnv``);
 - ``trivial``: a ``gym.Env`` with the same spaces that returns pre-drawn random
   observations (800-step episodes, reward 0): what PPO alone costs.
 
 Prints env-steps per second of each (median over alternating rounds), the fraction of
 ``focus`` training time spent inside the environment (measured with a timing wrapper
-around every ``step``/``reset``, and estimated as ``1 − t_trivial / t_focus``; target
+around the vector env's ``step_wait``/``reset``, and estimated as ``1 − t_trivial / t_focus``; target
 ≤ 25 %), and a JSON line with all figures. Times are this process's **CPU time**
 (``time.process_time``; torch runs one thread), so other jobs on a busy machine do not
 distort the comparison; ``--clock wall`` uses wall time instead.
 
-Usage: ``python benchmarks/bench_training.py [--steps 20480] [--rounds 2] [--variant focus]``
+Usage: ``python benchmarks/bench_training.py [--steps 20480] [--rounds 2] [--variant focus] [--vec-env native]``
 """
 
 from __future__ import annotations
@@ -27,7 +27,6 @@ import statistics
 import time
 
 import gymnasium as gym
-import numpy as np
 
 
 class TrivialEnv(gym.Env):
@@ -54,39 +53,43 @@ class TrivialEnv(gym.Env):
 CLOCKS = {"cpu": time.process_time, "wall": time.perf_counter}
 
 
-class EnvTimer(gym.Wrapper):
-    """Adds the time of every ``step`` and ``reset`` (s, by ``clock``) to a shared one-element list."""
+def timed(vec, total: list[float], clock=time.process_time):
+    """``vec`` (an SB3 ``VecEnv``) adding the time of every ``reset`` and ``step_wait`` (s, by
+    ``clock``) to the one-element list ``total``."""
+    from stable_baselines3.common.vec_env import VecEnvWrapper
 
-    def __init__(self, env: gym.Env, total: list[float], clock=time.process_time):
-        super().__init__(env)
-        self.total = total
-        self.clock = clock
+    class VecTimer(VecEnvWrapper):
+        def reset(self):
+            t0 = clock()
+            out = self.venv.reset()
+            total[0] += clock() - t0
+            return out
 
-    def step(self, action):
-        t0 = self.clock()
-        out = self.env.step(action)
-        self.total[0] += self.clock() - t0
-        return out
+        def step_wait(self):
+            t0 = clock()
+            out = self.venv.step_wait()
+            total[0] += clock() - t0
+            return out
 
-    def reset(self, **kwargs):
-        t0 = self.clock()
-        out = self.env.reset(**kwargs)
-        self.total[0] += self.clock() - t0
-        return out
+    return VecTimer(vec)
 
 
-def train_rate(make_one, steps: int, seed: int = 0, clock=time.process_time) -> tuple[float, float]:
-    """(env-steps/s of PPO.learn, fraction of that time inside the environments)."""
+def train_rate(make_one, steps: int, vec_env: str, seed: int = 0, clock=time.process_time) -> tuple[float, float]:
+    """(env-steps/s of PPO.learn, fraction of that time inside the environments), with the
+    ``RunSpec`` defaults and ``vec_env`` = ``"native"`` or ``"dummy"``."""
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from attentive_gym.agents.config import RunSpec
+    from attentive_gym.agents.native_vec import NativeVecEnv
 
     spec = RunSpec()
     torch.set_num_threads(spec.torch_threads)
     env_time = [0.0]
-    vec = DummyVecEnv([lambda: EnvTimer(make_one(), env_time, clock) for _ in range(spec.n_envs)])
+    members = [make_one() for _ in range(spec.n_envs)]
+    vec = timed(NativeVecEnv(members) if vec_env == "native" else DummyVecEnv([lambda env=env: env for env in members]),
+                env_time, clock)
     model = PPO("MultiInputPolicy", vec, seed=seed, device="cpu", **spec.merged_algo_kwargs())
     model.learn(spec.n_envs * spec.merged_algo_kwargs()["n_steps"])  # warm-up: numba, torch
     env_time[0] = 0.0
@@ -103,6 +106,8 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=2, help="alternating rounds (default: 2)")
     parser.add_argument("--variant", default="focus", help="observation variant (default: focus)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu", help="cpu (process time, default) or wall")
+    parser.add_argument("--vec-env", choices=("native", "dummy"), default="native",
+                        help="the attended env's vectorisation (default: native, as train uses)")
     args = parser.parse_args()
 
     from attentive_gym.wrappers import make_env
@@ -113,7 +118,8 @@ def main() -> None:
     fractions: dict[str, list[float]] = {name: [] for name in makers}
     for _ in range(args.rounds):
         for name, make_one in makers.items():
-            rate, fraction = train_rate(make_one, args.steps, clock=CLOCKS[args.clock])
+            vec_env = args.vec_env if name == args.variant else "dummy"  # the trivial env is no rescue env
+            rate, fraction = train_rate(make_one, args.steps, vec_env, clock=CLOCKS[args.clock])
             rates[name].append(rate)
             fractions[name].append(fraction)
     med = {name: statistics.median(values) for name, values in rates.items()}
@@ -126,7 +132,7 @@ def main() -> None:
     print(f"{args.variant} trains at {med[args.variant] / med['trivial']:.2f}x the trivial env's speed; "
           f"time in env: {100 * frac[args.variant]:.1f}% measured, {100 * estimate:.1f}% from the speed ratio "
           f"(target <= 25%)")
-    print(json.dumps({"variant": args.variant, "clock": args.clock, "steps": args.steps, "rounds": args.rounds,
+    print(json.dumps({"variant": args.variant, "vec_env": args.vec_env, "clock": args.clock, "steps": args.steps, "rounds": args.rounds,
                       "steps_per_s": med, "env_fraction": frac, "env_fraction_from_ratio": estimate,
                       "rates": rates}))
 

@@ -55,7 +55,8 @@ def split_focus_step(steps: int = 3000) -> None:
         t1 = time.perf_counter()
         output = model.step(info["time_s"], raw["sonar"], raw["laser"], raw["odometry"])
         t2 = time.perf_counter()
-        encoder.encode(raw, output)
+        view, event = env._attended(output)
+        encoder.encode(raw, view, event, env._remember(output, view))
         t3 = time.perf_counter()
         totals += (t1 - t0, t2 - t1, t3 - t2)
         if terminated or truncated:
@@ -63,7 +64,7 @@ def split_focus_step(steps: int = 3000) -> None:
             model.reset()
     env_us, model_us, encode_us = totals / steps * 1e6
     print("== one focus step, split ==")
-    print(f"base env {env_us:6.1f} µs   model {model_us:6.1f} µs   encoding {encode_us:6.1f} µs")
+    print(f"base env {env_us:6.1f} µs   model {model_us:6.1f} µs   encoding and memory {encode_us:6.1f} µs")
     print(f"model / env: {model_us / env_us:.2f} (target < 0.5)")
 
 

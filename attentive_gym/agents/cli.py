@@ -79,8 +79,9 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
                         help=f"training budget in env steps per run {steps}")
     parser.add_argument("--n-envs", type=_positive_int, default=RunSpec.n_envs,
                         help=f"vectorised training envs (default: {RunSpec.n_envs})")
-    parser.add_argument("--vec-env", choices=VEC_ENVS, default=RunSpec.vec_env,
-                        help=f"DummyVecEnv (one process) or SubprocVecEnv (default: {RunSpec.vec_env})")
+    parser.add_argument("--vec-env", "--vec", choices=VEC_ENVS, default=RunSpec.vec_env,
+                        help="native (one process, all sensors in one call), dummy (SB3 DummyVecEnv) or subproc "
+                             f"(SB3 SubprocVecEnv, one process per env); same numbers (default: {RunSpec.vec_env})")
     parser.add_argument("--eval-every", type=_positive_int,
                         help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}")
     episodes = _with_quick(str(RunSpec.eval_episodes), "eval_episodes", quick)

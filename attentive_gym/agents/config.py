@@ -20,8 +20,10 @@ __all__ = ["ALGOS", "VEC_ENVS", "QUICK", "RunSpec", "parse_variants", "parse_see
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
 ALGOS = ("ppo", "sac", "recurrent-ppo")
-#: Vectorisation of the training environments: SB3 ``DummyVecEnv`` or ``SubprocVecEnv``.
-VEC_ENVS = ("dummy", "subproc")
+#: Vectorisation of the training environments: the project's ``NativeVecEnv`` (one process,
+#: all sensors in one call; the default), SB3's ``DummyVecEnv`` or ``SubprocVecEnv``. All
+#: three give the same numbers.
+VEC_ENVS = ("native", "dummy", "subproc")
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 150 000 PPO steps, 10 eval episodes every 30 000 steps, in the main
@@ -54,7 +56,8 @@ class RunSpec:
         seed: seeds SB3 (``seed=``), the training environments and, offset by 10 000,
             the evaluation episodes.
         n_envs: parallel training environments.
-        vec_env: ``"dummy"`` (one process) or ``"subproc"`` (one process per env).
+        vec_env: ``"native"`` (one process, the fleet stepped as one), ``"dummy"`` (one
+            process, one env after another) or ``"subproc"`` (one process per env).
         eval_every: environment steps between evaluations (plus one at 0 and at the end).
         eval_episodes: episodes per evaluation (the same episode seeds every time).
         checkpoint_every: environment steps between checkpoints (an interrupted run loses
@@ -69,7 +72,7 @@ class RunSpec:
     total_steps: int = 100_000
     seed: int = 0
     n_envs: int = 4
-    vec_env: str = "dummy"
+    vec_env: str = "native"
     eval_every: int = 10_000
     eval_episodes: int = 20
     checkpoint_every: int = 20_000

@@ -25,6 +25,7 @@ starts from zeros at the resumed run's first (fresh) episodes.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import inspect
 import json
@@ -131,6 +132,10 @@ def _make_vec_env(spec: RunSpec):
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
     factory = env_factory(spec)
+    if spec.vec_env == "native":
+        from attentive_gym.agents.native_vec import NativeVecEnv
+
+        return NativeVecEnv([factory() for _ in range(spec.n_envs)], info_keywords=_MONITOR_KEYWORDS)
     fns = [functools.partial(_monitored, factory) for _ in range(spec.n_envs)]
     if spec.vec_env == "subproc":
         # the env processes never see Ctrl-C (sent to the whole process group): this process stops them
@@ -142,7 +147,11 @@ def _make_vec_env(spec: RunSpec):
 def _monitored(factory: Callable[[], gym.Env]) -> gym.Env:
     from stable_baselines3.common.monitor import Monitor
 
-    return Monitor(factory(), info_keywords=("success",))
+    return Monitor(factory(), info_keywords=_MONITOR_KEYWORDS)
+
+
+#: ``info`` keys kept in each training episode's record (SB3's ``Monitor``).
+_MONITOR_KEYWORDS = ("success",)
 
 
 class RunResult(dict):
@@ -237,7 +246,7 @@ def _bind_spec(spec: RunSpec, run_dir: Path) -> None:
     path = run_dir / "spec.json"
     if path.is_file() and _holds_progress(run_dir):
         old = RunSpec.from_dict(json.loads(path.read_text()))
-        if old != spec:
+        if dataclasses.replace(old, vec_env=spec.vec_env) != spec:  # the vectorisation changes no number
             raise ValueError(f"{run_dir} holds a run with a different spec ({path}); use another --out folder")
         return
     write_text_atomic(path, spec.to_json() + "\n")

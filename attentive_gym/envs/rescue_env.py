@@ -20,7 +20,7 @@ from gymnasium import spaces
 
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.reward import RewardConfig, rescue_reward
-from attentive_gym.sensors import LaserConfig, ScanHold, SensorSuite, SonarConfig, resolve_sensor_profile
+from attentive_gym.sensors import LaserConfig, ScanHold, SensorReading, SensorSuite, SonarConfig, resolve_sensor_profile
 from attentive_gym.sensors import _pymunk_access as _body_state
 from attentive_gym.world.arena import ArenaConfig, generate_arena
 from attentive_gym.world.builtin import BUILTIN_SCENARIOS, builtin_scenario
@@ -279,20 +279,38 @@ class AttentiveRescueEnv(gym.Env):
         self._distance = self._target_distance()
         self._limit_s = self.time_limit_s or (scenario.task.time_limit_s if scenario.task else scenario.duration_s)
         self._scans.reset()
-        observation = self._observe()
+        observation = self._observe(self._read_sensors())
         info = self._info(collided=False, success=False)
         if self.render_mode == "human":
             self.render()
         return observation, info
 
     def step(self, action):
+        collided = self._act(action)
+        return self._complete_step(collided, self._read_sensors())
+
+    # --- the stages of a step (``AttentiveRescueVectorEnv`` runs them for many envs) --------
+    def _act(self, action) -> bool:
+        """Check ``action`` and advance the world by ``dt``; whether the robot touched anything."""
         if self.world is None:
             raise RuntimeError("call reset() before step()")
         linear, angular = self._check_action(action)
-        collided = self.world.step(
+        return self.world.step(
             self.dt, linear * self.robot_config.max_linear_mps, angular * self.robot_config.max_angular_rps
         )
-        observation = self._observe()
+
+    def _sensing_request(self) -> tuple:
+        """``(pose (3,), scene geometry, rng, own owner id)``: what a reading of the sensors now needs."""
+        return _body_state.pose(self.world.robot.body), self.world.geometry(), self.np_random, ROBOT_ID
+
+    def _read_sensors(self) -> SensorReading:
+        """A fresh noisy reading of both sensors at the robot's pose (draws from ``np_random``)."""
+        return self.sensors.read(*self._sensing_request())
+
+    def _complete_step(self, collided: bool, fresh: SensorReading):
+        """The step's ``(observation, reward, terminated, truncated, info)`` after the world has
+        moved, from the fresh sensor reading ``fresh``."""
+        observation = self._observe(fresh)
         distance = self._target_distance()
         if self._target_index is None:
             reward, success = 0.0, False
@@ -339,10 +357,9 @@ class AttentiveRescueEnv(gym.Env):
         linear, angular = np.clip(command, -1.0, 1.0).tolist()
         return linear, angular
 
-    def _observe(self) -> dict[str, np.ndarray]:
+    def _observe(self, fresh: SensorReading) -> dict[str, np.ndarray]:
         world = self.world
         body = world.robot.body
-        fresh = self.sensors.read(_body_state.pose(body), world.geometry(), self.np_random, ROBOT_ID)
         self._reading = reading = self._scans.update(fresh, world.time_s)
         # world.robot.odometry, clipped to the observation space's bounds, in plain floats
         vx, vy = _body_state.velocity(body)

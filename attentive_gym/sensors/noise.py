@@ -32,7 +32,7 @@ def check_noise_model(name: str, model) -> str:
     return model
 
 
-def unit_noise(model: str, shape, rng: np.random.Generator) -> np.ndarray:
+def unit_noise(model: str, shape, rng: np.random.Generator, out: np.ndarray | None = None) -> np.ndarray:
     """Unit draws of noise model ``model``, one per reading.
 
     ``"gaussian"``: ``rng.standard_normal(shape)``; ``"uniform"``: ``2 rng.random(shape) - 1``,
@@ -43,17 +43,19 @@ def unit_noise(model: str, shape, rng: np.random.Generator) -> np.ndarray:
         model: one of ``NOISE_MODELS``.
         shape: int or tuple, the readings' shape.
         rng: the generator the draws come from.
+        out: a float64 array of ``shape`` to draw into (the same values as a new one gets),
+            or None for a new array.
 
     Returns:
-        float64 array of ``shape``.
+        float64 array of ``shape`` (``out`` when given).
 
     Raises:
         ValueError: for an unknown ``model``.
     """
     if model == "gaussian":
-        return rng.standard_normal(shape)
+        return rng.standard_normal(shape, out=out)
     if model == "uniform":
-        draws = rng.random(shape)
+        draws = rng.random(shape, out=out)
         draws *= 2.0
         draws -= 1.0
         return draws

@@ -134,10 +134,14 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
 
     def step(self, action):
         raw, reward, terminated, truncated, info = self.env.step(action)
+        return self._observe_step(raw, info), reward, terminated, truncated, info
+
+    def _observe_step(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
+        """The attended observation of a step's ``raw`` one (``envs.fleet`` calls it for batched steps)."""
         observation = self._attend(raw, info)
         if self.render_mode == "human":
             self.env.render()  # again, now with this step's focus
-        return observation, reward, terminated, truncated, info
+        return observation
 
     def _attend(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
         output = self.model.step(info["time_s"], raw["sonar"], raw["laser"], raw["odometry"],

@@ -147,3 +147,27 @@ def test_suite_configs_drawing_and_pickling(room):
 def test_docstring_examples_run(module):
     result = doctest.testmod(importlib.import_module(f"attentive_gym.sensors.{module}"))
     assert result.attempted > 0 and result.failed == 0
+
+
+@pytest.mark.parametrize("noise_model", ["gaussian", "uniform"])
+def test_read_many_equals_read_of_each_robot_in_turn(noise_model):
+    from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+
+    envs = [AttentiveRescueEnv(noise_model=noise_model) for _ in range(5)]
+    for seed, env in enumerate(envs):
+        env.reset(seed=seed)
+    requests = [env._sensing_request() for env in envs]
+    requests[4] = (requests[4][0], SceneGeometry.empty(), requests[4][2], -1)  # an empty scene, no owner left out
+    states = [env.np_random.bit_generator.state for env in envs]
+    many = envs[0].sensors.read_many(requests)
+    for env, state in zip(envs, states):
+        env.np_random.bit_generator.state = state
+    for request, batched in zip(requests, many):
+        single = envs[0].sensors.read(*request)
+        for field in ("sonar", "laser", "sonar_owner", "laser_owner"):
+            np.testing.assert_array_equal(getattr(batched, field), getattr(single, field))
+    assert envs[0].sensors.read_many([]) == []
+    with pytest.raises(ValueError, match="pose must be finite"):
+        envs[0].sensors.read_many([((0.0, np.nan, 0.0), *requests[0][1:])])
+    with pytest.raises(TypeError, match="request 0: rng"):
+        envs[0].sensors.read_many([(requests[0][0], requests[0][1], 7, -1)])

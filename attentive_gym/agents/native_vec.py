@@ -1,0 +1,114 @@
+"""``NativeVecEnv``: SB3's ``VecEnv`` over a fleet of rescue environments (``envs.fleet``).
+
+What ``train`` and ``compare`` use by default (``--vec-env native``). It steps its
+members as one ``Fleet`` (all sensors in one compiled call) and gives what
+``DummyVecEnv`` over ``Monitor``-wrapped members gives, bit for bit in observations,
+rewards and dones: automatic reset on the step an episode ends, with
+``info["terminal_observation"]`` and ``info["TimeLimit.truncated"]``, and the
+``Monitor`` episode record ``info["episode"]`` = ``{"r", "l", "t"}`` plus the
+``info_keywords`` when an episode ends.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3.common.env_util import is_wrapped
+from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices
+
+from attentive_gym.envs.fleet import Fleet
+
+__all__ = ["NativeVecEnv"]
+
+
+class NativeVecEnv(VecEnv):
+    """The members ``envs`` (single rescue environments, see ``envs.fleet``) as one SB3 ``VecEnv``.
+
+    Args:
+        envs: the members, e.g. ``[make_env("focus") for _ in range(4)]``.
+        info_keywords: ``info`` keys copied into each episode record (as ``Monitor``'s).
+    """
+
+    def __init__(self, envs: Sequence[gym.Env], info_keywords: Sequence[str] = ()) -> None:
+        self._fleet = Fleet(envs)
+        self.envs = self._fleet.envs
+        self.info_keywords = tuple(info_keywords)
+        super().__init__(len(self.envs), self._fleet.observation_space, self._fleet.action_space)
+        self._all = list(range(self.num_envs))
+        self._actions: np.ndarray | None = None
+        self._observations: list[Any] = [None] * self.num_envs
+        self._episode_rewards: list[list[float]] = [[] for _ in self._all]
+        self._episode_start = [time.time()] * self.num_envs
+
+    def reset(self):
+        for i, env in enumerate(self.envs):
+            options = {"options": self._options[i]} if self._options[i] else {}
+            self._observations[i], self.reset_infos[i] = env.reset(seed=self._seeds[i], **options)
+            self._start_episode(i)
+        self._reset_seeds()
+        self._reset_options()
+        return self._stacked()
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = actions
+
+    def step_wait(self):
+        batch = self._fleet.check_actions(self._actions)
+        rewards = np.zeros(self.num_envs, np.float32)
+        dones = np.zeros(self.num_envs, np.bool_)
+        infos = []
+        for i, (observation, reward, terminated, truncated, info) in enumerate(self._fleet.step(self._all, batch)):
+            rewards[i] = reward
+            dones[i] = terminated or truncated
+            self._episode_rewards[i].append(float(reward))
+            info["TimeLimit.truncated"] = truncated and not terminated
+            if dones[i]:
+                info["episode"] = self._episode_record(i, info)
+                info["terminal_observation"] = observation
+                observation, self.reset_infos[i] = self.envs[i].reset()
+                self._start_episode(i)
+            self._observations[i] = observation
+            infos.append(info)
+        return self._stacked(), rewards, dones, infos
+
+    def _start_episode(self, i: int) -> None:
+        self._episode_rewards[i] = []
+        self._episode_start[i] = time.time()
+
+    def _episode_record(self, i: int, info: dict[str, Any]) -> dict[str, Any]:
+        """``Monitor``'s record of member ``i``'s episode that has just ended."""
+        rewards = self._episode_rewards[i]
+        record = {"r": round(sum(rewards), 6), "l": len(rewards), "t": round(time.time() - self._episode_start[i], 6)}
+        for key in self.info_keywords:
+            record[key] = info[key]
+        return record
+
+    def _stacked(self):
+        if isinstance(self.observation_space, gym.spaces.Dict):
+            return {key: np.stack([o[key] for o in self._observations]) for key in self.observation_space.spaces}
+        return np.stack(self._observations)
+
+    # --- members --------------------------------------------------------------------------
+    def close(self) -> None:
+        self._fleet.close()
+
+    def get_images(self) -> Sequence[np.ndarray | None]:
+        return [env.render() for env in self.envs]
+
+    def get_attr(self, attr_name: str, indices: VecEnvIndices = None) -> list[Any]:
+        return [self.envs[i].get_wrapper_attr(attr_name) for i in self._get_indices(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices: VecEnvIndices = None) -> None:
+        for i in self._get_indices(indices):
+            setattr(self.envs[i], attr_name, value)
+
+    def env_method(self, method_name: str, *method_args, indices: VecEnvIndices = None, **method_kwargs) -> list[Any]:
+        return [self.envs[i].get_wrapper_attr(method_name)(*method_args, **method_kwargs)
+                for i in self._get_indices(indices)]
+
+    def env_is_wrapped(self, wrapper_class: type[gym.Wrapper], indices: VecEnvIndices = None) -> list[bool]:
+        return [is_wrapped(self.envs[i], wrapper_class) for i in self._get_indices(indices)]

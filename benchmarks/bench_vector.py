@@ -1,0 +1,158 @@
+"""The native vector env against its peers, measured in the same run.
+
+Prints:
+1. ``focus`` and ``raw`` at N = 16: env-steps/s of the native vector env
+   (``vectorization_mode="vector_entry_point"``), of gymnasium's sync vector env over
+   single envs, and of BipedalWalker-v3 (one env), measured alternately in rounds;
+   medians and the ratios (targets for ``focus``: ≥ 4× the sync vector env, ≥ 3×
+   BipedalWalker-v3);
+2. against VMAS (its ``flocking`` scenario with 1 agent and a 196-ray lidar, CPU, one
+   torch thread) at N = 16, 64, 256: µs per env-step of each (target: below VMAS's);
+3. a scaling table of the native ``focus`` env for N = 1 … 256: µs per env-step,
+   env-steps/s, and memory per env (the process's resident memory grown by building and
+   resetting the N envs, divided by N; Linux only).
+
+Random actions, no rendering; resets are part of the stepping (autoreset).
+
+Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-envs 256]``
+(BipedalWalker needs ``pip install -e ".[bench]"``; VMAS ``pip install vmas``, skipped if absent).
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import statistics
+import time
+
+import gymnasium as gym
+import numpy as np
+
+import attentive_gym  # noqa: F401  (registers the environments)
+from attentive_gym.registration import VARIANT_IDS
+from bench_env import steps_per_second
+
+
+def vector_rate(env, seconds: float, seed: int = 0) -> float:
+    """Env-steps per second (steps × num_envs) of a vector env over about ``seconds``."""
+    env.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    actions = rng.uniform(-1, 1, (32, *env.action_space.shape)).astype(env.action_space.dtype)
+    for action in actions[:3]:  # warm-up
+        env.step(action)
+    steps, start = 0, time.perf_counter()
+    while time.perf_counter() - start < seconds:
+        env.step(actions[steps % len(actions)])
+        steps += 1
+    return steps * env.num_envs / (time.perf_counter() - start)
+
+
+def make_vector(variant: str, num_envs: int, mode: str):
+    return gym.make_vec(VARIANT_IDS[variant], num_envs=num_envs, vectorization_mode=mode)
+
+
+def peers_at_16(seconds: float, rounds: int) -> None:
+    walker = gym.make("BipedalWalker-v3")
+    for variant in ("focus", "raw"):
+        envs = {"native": make_vector(variant, 16, "vector_entry_point"), "sync": make_vector(variant, 16, "sync")}
+        rates = {"native": [], "sync": [], "BipedalWalker-v3": []}
+        for _ in range(rounds):
+            for name, env in envs.items():
+                rates[name].append(vector_rate(env, seconds))
+            rates["BipedalWalker-v3"].append(steps_per_second(walker, seconds))
+        med = {name: statistics.median(values) for name, values in rates.items()}
+        print(f"== {variant}, N = 16 (medians of {rounds} alternating rounds) ==")
+        print(f"{'env':<18} {'env-steps/s':>12} {'µs/env-step':>12}")
+        for name, rate in med.items():
+            print(f"{name:<18} {rate:12.0f} {1e6 / rate:12.1f}")
+        print(f"native / sync: {med['native'] / med['sync']:.2f}x   native / BipedalWalker-v3: "
+              f"{med['native'] / med['BipedalWalker-v3']:.2f}x" + ("   (targets: 4x, 3x)" if variant == "focus" else ""))
+        for env in envs.values():
+            env.close()
+
+
+class Vmas:
+    """VMAS ``flocking`` with one agent and a 196-ray lidar: random actions, µs per env-step."""
+
+    def __init__(self, num_envs: int):
+        import torch
+        import vmas
+
+        torch.set_num_threads(1)
+        self.env = vmas.make_env("flocking", num_envs=num_envs, device="cpu", continuous_actions=True, seed=0,
+                                 n_agents=1, n_lidar_rays=196)
+        self.num_envs = num_envs
+        self.env.reset()
+
+    def rate(self, seconds: float) -> float:
+        import torch
+
+        generator = torch.Generator().manual_seed(0)
+        actions = [[torch.rand(self.num_envs, 2, generator=generator) * 2 - 1] for _ in range(16)]
+        for action in actions[:3]:
+            self.env.step(action)
+        steps, start = 0, time.perf_counter()
+        while time.perf_counter() - start < seconds:
+            self.env.step(actions[steps % len(actions)])
+            steps += 1
+        return steps * self.num_envs / (time.perf_counter() - start)
+
+
+def against_vmas(seconds: float, rounds: int, sizes) -> None:
+    try:
+        import vmas  # noqa: F401
+    except ImportError:
+        print("== VMAS: not installed (pip install vmas); skipped ==")
+        return
+    print("== against VMAS (flocking, 1 agent, 196 lidar rays, CPU, 1 torch thread), µs per env-step ==")
+    print(f"{'N':>5} {'VMAS':>8} {'focus':>8} {'raw':>8} {'focus/VMAS speed':>17}")
+    for n in sizes:
+        peers = {"VMAS": Vmas(n), "focus": make_vector("focus", n, "vector_entry_point"),
+                 "raw": make_vector("raw", n, "vector_entry_point")}
+        rates = {name: [] for name in peers}
+        for _ in range(rounds):
+            for name, env in peers.items():
+                rates[name].append(env.rate(seconds) if name == "VMAS" else vector_rate(env, seconds))
+        us = {name: 1e6 / statistics.median(values) for name, values in rates.items()}
+        print(f"{n:5d} {us['VMAS']:8.1f} {us['focus']:8.1f} {us['raw']:8.1f} {us['VMAS'] / us['focus']:16.2f}x")
+
+
+def resident_bytes() -> float:
+    """The process's resident memory (bytes), NaN where ``/proc`` is missing."""
+    try:
+        with open("/proc/self/statm") as statm:
+            return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except OSError:
+        return float("nan")
+
+
+def scaling(seconds: float, sizes) -> None:
+    print("== native focus env, scaling ==")
+    print(f"{'N':>5} {'µs/env-step':>12} {'env-steps/s':>12} {'MiB per env':>12}")
+    for n in sizes:
+        gc.collect()
+        before = resident_bytes()
+        env = make_vector("focus", n, "vector_entry_point")
+        env.reset(seed=0)
+        memory = (resident_bytes() - before) / n / 2**20
+        rate = vector_rate(env, seconds)
+        print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory:12.2f}")
+        env.close()
+        del env
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--seconds", type=float, default=2.0, help="wall time per measurement (s)")
+    parser.add_argument("--rounds", type=int, default=3, help="alternating rounds for the peer comparisons")
+    parser.add_argument("--max-envs", type=int, default=256, help="largest N of the VMAS comparison and the scaling table")
+    args = parser.parse_args(argv)
+    sizes = [n for n in (1, 2, 4, 8, 16, 32, 64, 128, 256) if n <= args.max_envs]
+    peers_at_16(args.seconds, args.rounds)
+    against_vmas(args.seconds, args.rounds, [n for n in (16, 64, 256) if n <= args.max_envs])
+    scaling(args.seconds, sizes)
+
+
+if __name__ == "__main__":
+    main()
