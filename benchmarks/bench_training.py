@@ -77,6 +77,7 @@ def timed(vec, total: list[float], clock=time.process_time):
 def train_rate(make_one, steps: int, vec_env: str, seed: int = 0, clock=time.process_time) -> tuple[float, float]:
     """(env-steps/s of PPO.learn, fraction of that time inside the environments), with the
     ``RunSpec`` defaults and ``vec_env`` = ``"native"`` or ``"dummy"``."""
+    import numba
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import DummyVecEnv
@@ -86,6 +87,7 @@ def train_rate(make_one, steps: int, vec_env: str, seed: int = 0, clock=time.pro
 
     spec = RunSpec()
     torch.set_num_threads(spec.torch_threads)
+    numba.set_num_threads(spec.torch_threads)  # as train does
     env_time = [0.0]
     members = [make_one() for _ in range(spec.n_envs)]
     vec = timed(NativeVecEnv(members) if vec_env == "native" else DummyVecEnv([lambda env=env: env for env in members]),

@@ -9,8 +9,8 @@ Prints:
 2. against VMAS (its ``flocking`` scenario with 1 agent and a 196-ray lidar, CPU, one
    torch thread) at N = 16, 64, 256: µs per env-step of each (target: below VMAS's);
 3. a scaling table of the native ``focus`` env for N = 1 … 256: µs per env-step,
-   env-steps/s, and memory per env (the process's resident memory grown by building and
-   resetting the N envs, divided by N; Linux only).
+   env-steps/s, and memory per env (the resident memory that building and resetting the N
+   envs adds to a fresh process, divided by N; Linux only).
 
 Random actions, no rendering; resets are part of the stepping (autoreset).
 
@@ -21,9 +21,10 @@ Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-env
 from __future__ import annotations
 
 import argparse
-import gc
 import os
 import statistics
+import subprocess
+import sys
 import time
 
 import gymnasium as gym
@@ -118,6 +119,18 @@ def against_vmas(seconds: float, rounds: int, sizes) -> None:
         print(f"{n:5d} {us['VMAS']:8.1f} {us['focus']:8.1f} {us['raw']:8.1f} {us['VMAS'] / us['focus']:16.2f}x")
 
 
+_MEMORY_PROBE = """
+import gymnasium as gym, attentive_gym
+from bench_vector import resident_bytes
+probe = gym.make_vec("AttentiveRescueFocus-v0", num_envs=1, vectorization_mode="vector_entry_point")
+probe.reset(seed=0)  # imports, compiled kernels and caches: not the envs' memory
+before = resident_bytes()
+env = gym.make_vec("AttentiveRescueFocus-v0", num_envs={n}, vectorization_mode="vector_entry_point")
+env.reset(seed=0)
+print((resident_bytes() - before) / {n})
+"""
+
+
 def resident_bytes() -> float:
     """The process's resident memory (bytes), NaN where ``/proc`` is missing."""
     try:
@@ -127,19 +140,23 @@ def resident_bytes() -> float:
         return float("nan")
 
 
+def memory_per_env(n: int) -> float:
+    """Resident memory (MiB) that building and resetting ``n`` native ``focus`` envs adds, per env,
+    measured in a fresh process."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    result = subprocess.run([sys.executable, "-c", _MEMORY_PROBE.format(n=n)], capture_output=True, text=True,
+                            cwd=here, check=True)
+    return float(result.stdout.strip()) / 2**20
+
+
 def scaling(seconds: float, sizes) -> None:
     print("== native focus env, scaling ==")
     print(f"{'N':>5} {'µs/env-step':>12} {'env-steps/s':>12} {'MiB per env':>12}")
     for n in sizes:
-        gc.collect()
-        before = resident_bytes()
         env = make_vector("focus", n, "vector_entry_point")
-        env.reset(seed=0)
-        memory = (resident_bytes() - before) / n / 2**20
         rate = vector_rate(env, seconds)
-        print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory:12.2f}")
         env.close()
-        del env
+        print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory_per_env(n):12.2f}")
 
 
 def main(argv=None) -> None:

@@ -129,7 +129,7 @@ def add_train(subparsers) -> None:
     parser.add_argument("--out", type=Path, help="run folder (default: runs/train-<variant>-seed<seed>)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--torch-threads", type=_positive_int, default=RunSpec.torch_threads,
-                        help=f"torch threads (default: {RunSpec.torch_threads})")
+                        help=f"threads of torch and of the sensor sweep (default: {RunSpec.torch_threads})")
     _add_run_options(parser, quick=False)
     parser.set_defaults(handler=_run_train)
 

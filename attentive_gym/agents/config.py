@@ -64,7 +64,8 @@ class RunSpec:
             at most this many steps).
         env_kwargs: keyword arguments of ``make_env`` (``arena_size_m``, ``num_distractors``, ...).
         algo_kwargs: keyword arguments of the SB3 algorithm (override ``default_algo_kwargs``).
-        torch_threads: ``torch.set_num_threads`` in the training process (1 suits a pool).
+        torch_threads: threads of torch and of the compiled sensor sweep (numba) in the
+            training process (1 suits a pool of runs).
     """
 
     variant: str = "focus"

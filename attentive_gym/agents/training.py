@@ -277,6 +277,7 @@ def train(
     Returns:
         The run's metrics (also in ``run_dir/metrics.json``).
     """
+    import numba
     import torch
 
     run_dir = Path(run_dir)
@@ -286,6 +287,7 @@ def train(
     if is_done(run_dir):
         return RunResult(json.loads((run_dir / "metrics.json").read_text()))
     torch.set_num_threads(spec.torch_threads)
+    numba.set_num_threads(min(spec.torch_threads, numba.config.NUMBA_NUM_THREADS))  # the fleet's sensor sweep
     algo_cls = _algo_class(spec.algo)
     eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
     vec = _make_vec_env(spec)
