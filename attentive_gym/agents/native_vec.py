@@ -20,7 +20,7 @@ import numpy as np
 from stable_baselines3.common.env_util import is_wrapped
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices
 
-from attentive_gym.envs.fleet import Fleet
+from attentive_gym.envs.fleet import Fleet, stack_observations
 
 __all__ = ["NativeVecEnv"]
 
@@ -88,9 +88,7 @@ class NativeVecEnv(VecEnv):
         return record
 
     def _stacked(self):
-        if isinstance(self.observation_space, gym.spaces.Dict):
-            return {key: np.stack([o[key] for o in self._observations]) for key in self.observation_space.spaces}
-        return np.stack(self._observations)
+        return stack_observations(self.observation_space, self._observations)
 
     # --- members --------------------------------------------------------------------------
     def close(self) -> None:

@@ -32,7 +32,7 @@ import numpy as np
 
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 
-__all__ = ["Fleet"]
+__all__ = ["Fleet", "stack_observations"]
 
 StepResult = tuple[Any, float, bool, bool, dict]
 
@@ -125,6 +125,17 @@ class Fleet:
     def close(self) -> None:
         for env in self.envs:
             env.close()
+
+
+def stack_observations(space: gym.Space, observations: Sequence[Any]) -> Any | None:
+    """The members' observations of ``space`` (a ``Box`` or a ``Dict`` of ``Box``) as new arrays
+    with a leading member axis, one stack per entry; None for any other space."""
+    if isinstance(space, gym.spaces.Box):
+        return np.stack(observations).astype(space.dtype, copy=False)
+    if isinstance(space, gym.spaces.Dict) and all(isinstance(s, gym.spaces.Box) for s in space.spaces.values()):
+        return {key: np.stack([o[key] for o in observations]).astype(s.dtype, copy=False)
+                for key, s in space.spaces.items()}
+    return None
 
 
 def _hooks(env: gym.Env, index: int) -> tuple[list, list]:
