@@ -177,6 +177,10 @@ class AttentionConfig:
         weights: weights of F1..F6 (>= 0; 0 = inactive). A top-down map is active only
             while a goal for its feature is set.
         normalise_combined: divide the combined map by the sum of the active weights.
+        balance_groups: while both groups have active maps, scale the active top-down
+            weights so that they sum to the active bottom-up weights' sum: a goal that
+            holds then weighs as much as all the bottom-up evidence together, however
+            many maps each group has (docs/model.md §6). False uses the weights as given.
 
     Winner selection (§8):
         threshold: θ, the focus fires when ``max L >= θ`` (> 0).
@@ -246,6 +250,7 @@ class AttentionConfig:
     td_require_target: bool = True
     weights: tuple[float, float, float, float, float, float] = (1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
     normalise_combined: bool = True
+    balance_groups: bool = True
     # --- winner selection ----------------------------------------------------------
     threshold: float = 0.1
     state: str | float = "alert"
@@ -367,7 +372,7 @@ class AttentionConfig:
             raise ValueError(
                 f"AttentionConfig.sonar_ego_model must be one of {SONAR_EGO_MODELS}, got {self.sonar_ego_model!r}"
             )
-        for name in ("laser_only", "td_require_target", "normalise_combined"):
+        for name in ("laser_only", "td_require_target", "normalise_combined", "balance_groups"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")
         try:

@@ -40,14 +40,22 @@ def map_ceilings(config: AttentionConfig, gain: float) -> tuple[float, float]:
 
     A region's centre gain is at most one bottom-up course (``A_exc``) plus a held and a
     decaying top-down course (``2 A_td``); the lateral spread sums it over at most the
-    largest row sum of ``G``; C is at most 1 when normalised, else the sum of the weights.
+    largest row sum of ``G``; C is at most 1 when normalised, else the sum of the weights
+    (with ``balance_groups``, the top-down group's weights scaled to the bottom-up group's
+    sum: at most twice that sum, or the top-down sum alone when no bottom-up map weighs).
     """
     from attentive_gym.attention.attentional_map import lateral_spread
 
     n_regions = Grid.make(config.grid).n_regions
     spread = float(lateral_spread(n_regions, config.lateral_sigma_regions).sum(axis=1).max())
     m_high = 1.0 + (config.A_exc + 2.0 * config.A_td) * spread
-    c_high = 1.0 if config.normalise_combined else float(sum(config.weights))
+    bottom_up, top_down = float(sum(config.weights[:3])), float(sum(config.weights[3:]))
+    if config.normalise_combined:
+        c_high = 1.0
+    elif config.balance_groups and bottom_up > 0.0 and top_down > 0.0:
+        c_high = max(2.0 * bottom_up, top_down)
+    else:
+        c_high = bottom_up + top_down
     return m_high, gain * m_high * c_high
 
 

@@ -61,7 +61,7 @@ def test_exp04_like_top_down_course_without_ior_and_fast_release():
 
 
 def test_combined_map_normalisation_and_origins():
-    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model = AttentionModel(AttentionConfig(ego_motion=None, balance_groups=False))
     model.set_goals(Goal.smaller("distance", 2.0))
     model.set_weights({"distance": 1.0, "goal_distance": 3.0})
     sonar, laser = np.full(16, 4.5), np.full(180, 8.0)
@@ -73,10 +73,47 @@ def test_combined_map_normalisation_and_origins():
     np.testing.assert_allclose(out.F[5], [far] * 6 + [1.0, far])
     assert out.origins.tolist() == [1] * 8 and out.goal_fulfilled.tolist() == [False] * 6 + [True, False]
     assert out.focus == 6 and out.origin == "top-down"
-    raw = AttentionModel(AttentionConfig(ego_motion=None, normalise_combined=False))
+    raw = AttentionModel(AttentionConfig(ego_motion=None, normalise_combined=False, balance_groups=False))
     raw.set_goals(Goal.smaller("distance", 2.0))
     raw.set_weights(F3=1.0, F6=3.0)
     np.testing.assert_allclose(raw.step(0.0, sonar, laser).C, 4 * out.C)
+
+
+def test_balanced_groups_let_a_fulfilled_goal_weigh_as_much_as_the_bottom_up_maps():
+    # sonar s7 (index 6) sees a body at 1 m: F3 there is |1 − mean| / 5 m = 0.6125, and the
+    # goal "distance < 2 m" holds there only
+    sonar, laser = np.full(16, 4.5), np.full(180, 8.0)
+    sonar[6] = 1.0
+    outputs = {}
+    for balance in (True, False):
+        model = AttentionModel(AttentionConfig(ego_motion=None, balance_groups=balance))
+        model.set_goals(Goal.smaller("distance", 2.0))
+        model.set_weights(F3=2.0, F6=1.0)
+        outputs[balance] = model.step(0.0, sonar, laser)
+    balanced, plain = outputs[True], outputs[False]
+    assert balanced.F[2, 6] == pytest.approx(0.6125) and balanced.F[5, 6] == 1.0
+    # balanced: F6's weight scaled from 1 to the bottom-up total 2, Z = 4
+    np.testing.assert_allclose(balanced.C_BU, 2 * balanced.F[2] / 4)
+    np.testing.assert_allclose(balanced.C_TD, 2 * balanced.F[5] / 4)
+    # as given: Z = 3, and the body's bottom-up evidence (2 × 0.6125) outvotes the goal (1)
+    np.testing.assert_allclose(plain.C_BU, 2 * plain.F[2] / 3)
+    np.testing.assert_allclose(plain.C_TD, plain.F[5] / 3)
+    assert (balanced.focus, balanced.origin) == (6, "top-down")
+    assert (plain.focus, plain.origin) == (6, "bottom-up")
+    # without a goal there is nothing to balance: the bottom-up weights act alone
+    alone = AttentionModel(AttentionConfig(ego_motion=None))
+    alone.set_weights(F3=2.0, F6=1.0)
+    np.testing.assert_allclose(alone.step(0.0, sonar, laser).C_BU, 2 * balanced.F[2] / 2)
+
+
+def test_balanced_groups_stay_finite_for_subnormal_weights():
+    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model.set_goals(Goal.smaller("distance", 2.0))
+    model.set_weights(F3=1e300, F6=5e-324)
+    sonar, laser = np.full(16, 4.5), np.full(180, 8.0)
+    sonar[6] = 1.0
+    out = model.step(0.0, sonar, laser)
+    assert np.isfinite(out.C).all() and out.C_TD[6] == pytest.approx(0.5)
 
 
 def test_top_down_map_without_goal_is_inactive_and_settings_are_readable():
