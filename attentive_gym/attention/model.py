@@ -33,7 +33,15 @@ import numpy as np
 from numba import njit
 
 from attentive_gym.attention._numerics import interp, pairwise_sum, vecmat
-from attentive_gym.attention.attentional_map import CourseBook, lateral_spread
+from attentive_gym.attention.attentional_map import (
+    CourseBook,
+    add_course,
+    bottom_up_running,
+    course_gains,
+    lateral_spread,
+    release_courses,
+    top_down_holding,
+)
 from attentive_gym.attention.config import (
     BOTTOM_UP_MAPS,
     MAP_ALIASES,
@@ -579,25 +587,14 @@ class AttentionModel:
 
         # --- attentional map, saliency, winner (§7, §8) -----------------------------------
         courses = self._courses
-        courses.update_holds(t, fulfilled)
-        gains = courses.centre_gains(t)
-        winner = _saliency(_NO_GAINS if gains is None else np.array(gains), self._spread, C, self._gain, M, L)
+        courses.reserve()
+        winner, fired = _select(t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread, *courses.arrays, M,
+                                L)
         saliency = float(L[winner])
         focus = origin = None
-        fired = False
         if saliency >= cfg.threshold:
             focus = winner
-            if origins[winner]:
-                origin = ORIGIN_TOP_DOWN
-                # a course is held while the goal holds, so one starts only where it holds
-                if fulfilled[winner] and not courses.top_down_held(winner):
-                    courses.start_top_down(winner, t)
-                    fired = True
-            else:
-                origin = ORIGIN_BOTTOM_UP
-                if not courses.bottom_up_active(winner, t):
-                    courses.start_bottom_up(winner, t)
-                    fired = True
+            origin = ORIGIN_TOP_DOWN if origins[winner] else ORIGIN_BOTTOM_UP
         # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
         # them, in order) directly
         output = object.__new__(AttentionOutput)
@@ -743,15 +740,13 @@ def _as_float_array(values, name: str) -> np.ndarray:
 # --- compiled kernels ----------------------------------------------------------------------
 # A step is: ``_load_row`` (input check), ``_ego_change`` (kinematics.scan_points, numpy's
 # arctan2, kinematics.ego_range_change) when the robot moved, ``_sonar_grid_step`` (§2–§6;
-# on the laser grid ``_sense``, numpy F1–F3 and ``_goal_maps``), the courses in Python, then
-# ``_saliency``. The kernels repeat the arithmetic of the numpy expressions they replace
-# (features.py, kinematics.py, memory.py) operation for operation, with sums in numpy's
-# pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
+# on the laser grid ``_sense``, numpy F1–F3 and ``_goal_maps``), then ``_select`` (the
+# courses of ``attentional_map`` and ``_saliency``). The kernels repeat the arithmetic of
+# the numpy expressions they replace (features.py, kinematics.py, memory.py) operation for
+# operation, with sums in numpy's pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
 # the same floats. Outputs are arrays allocated per step by the caller (users keep them).
 # After editing a callee in another file, clear the numba cache (see ``_numerics``).
 
-#: The course gains of a step without courses (``_saliency`` then takes M = 1).
-_NO_GAINS = np.zeros(0)
 #: Columns of the goal plan, one row per top-down map (F4, F5, F6): the goal's kind
 #: (``_INACTIVE`` for an inactive map), its bounds and tolerance, and the knots of its
 #: graded table (``features.goal_knots``, at most 4).
@@ -1033,6 +1028,36 @@ def _goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan
     for j in range(n_regions):
         C[j] = C_BU[j] + C_TD[j]
         origins[j] = 1 if C_TD[j] > C_BU[j] else 0
+
+
+@njit(cache=True)
+def _select(t, fulfilled, origins, C, gain, threshold, spread, params, bu_regions, bu_starts, td_regions, td_times,
+            counts, M, L):
+    """§7–§8 with the courses (the arrays of ``CourseBook``, with room for one more of each
+    kind): update the top-down holds at ``t`` (s), evaluate the courses' centre gains,
+    ``_saliency`` into ``M`` and ``L`` ``(J,)``, then start a course at the winner if it
+    fires. Returns the winner ``argmax L`` and whether a course started.
+
+    The winner is the focus when ``L[winner] >= threshold``; a top-down winner (``origins``)
+    starts a held course where its goal is fulfilled and none is held there, a bottom-up
+    one a course where none is running.
+    """
+    release_courses(t, fulfilled, params, bu_regions, bu_starts, td_regions, td_times, counts)
+    gains = np.zeros(C.shape[0])
+    if not course_gains(t, params, bu_regions, bu_starts, td_regions, td_times, counts, gains):
+        gains = gains[:0]
+    winner = _saliency(gains, spread, C, gain, M, L)
+    fired = False
+    if L[winner] >= threshold:
+        if origins[winner]:
+            # a course is held while the goal holds, so one starts only where it holds
+            fired = fulfilled[winner] and not top_down_holding(winner, params, bu_regions, bu_starts, td_regions,
+                                                               td_times, counts)
+        else:
+            fired = not bottom_up_running(winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
+        if fired:
+            add_course(origins[winner] != 0, winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
+    return winner, fired
 
 
 @njit(cache=True)
