@@ -515,9 +515,7 @@ class AttentionModel:
         push = sonar_new or laser_new
         # the window's ego-motion compensation (the tracker compensates in its own frame)
         moved = push and motion is not None and self._tracker is None and self._ego_change(t, motion)
-        if self._tracker is not None:
-            self._tracker.advance(0.0 if self._last_t is None else t - self._last_t,
-                                  None if cfg.ego_motion is None else motion)
+        dt = 0.0 if self._last_t is None else t - self._last_t
         self._last_t = t
         if sonar_new:
             self._sonar_time = sonar_time_s
@@ -540,7 +538,10 @@ class AttentionModel:
             _window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
             region_slot, track_rows = _NO_REGION_TRACKS, _NO_TRACK_ROWS
         else:
-            region_slot, track_rows = self._track(t, sonar_new, laser_new, readings, valid, rates, speeds, moving)
+            # §10: the tracker takes the new scans and fills the channels' kinematics
+            region_slot, track_rows = self._tracker.step(t, dt, None if cfg.ego_motion is None else motion, laser_new,
+                                                         sonar_new, readings, valid, rates, speeds, moving,
+                                                         self._wanted_speed)
         if not grid.is_laser:  # the sonar grid: §4–§6 in one compiled call
             _sonar_grid_maps(
                 readings, valid, rates, speeds, moving, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
@@ -656,18 +657,6 @@ class AttentionModel:
                 raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
             fresh.append(previous is None or value > previous)
         return fresh[0], fresh[1]
-
-    def _track(self, t: float, sonar_new: bool, laser_new: bool, readings: np.ndarray, valid: np.ndarray,
-               rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray) -> tuple[np.ndarray, tuple]:
-        """§10: feed the new scans to the tracker and fill the channels' ``rates``, ``speeds``
-        and ``moving`` from it; returns, per front sonar channel, the slot of its track (−1
-        for none), and the step's tracks (``Tracker.snapshot``)."""
-        tracker = self._tracker
-        if laser_new:
-            tracker.scan(t, readings[_LASER])
-        if sonar_new:
-            tracker.sonar(t, readings[_SONAR], valid[_SONAR])
-        return tracker.channels(t, readings, valid, rates, speeds, moving, self._wanted_speed), tracker.snapshot(t)
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
