@@ -239,20 +239,26 @@ class AttentionOutput:
             raise ValueError(f"region must be an index in [0, {grid.n_regions}), got {region!r}")
         j = int(region)
         sonar_index = int(grid.region_sonar[j])
-        beams = grid.beam_indices[j]
-        sonar_range = float(readings[sonar_index])
-        rows = np.flatnonzero(track_rows[:, _SLOT] == region_slot[sonar_index])
-        track = track_rows[rows[0]] if region_slot[sonar_index] >= 0 and rows.size else None  # TrackTable's row
-        return FocusView(
+        beams = grid.beam_slices[j]
+        slot = region_slot[sonar_index]
+        track = None
+        if slot >= 0:  # the rows are in slot order
+            row = int(np.searchsorted(track_rows[:, _SLOT], slot))
+            if row < len(track_rows) and track_rows[row, _SLOT] == slot:
+                track = track_rows[row]  # TrackTable's row
+        nearest_m = float(nearest[j])
+        # the frozen dataclass's generated __init__ costs ~4 µs: fill its fields (all of them) directly
+        view = object.__new__(FocusView)
+        vars(view).update(
             region=j,
             bearing_rad=float(grid.bearings_rad[j]),
-            sonar_range_m=sonar_range,
+            sonar_range_m=float(readings[sonar_index]),
             sonar_echo=bool(valid[sonar_index]),
-            laser_beams=beams,
-            laser_ranges_m=readings[_LASER][beams],
+            laser_beams=grid.beam_indices[j],
+            laser_ranges_m=readings[FRONT_SONARS + beams.start:FRONT_SONARS + beams.stop].copy(),
             range_rate_mps=float(rates[sonar_index]),
-            direction=Direction(int(self.directions[j])),
-            distance_m=float(nearest[j]) if np.isfinite(nearest[j]) else None,
+            direction=_DIRECTIONS[self.directions[j] + 1],
+            distance_m=nearest_m if math.isfinite(nearest_m) else None,
             features=self.F[:, j].copy(),
             track_id=None if track is None else int(track[_ID]),
             track_position_m=None if track is None else track[_X:_X + 2].copy(),
@@ -260,8 +266,11 @@ class AttentionOutput:
             track_speed_mps=None if track is None else float(track[_SPEED]),
             track_age_s=None if track is None else float(track[_AGE]),
         )
+        return view
 
 
+#: The direction labels by ``label + 1``.
+_DIRECTIONS = (Direction.TOWARDS, Direction.STATIC, Direction.AWAY)
 #: The public fields of ``AttentionOutput``, compared by ``==``.
 _OUTPUT_FIELDS = tuple(f.name for f in dataclasses.fields(AttentionOutput) if not f.name.startswith("_"))
 
