@@ -6,7 +6,10 @@
 - ``top_down_components``: a held top-down course's enhancement and vigilance adaptation.
 - ``top_down_gain``: a top-down course's signed contribution at its centre.
 - ``attentional_map``: ``M = max(0, 1 + G @ centre gains)``.
-- ``CourseBook``: the active courses (state), started by the winner selection.
+- ``CourseBook``: the active courses (state, plain arrays), started by the winner selection.
+- ``course_gains``, ``release_courses``, ``bottom_up_running``, ``top_down_holding``,
+  ``add_course``: the compiled kernels over a ``CourseBook``'s arrays (``CourseBook.arrays``),
+  for compiled callers such as the model's step.
 
 M is a closed-form function of the course start (and release) times and the current
 time ``t`` (s): it does not depend on the step size, only on when courses started.
@@ -14,10 +17,10 @@ time ``t`` (s): it does not depend on the step size, only on when courses starte
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
+from numba import njit
 
 from attentive_gym.attention.config import AttentionConfig
 
@@ -31,6 +34,11 @@ __all__ = [
     "top_down_gain",
     "attentional_map",
     "CourseBook",
+    "course_gains",
+    "release_courses",
+    "bottom_up_running",
+    "top_down_holding",
+    "add_course",
 ]
 
 #: Phase boundaries are compared with this slack (s). Timestamps built as ``k · dt`` land
@@ -41,16 +49,22 @@ TIME_TOLERANCE_S = 1e-9
 #: A released top-down course is dropped once all its contributions fall below this (gain
 #: units, i.e. a millionth of M's baseline): invisible in L, and it bounds the book's size.
 NEGLIGIBLE_GAIN = 1e-6
+# the course parameters of the kernels (``course_parameters``), one vector per configuration
+(_PRE, _EXC, _IOR, _COURSE, _A_EXC, _A_IOR, _RISE, _DECAY, _A_TD, _TD_ONSET, _TD_TAU_ON, _TD_TAU_OFF, _VIG_AFTER,
+ _VIG_REL, _VIG_TAU, _VIG_RECOVERY, _N_COURSE_PARAMS) = range(17)
+#: Columns of a top-down course's times (s): start, release (NaN while held), drop time.
+_START, _RELEASE, _DROP = 0, 1, 2
 
 
-@functools.lru_cache(maxsize=None)
-def _kernel_peak(rise_fraction: float, decay_fraction: float) -> float:
+@njit(cache=True)
+def _kernel_peak(rise_fraction, decay_fraction):
     """Peak of ``exp(−x/decay) − exp(−x/rise)`` over x (lengths in units of T)."""
     x_peak = math.log(decay_fraction / rise_fraction) * rise_fraction * decay_fraction / (decay_fraction - rise_fraction)
     return math.exp(-x_peak / decay_fraction) - math.exp(-x_peak / rise_fraction)
 
 
-def rise_decay_kernel(tau_s: float, length_s: float, rise_fraction: float, decay_fraction: float) -> float:
+@njit(cache=True)
+def rise_decay_kernel(tau_s, length_s, rise_fraction, decay_fraction):
     """The phase kernel ``h_T(τ)``: a rise-and-decay curve with peak 1 (§7).
 
     ``h_T(τ) = (exp(−τ/τ_d) − exp(−τ/τ_r)) / peak`` for ``τ > 0`` (0 otherwise), with
@@ -77,6 +91,19 @@ def lateral_spread(n_regions: int, sigma_regions: float) -> np.ndarray:
     return np.exp(-((idx[:, None] - idx[None, :]) ** 2) / (2.0 * sigma_regions**2))
 
 
+def course_parameters(config: AttentionConfig) -> np.ndarray:
+    """The course parameters of ``config`` as the kernels read them: ``(16,)`` float64."""
+    params = np.empty(_N_COURSE_PARAMS)
+    params[_PRE], params[_EXC], params[_IOR] = config.preactivation_s, config.excitation_s, config.ior_s
+    params[_COURSE], params[_A_EXC], params[_A_IOR] = config.course_s, config.A_exc, config.A_ior
+    params[_RISE], params[_DECAY] = config.kernel_rise_fraction, config.kernel_decay_fraction
+    params[_A_TD], params[_TD_ONSET] = config.A_td, config.td_onset_s
+    params[_TD_TAU_ON], params[_TD_TAU_OFF] = config.td_tau_on_s, config.td_tau_off_s
+    params[_VIG_AFTER], params[_VIG_REL] = config.vigilance_after_s, config.vigilance_amplitude_rel
+    params[_VIG_TAU], params[_VIG_RECOVERY] = config.vigilance_tau_s, config.vigilance_recovery_s
+    return params
+
+
 def bottom_up_gain(tau_s: float, config: AttentionConfig) -> float:
     """Centre contribution of a bottom-up course ``τ`` seconds after it started (§7).
 
@@ -99,16 +126,7 @@ def bottom_up_gain(tau_s: float, config: AttentionConfig) -> float:
     Returns:
         The signed gain (gain units).
     """
-    pre, exc = config.preactivation_s, config.excitation_s
-    if tau_s <= pre + TIME_TOLERANCE_S:
-        return 0.0
-    if tau_s <= pre + exc + TIME_TOLERANCE_S:
-        return config.A_exc * rise_decay_kernel(tau_s - pre, exc, config.kernel_rise_fraction,
-                                                config.kernel_decay_fraction)
-    if tau_s <= config.course_s + TIME_TOLERANCE_S:
-        return -config.A_ior * rise_decay_kernel(tau_s - pre - exc, config.ior_s, config.kernel_rise_fraction,
-                                                 config.kernel_decay_fraction)
-    return 0.0
+    return _bottom_up_gain(float(tau_s), course_parameters(config))
 
 
 def top_down_components(held_s: float, config: AttentionConfig) -> tuple[float, float]:
@@ -121,13 +139,7 @@ def top_down_components(held_s: float, config: AttentionConfig) -> tuple[float, 
     Returns:
         ``(E, V)`` (gain units, >= 0).
     """
-    enhancement = adaptation = 0.0
-    if held_s > config.td_onset_s:
-        enhancement = -config.A_td * math.expm1(-(held_s - config.td_onset_s) / config.td_tau_on_s)
-    if held_s > config.vigilance_after_s:
-        adaptation = (-config.vigilance_amplitude_rel * config.A_td
-                      * math.expm1(-(held_s - config.vigilance_after_s) / config.vigilance_tau_s))
-    return enhancement, adaptation
+    return _top_down_components(float(held_s), course_parameters(config))
 
 
 def top_down_gain(held_s: float, since_release_s: float, config: AttentionConfig) -> float:
@@ -145,11 +157,54 @@ def top_down_gain(held_s: float, since_release_s: float, config: AttentionConfig
     Returns:
         The signed gain (gain units); >= 0 until vigilance sets in.
     """
-    enhancement, adaptation = top_down_components(held_s, config)
+    return _top_down_gain(float(held_s), float(since_release_s), course_parameters(config))
+
+
+@njit(cache=True)
+def _bottom_up_gain(tau_s, params):
+    """``bottom_up_gain`` with the configuration as ``course_parameters``."""
+    pre, exc = params[_PRE], params[_EXC]
+    if tau_s <= pre + TIME_TOLERANCE_S:
+        return 0.0
+    if tau_s <= pre + exc + TIME_TOLERANCE_S:
+        return params[_A_EXC] * rise_decay_kernel(tau_s - pre, exc, params[_RISE], params[_DECAY])
+    if tau_s <= params[_COURSE] + TIME_TOLERANCE_S:
+        return -params[_A_IOR] * rise_decay_kernel(tau_s - pre - exc, params[_IOR], params[_RISE], params[_DECAY])
+    return 0.0
+
+
+@njit(cache=True)
+def _top_down_components(held_s, params):
+    """``top_down_components`` with the configuration as ``course_parameters``."""
+    enhancement = adaptation = 0.0
+    if held_s > params[_TD_ONSET]:
+        enhancement = -params[_A_TD] * math.expm1(-(held_s - params[_TD_ONSET]) / params[_TD_TAU_ON])
+    if held_s > params[_VIG_AFTER]:
+        adaptation = (-params[_VIG_REL] * params[_A_TD]
+                      * math.expm1(-(held_s - params[_VIG_AFTER]) / params[_VIG_TAU]))
+    return enhancement, adaptation
+
+
+@njit(cache=True)
+def _top_down_gain(held_s, since_release_s, params):
+    """``top_down_gain`` with the configuration as ``course_parameters``."""
+    enhancement, adaptation = _top_down_components(held_s, params)
     if since_release_s > 0.0:
-        enhancement *= math.exp(-since_release_s / config.td_tau_off_s)
-        adaptation *= math.exp(-since_release_s / config.vigilance_recovery_s)
+        enhancement *= math.exp(-since_release_s / params[_TD_TAU_OFF])
+        adaptation *= math.exp(-since_release_s / params[_VIG_RECOVERY])
     return enhancement - adaptation
+
+
+@njit(cache=True)
+def _decay_horizon(held_s, params):
+    """Time after release (s) when a course held ``held_s`` has decayed below ``NEGLIGIBLE_GAIN``."""
+    enhancement, adaptation = _top_down_components(held_s, params)
+    horizon = 0.0
+    if enhancement > NEGLIGIBLE_GAIN:
+        horizon = params[_TD_TAU_OFF] * math.log(enhancement / NEGLIGIBLE_GAIN)
+    if adaptation > NEGLIGIBLE_GAIN:
+        horizon = max(horizon, params[_VIG_RECOVERY] * math.log(adaptation / NEGLIGIBLE_GAIN))
+    return horizon
 
 
 def attentional_map(centre_gains, spread: np.ndarray) -> np.ndarray:
@@ -173,6 +228,9 @@ class CourseBook:
     goal stops being fulfilled at ``j`` (``update_holds``), then decays; it is dropped once
     its contributions are below ``NEGLIGIBLE_GAIN``.
 
+    The state is plain arrays (``arrays``), courses in the order they started; they grow
+    when full (``reserve``).
+
     Args:
         config: the model's parameters.
         n_regions: J.
@@ -181,39 +239,58 @@ class CourseBook:
     def __init__(self, config: AttentionConfig, n_regions: int) -> None:
         self.config = config
         self.n_regions = n_regions
-        self._bu_regions: list[int] = []
-        self._bu_starts: list[float] = []
-        # top-down courses: [region, start (s), release (s) or None, drop time (s) or inf]
-        self._td: list[list] = []
+        self.params = course_parameters(config)
+        capacity = 2 * n_regions
+        self._bu_regions = np.zeros(capacity, np.int64)
+        self._bu_starts = np.zeros(capacity)  # (s)
+        self._td_regions = np.zeros(capacity, np.int64)
+        self._td_times = np.zeros((capacity, 3))  # start, release (NaN while held), drop time (s)
+        self._counts = np.zeros(2, np.int64)  # bottom-up, top-down courses
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """``(params, bu_regions, bu_starts, td_regions, td_times, counts)`` for the kernels
+        (the arrays themselves, updated in place): ``params`` ``(16,)`` (``course_parameters``);
+        the bottom-up courses' regions and start times (s) and the top-down courses'
+        regions and ``(start, release, drop)`` times (s), ``(capacity,)`` and ``(capacity, 3)``,
+        the first ``counts[0]`` and ``counts[1]`` rows in use."""
+        return self.params, self._bu_regions, self._bu_starts, self._td_regions, self._td_times, self._counts
+
+    def reserve(self) -> None:
+        """Make room for one more course of each kind (the kernels cannot grow the arrays)."""
+        if self._counts[0] == self._bu_starts.shape[0] or self._counts[1] == self._td_times.shape[0]:
+            grown = 2 * max(self._bu_starts.shape[0], self._td_times.shape[0])
+            self._bu_regions = np.resize(self._bu_regions, grown)
+            self._bu_starts = np.resize(self._bu_starts, grown)
+            self._td_regions = np.resize(self._td_regions, grown)
+            self._td_times = np.resize(self._td_times, (grown, 3))
 
     def reset(self) -> None:
         """Drop every course."""
-        self._bu_regions.clear()
-        self._bu_starts.clear()
-        self._td.clear()
+        self._counts[:] = 0
 
     @property
     def empty(self) -> bool:
         """True when no course is active."""
-        return not (self._bu_regions or self._td)
+        return not (self._counts[0] or self._counts[1])
 
     def bottom_up_active(self, region: int, t_s: float) -> bool:
         """Whether a bottom-up course at ``region`` is still running at ``t_s``."""
-        limit = self.config.course_s + TIME_TOLERANCE_S
-        return any(j == region and t_s - s <= limit for j, s in zip(self._bu_regions, self._bu_starts))
+        return bottom_up_running(region, float(t_s), *self.arrays)
 
     def top_down_held(self, region: int) -> bool:
         """Whether a top-down course at ``region`` is currently held."""
-        return any(c[0] == region and c[2] is None for c in self._td)
+        return top_down_holding(region, *self.arrays)
 
     def start_bottom_up(self, region: int, t_s: float) -> None:
         """Start a bottom-up (exogenous) course at ``region`` at time ``t_s``."""
-        self._bu_regions.append(region)
-        self._bu_starts.append(t_s)
+        self.reserve()
+        add_course(False, region, float(t_s), *self.arrays)
 
     def start_top_down(self, region: int, t_s: float) -> None:
         """Start (and hold) a top-down (endogenous) course at ``region`` at time ``t_s``."""
-        self._td.append([region, t_s, None, math.inf])
+        self.reserve()
+        add_course(True, region, float(t_s), *self.arrays)
 
     def update_holds(self, t_s: float, fulfilled: np.ndarray) -> None:
         """Release every held top-down course whose region's goal is no longer fulfilled.
@@ -222,43 +299,87 @@ class CourseBook:
             t_s: current time (s): the release time of the courses released now.
             fulfilled: ``(J,)`` bool, the top-down goal holds at each region.
         """
-        for course in self._td:
-            if course[2] is None and not fulfilled[course[0]]:
-                course[2] = t_s
-                course[3] = t_s + self._decay_horizon(t_s - course[1])
-
-    def _decay_horizon(self, held_s: float) -> float:
-        """Time after release when a course held ``held_s`` has decayed below ``NEGLIGIBLE_GAIN``."""
-        enhancement, adaptation = top_down_components(held_s, self.config)
-        horizon = 0.0
-        if enhancement > NEGLIGIBLE_GAIN:
-            horizon = self.config.td_tau_off_s * math.log(enhancement / NEGLIGIBLE_GAIN)
-        if adaptation > NEGLIGIBLE_GAIN:
-            horizon = max(horizon, self.config.vigilance_recovery_s * math.log(adaptation / NEGLIGIBLE_GAIN))
-        return horizon
+        release_courses(float(t_s), np.asarray(fulfilled, np.bool_), *self.arrays)
 
     def centre_gains(self, t_s: float) -> list[float] | None:
         """Summed course gains per region at ``t_s`` (J floats), or None when no course is active.
 
         Finished courses are dropped first (time only moves forward).
         """
-        cfg = self.config
-        if self._bu_regions:
-            limit = cfg.course_s + TIME_TOLERANCE_S
-            keep = [k for k, s in enumerate(self._bu_starts) if t_s - s <= limit]
-            if len(keep) != len(self._bu_starts):
-                self._bu_regions[:] = [self._bu_regions[k] for k in keep]
-                self._bu_starts[:] = [self._bu_starts[k] for k in keep]
-        if self._td:
-            self._td[:] = [c for c in self._td if t_s <= c[3]]
-        if not (self._bu_regions or self._td):
-            return None
-        gains = [0.0] * self.n_regions
-        for region, start in zip(self._bu_regions, self._bu_starts):
-            gains[region] += bottom_up_gain(t_s - start, cfg)
-        for region, start, release, _ in self._td:
-            if release is None:
-                gains[region] += top_down_gain(t_s - start, 0.0, cfg)
-            else:
-                gains[region] += top_down_gain(release - start, t_s - release, cfg)
-        return gains
+        gains = np.zeros(self.n_regions)
+        return gains.tolist() if course_gains(float(t_s), *self.arrays, gains) else None
+
+
+@njit(cache=True)
+def bottom_up_running(region, t_s, params, bu_regions, bu_starts, td_regions, td_times, counts):
+    """Whether a bottom-up course at ``region`` is still running at ``t_s`` (s)."""
+    limit = params[_COURSE] + TIME_TOLERANCE_S
+    for k in range(counts[0]):
+        if bu_regions[k] == region and t_s - bu_starts[k] <= limit:
+            return True
+    return False
+
+
+@njit(cache=True)
+def top_down_holding(region, params, bu_regions, bu_starts, td_regions, td_times, counts):
+    """Whether a top-down course at ``region`` is currently held."""
+    for k in range(counts[1]):
+        if td_regions[k] == region and math.isnan(td_times[k, _RELEASE]):
+            return True
+    return False
+
+
+@njit(cache=True)
+def add_course(top_down, region, t_s, params, bu_regions, bu_starts, td_regions, td_times, counts):
+    """Append a course at ``region`` started at ``t_s`` (s), top-down (held) or bottom-up;
+    the arrays must have room (``CourseBook.reserve``)."""
+    if top_down:
+        k = counts[1]
+        td_regions[k] = region
+        td_times[k, _START], td_times[k, _RELEASE], td_times[k, _DROP] = t_s, np.nan, np.inf
+        counts[1] = k + 1
+    else:
+        k = counts[0]
+        bu_regions[k], bu_starts[k] = region, t_s
+        counts[0] = k + 1
+
+
+@njit(cache=True)
+def release_courses(t_s, fulfilled, params, bu_regions, bu_starts, td_regions, td_times, counts):
+    """``CourseBook.update_holds``: release, at ``t_s`` (s), each held top-down course whose
+    region's goal is not fulfilled (``fulfilled`` ``(J,)`` bool), and set its drop time."""
+    for k in range(counts[1]):
+        if math.isnan(td_times[k, _RELEASE]) and not fulfilled[td_regions[k]]:
+            td_times[k, _RELEASE] = t_s
+            td_times[k, _DROP] = t_s + _decay_horizon(t_s - td_times[k, _START], params)
+
+
+@njit(cache=True)
+def course_gains(t_s, params, bu_regions, bu_starts, td_regions, td_times, counts, gains):
+    """``CourseBook.centre_gains`` into ``gains`` ``(J,)`` (zeros on entry): drop the finished
+    courses (keeping the others' order), then add each course's gain at its region, the
+    bottom-up courses first, in the order they started; False when no course is active."""
+    limit = params[_COURSE] + TIME_TOLERANCE_S
+    kept = 0
+    for k in range(counts[0]):
+        if t_s - bu_starts[k] <= limit:
+            bu_regions[kept], bu_starts[kept] = bu_regions[k], bu_starts[k]
+            kept += 1
+    counts[0] = kept
+    kept = 0
+    for k in range(counts[1]):
+        if t_s <= td_times[k, _DROP]:
+            td_regions[kept] = td_regions[k]
+            td_times[kept, _START], td_times[kept, _RELEASE] = td_times[k, _START], td_times[k, _RELEASE]
+            td_times[kept, _DROP] = td_times[k, _DROP]
+            kept += 1
+    counts[1] = kept
+    for k in range(counts[0]):
+        gains[bu_regions[k]] += _bottom_up_gain(t_s - bu_starts[k], params)
+    for k in range(counts[1]):
+        start, release = td_times[k, _START], td_times[k, _RELEASE]
+        if math.isnan(release):
+            gains[td_regions[k]] += _top_down_gain(t_s - start, 0.0, params)
+        else:
+            gains[td_regions[k]] += _top_down_gain(release - start, t_s - release, params)
+    return counts[0] > 0 or counts[1] > 0

@@ -68,7 +68,8 @@ def direction_labels(range_rates_mps: np.ndarray, epsilon_mps: float) -> np.ndar
     return np.sign(v) * (np.abs(v) > epsilon_mps)
 
 
-def planar_displacement(linear_mps: float, angular_rps: float, dt_s: float) -> tuple[float, float, float]:
+@njit(cache=True)
+def planar_displacement(linear_mps, angular_rps, dt_s):
     """The robot's displacement over ``dt_s`` at constant velocity, in its starting frame.
 
     Exact for a constant (v, ω) over the interval (a circular arc; a straight line when

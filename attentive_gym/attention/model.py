@@ -33,7 +33,15 @@ import numpy as np
 from numba import njit
 
 from attentive_gym.attention._numerics import interp, pairwise_sum, vecmat
-from attentive_gym.attention.attentional_map import CourseBook, lateral_spread
+from attentive_gym.attention.attentional_map import (
+    CourseBook,
+    add_course,
+    bottom_up_running,
+    course_gains,
+    lateral_spread,
+    release_courses,
+    top_down_holding,
+)
 from attentive_gym.attention.config import (
     BOTTOM_UP_MAPS,
     MAP_ALIASES,
@@ -231,20 +239,26 @@ class AttentionOutput:
             raise ValueError(f"region must be an index in [0, {grid.n_regions}), got {region!r}")
         j = int(region)
         sonar_index = int(grid.region_sonar[j])
-        beams = grid.beam_indices[j]
-        sonar_range = float(readings[sonar_index])
-        rows = np.flatnonzero(track_rows[:, _SLOT] == region_slot[sonar_index])
-        track = track_rows[rows[0]] if region_slot[sonar_index] >= 0 and rows.size else None  # TrackTable's row
-        return FocusView(
+        beams = grid.beam_slices[j]
+        slot = region_slot[sonar_index]
+        track = None
+        if slot >= 0:  # the rows are in slot order
+            row = int(np.searchsorted(track_rows[:, _SLOT], slot))
+            if row < len(track_rows) and track_rows[row, _SLOT] == slot:
+                track = track_rows[row]  # TrackTable's row
+        nearest_m = float(nearest[j])
+        # the frozen dataclass's generated __init__ costs ~4 µs: fill its fields (all of them) directly
+        view = object.__new__(FocusView)
+        vars(view).update(
             region=j,
             bearing_rad=float(grid.bearings_rad[j]),
-            sonar_range_m=sonar_range,
+            sonar_range_m=float(readings[sonar_index]),
             sonar_echo=bool(valid[sonar_index]),
-            laser_beams=beams,
-            laser_ranges_m=readings[_LASER][beams],
+            laser_beams=grid.beam_indices[j],
+            laser_ranges_m=readings[FRONT_SONARS + beams.start:FRONT_SONARS + beams.stop].copy(),
             range_rate_mps=float(rates[sonar_index]),
-            direction=Direction(int(self.directions[j])),
-            distance_m=float(nearest[j]) if np.isfinite(nearest[j]) else None,
+            direction=_DIRECTIONS[self.directions[j] + 1],
+            distance_m=nearest_m if math.isfinite(nearest_m) else None,
             features=self.F[:, j].copy(),
             track_id=None if track is None else int(track[_ID]),
             track_position_m=None if track is None else track[_X:_X + 2].copy(),
@@ -252,8 +266,11 @@ class AttentionOutput:
             track_speed_mps=None if track is None else float(track[_SPEED]),
             track_age_s=None if track is None else float(track[_AGE]),
         )
+        return view
 
 
+#: The direction labels by ``label + 1``.
+_DIRECTIONS = (Direction.TOWARDS, Direction.STATIC, Direction.AWAY)
 #: The public fields of ``AttentionOutput``, compared by ``==``.
 _OUTPUT_FIELDS = tuple(f.name for f in dataclasses.fields(AttentionOutput) if not f.name.startswith("_"))
 
@@ -513,9 +530,7 @@ class AttentionModel:
         push = sonar_new or laser_new
         # the window's ego-motion compensation (the tracker compensates in its own frame)
         moved = push and motion is not None and self._tracker is None and self._ego_change(t, motion)
-        if self._tracker is not None:
-            self._tracker.advance(0.0 if self._last_t is None else t - self._last_t,
-                                  None if cfg.ego_motion is None else motion)
+        dt = 0.0 if self._last_t is None else t - self._last_t
         self._last_t = t
         if sonar_new:
             self._sonar_time = sonar_time_s
@@ -538,7 +553,10 @@ class AttentionModel:
             _window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
             region_slot, track_rows = _NO_REGION_TRACKS, _NO_TRACK_ROWS
         else:
-            region_slot, track_rows = self._track(t, sonar_new, laser_new, readings, valid, rates, speeds, moving)
+            # §10: the tracker takes the new scans and fills the channels' kinematics
+            region_slot, track_rows = self._tracker.step(t, dt, None if cfg.ego_motion is None else motion, laser_new,
+                                                         sonar_new, readings, valid, rates, speeds, moving,
+                                                         self._wanted_speed)
         if not grid.is_laser:  # the sonar grid: §4–§6 in one compiled call
             _sonar_grid_maps(
                 readings, valid, rates, speeds, moving, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
@@ -585,25 +603,14 @@ class AttentionModel:
 
         # --- attentional map, saliency, winner (§7, §8) -----------------------------------
         courses = self._courses
-        courses.update_holds(t, fulfilled)
-        gains = courses.centre_gains(t)
-        winner = _saliency(_NO_GAINS if gains is None else np.array(gains), self._spread, C, self._gain, M, L)
+        courses.reserve()
+        winner, fired = _select(t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread, *courses.arrays, M,
+                                L)
         saliency = float(L[winner])
         focus = origin = None
-        fired = False
         if saliency >= cfg.threshold:
             focus = winner
-            if origins[winner]:
-                origin = ORIGIN_TOP_DOWN
-                # a course is held while the goal holds, so one starts only where it holds
-                if fulfilled[winner] and not courses.top_down_held(winner):
-                    courses.start_top_down(winner, t)
-                    fired = True
-            else:
-                origin = ORIGIN_BOTTOM_UP
-                if not courses.bottom_up_active(winner, t):
-                    courses.start_bottom_up(winner, t)
-                    fired = True
+            origin = ORIGIN_TOP_DOWN if origins[winner] else ORIGIN_BOTTOM_UP
         # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
         # them, in order) directly
         output = object.__new__(AttentionOutput)
@@ -665,18 +672,6 @@ class AttentionModel:
                 raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
             fresh.append(previous is None or value > previous)
         return fresh[0], fresh[1]
-
-    def _track(self, t: float, sonar_new: bool, laser_new: bool, readings: np.ndarray, valid: np.ndarray,
-               rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray) -> tuple[np.ndarray, tuple]:
-        """§10: feed the new scans to the tracker and fill the channels' ``rates``, ``speeds``
-        and ``moving`` from it; returns, per front sonar channel, the slot of its track (−1
-        for none), and the step's tracks (``Tracker.snapshot``)."""
-        tracker = self._tracker
-        if laser_new:
-            tracker.scan(t, readings[_LASER])
-        if sonar_new:
-            tracker.sonar(t, readings[_SONAR], valid[_SONAR])
-        return tracker.channels(t, readings, valid, rates, speeds, moving, self._wanted_speed), tracker.snapshot(t)
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
@@ -749,15 +744,13 @@ def _as_float_array(values, name: str) -> np.ndarray:
 # --- compiled kernels ----------------------------------------------------------------------
 # A step is: ``_load_row`` (input check), ``_ego_change`` (kinematics.scan_points, numpy's
 # arctan2, kinematics.ego_range_change) when the robot moved, ``_sonar_grid_step`` (§2–§6;
-# on the laser grid ``_sense``, numpy F1–F3 and ``_goal_maps``), the courses in Python, then
-# ``_saliency``. The kernels repeat the arithmetic of the numpy expressions they replace
-# (features.py, kinematics.py, memory.py) operation for operation, with sums in numpy's
-# pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
+# on the laser grid ``_sense``, numpy F1–F3 and ``_goal_maps``), then ``_select`` (the
+# courses of ``attentional_map`` and ``_saliency``). The kernels repeat the arithmetic of
+# the numpy expressions they replace (features.py, kinematics.py, memory.py) operation for
+# operation, with sums in numpy's pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
 # the same floats. Outputs are arrays allocated per step by the caller (users keep them).
 # After editing a callee in another file, clear the numba cache (see ``_numerics``).
 
-#: The course gains of a step without courses (``_saliency`` then takes M = 1).
-_NO_GAINS = np.zeros(0)
 #: Columns of the goal plan, one row per top-down map (F4, F5, F6): the goal's kind
 #: (``_INACTIVE`` for an inactive map), its bounds and tolerance, and the knots of its
 #: graded table (``features.goal_knots``, at most 4).
@@ -1039,6 +1032,36 @@ def _goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan
     for j in range(n_regions):
         C[j] = C_BU[j] + C_TD[j]
         origins[j] = 1 if C_TD[j] > C_BU[j] else 0
+
+
+@njit(cache=True)
+def _select(t, fulfilled, origins, C, gain, threshold, spread, params, bu_regions, bu_starts, td_regions, td_times,
+            counts, M, L):
+    """§7–§8 with the courses (the arrays of ``CourseBook``, with room for one more of each
+    kind): update the top-down holds at ``t`` (s), evaluate the courses' centre gains,
+    ``_saliency`` into ``M`` and ``L`` ``(J,)``, then start a course at the winner if it
+    fires. Returns the winner ``argmax L`` and whether a course started.
+
+    The winner is the focus when ``L[winner] >= threshold``; a top-down winner (``origins``)
+    starts a held course where its goal is fulfilled and none is held there, a bottom-up
+    one a course where none is running.
+    """
+    release_courses(t, fulfilled, params, bu_regions, bu_starts, td_regions, td_times, counts)
+    gains = np.zeros(C.shape[0])
+    if not course_gains(t, params, bu_regions, bu_starts, td_regions, td_times, counts, gains):
+        gains = gains[:0]
+    winner = _saliency(gains, spread, C, gain, M, L)
+    fired = False
+    if L[winner] >= threshold:
+        if origins[winner]:
+            # a course is held while the goal holds, so one starts only where it holds
+            fired = fulfilled[winner] and not top_down_holding(winner, params, bu_regions, bu_starts, td_regions,
+                                                               td_times, counts)
+        else:
+            fired = not bottom_up_running(winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
+        if fired:
+            add_course(origins[winner] != 0, winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
+    return winner, fired
 
 
 @njit(cache=True)

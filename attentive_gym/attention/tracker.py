@@ -3,7 +3,8 @@
 - ``Tracker``: the state of every track and of the sonar filters, as plain arrays
   (struct of arrays, one row per track slot), and the robot's pose in a frame that
   odometry keeps fixed to the world. ``scan`` processes a laser scan, ``sonar`` a sonar
-  reading, ``advance`` integrates odometry; ``tracks`` reports them.
+  reading, ``advance`` integrates odometry; ``step`` does all of a model step's tracking
+  in one compiled call (``track_step``); ``tracks`` reports them.
 - ``TrackTable``: the tracks of one step, as the model outputs them (robot frame).
 - ``track_scan``: the compiled kernel of one scan: segment, split bodies off the structure
   they stand in front of (``segmentation``), predict, gate and assign (``association``),
@@ -60,7 +61,8 @@ from attentive_gym.attention.segmentation import (
 )
 from attentive_gym.attention.track_regions import track_channels, track_table
 
-__all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "table_from_rows", "TRACK_TABLE_FIELDS"]
+__all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "track_step", "advance_pose", "table_from_rows",
+           "TRACK_TABLE_FIELDS"]
 
 #: The probability that a new track moves, before any evidence.
 _MOTION_PRIOR = 0.5
@@ -185,7 +187,7 @@ class Tracker:
         self.sonar_t = np.zeros(FRONT_SONARS)
         self.sonar_pose = np.zeros(3)  # the pose of the sonars' previous reading
         self.pose = np.zeros(3)  # x, y (m), heading (rad) in the odometry frame
-        self._odometry: tuple[float, float] | None = None  # the previous reading's (v, ω)
+        self.odometry = np.zeros(3)  # the previous reading's (v m/s, ω rad/s), 1.0 once there is one
         sonars = front_sonar_bearings_rad()
         self._sonar_cos, self._sonar_sin = np.cos(sonars), np.sin(sonars)
         bearings = laser_bearings_rad()
@@ -221,26 +223,40 @@ class Tracker:
         self.sonar_hits[:] = 0
         self.pose[:] = 0.0
         self.sonar_pose[:] = 0.0
-        self._odometry = None
+        self.odometry[:] = 0.0
 
     def advance(self, dt_s: float, odometry: tuple[float, float] | None) -> None:
-        """Dead-reckon the pose over ``dt_s`` seconds.
+        """Dead-reckon the pose over ``dt_s`` seconds (``advance_pose``).
 
         ``odometry`` is the robot's ``(linear m/s, angular rad/s)`` at this reading (None:
-        standing still). The motion over the interval uses the mean of this reading's and
-        the previous reading's velocities (the trapezoid rule: exact while the velocity
-        ramps linearly, as a drive under acceleration limits does).
+        standing still).
         """
-        now = (0.0, 0.0) if odometry is None else odometry
-        before = now if self._odometry is None else self._odometry
-        self._odometry = now
-        linear, angular = 0.5 * (before[0] + now[0]), 0.5 * (before[1] + now[1])
-        if dt_s <= 0.0 or (linear == 0.0 and angular == 0.0):
-            return
-        dx, dy, dtheta = planar_displacement(linear, angular, dt_s)
-        x, y, heading = self.pose
-        c, s = math.cos(heading), math.sin(heading)
-        self.pose[:] = (x + c * dx - s * dy, y + s * dx + c * dy, heading + dtheta)
+        linear, angular = (0.0, 0.0) if odometry is None else odometry
+        advance_pose(float(dt_s), float(linear), float(angular), self.pose, self.odometry)
+
+    def step(self, t_s: float, dt_s: float, odometry: tuple[float, float] | None, laser_new: bool, sonar_new: bool,
+             readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray,
+             wanted_speed: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+        """One reading in one compiled call (``track_step``): ``advance``, then ``scan`` when
+        the laser scan is new, ``sonar`` when the sonar reading is new, ``channels`` and
+        ``snapshot`` (see those for the arguments; ``readings``, ``valid``: ``(188,)``).
+
+        Returns:
+            ``channels``'s region slots ``(8,)`` and ``snapshot``'s rows and covariances.
+        """
+        cfg = self.config
+        linear, angular = (0.0, 0.0) if odometry is None else odometry
+        region_slot = np.empty(FRONT_SONARS, np.int64)
+        n = track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, self.pose,
+                       self.odometry, self.sonar_pose, self.beam_cos, self.beam_sin, self._sonar_cos, self._sonar_sin,
+                       self.beam_step_rad, self.params, cfg.track_confirm_hits, cfg.max_speed_mps,
+                       cfg.direction_epsilon_mps, self._beam_region, self._cone_bounds, cfg.sonar_ego_match_m,
+                       cfg.segment_jump_sigmas, cfg.range_noise_rel, cfg.range_noise_floor_m, self.bounds,
+                       self.segments, self.cv_x, self.cv_P, self.static_x, self.static_P, self.p_moving, self.alive,
+                       self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.seen_s, self.extent_m,
+                       self.segment_of, self.counters, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t,
+                       rates, speeds, moving, region_slot, self._rows, self._covariance)
+        return region_slot, (self._rows[:n].copy(), self._covariance[:n].copy())
 
     def scan(self, t_s: float, ranges_m: np.ndarray) -> None:
         """Process a laser scan ``(180,)`` (m, clipped to the laser's maximum) taken at ``t_s`` (s)."""
@@ -294,6 +310,56 @@ class Tracker:
         """
         sonar_filters(t_s, self.pose, self.sonar_pose, readings_m, valid, self._sonar_cos, self._sonar_sin,
                       self.params, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t)
+
+
+@njit(cache=True)
+def advance_pose(dt_s, linear, angular, pose, odometry):
+    """Dead-reckon ``pose`` ``(3,)`` (x, y in m, heading in rad; odometry frame) over ``dt_s``
+    seconds, in place, given the robot's velocity at this reading (``linear`` m/s,
+    ``angular`` rad/s); ``odometry`` ``(3,)`` holds the previous reading's velocity (and 1.0
+    once there is one) and becomes this one's.
+
+    The motion over the interval uses the mean of the two readings' velocities (the
+    trapezoid rule: exact while the velocity ramps linearly, as a drive under
+    acceleration limits does); the first reading's interval uses its own.
+    """
+    before_linear, before_angular = linear, angular
+    if odometry[2] != 0.0:
+        before_linear, before_angular = odometry[0], odometry[1]
+    odometry[0], odometry[1], odometry[2] = linear, angular, 1.0
+    mean_linear, mean_angular = 0.5 * (before_linear + linear), 0.5 * (before_angular + angular)
+    if dt_s <= 0.0 or (mean_linear == 0.0 and mean_angular == 0.0):
+        return
+    dx, dy, dtheta = planar_displacement(mean_linear, mean_angular, dt_s)
+    x, y, heading = pose[0], pose[1], pose[2]
+    c, s = math.cos(heading), math.sin(heading)
+    pose[0], pose[1], pose[2] = x + c * dx - s * dy, y + s * dx + c * dy, heading + dtheta
+
+
+@njit(cache=True)
+def track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, pose, odometry,
+               sonar_pose, beam_cos, beam_sin, sonar_cos, sonar_sin, beam_step_rad, params, confirm_hits, max_speed,
+               epsilon, beam_region, cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, bounds, segments,
+               cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m,
+               segment_of, counters, sonar_x, sonar_P, sonar_hits, sonar_t, rates, speeds, moving, region_slot, rows,
+               covariance):
+    """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``,
+    ``sonar_filters`` of ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
+    ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows."""
+    advance_pose(dt_s, linear, angular, pose, odometry)
+    n_sonar = region_slot.shape[0]
+    if laser_new:
+        track_scan(t_s, pose, readings[n_sonar:], beam_cos, beam_sin, beam_step_rad, params, bounds, segments, cv_x,
+                   cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m,
+                   segment_of, counters)
+    if sonar_new:
+        sonar_filters(t_s, pose, sonar_pose, readings[:n_sonar], valid[:n_sonar], sonar_cos, sonar_sin, params,
+                      sonar_x, sonar_P, sonar_hits, sonar_t)
+    track_channels(t_s, pose, confirm_hits, max_speed, epsilon, wanted_speed, beam_step_rad, beam_region,
+                   cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, readings, valid, cv_x, p_moving,
+                   alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits, rates, speeds, moving, region_slot)
+    return track_table(t_s, pose, confirm_hits, beam_step_rad, beam_region, cv_x, cv_P, p_moving, alive, ids, hits,
+                       born_s, filter_t, rows, covariance)
 
 
 @njit(cache=True)

@@ -121,6 +121,7 @@ class FocusEncoder:
                             for beams in self.grid.beam_indices]
         offsets = np.cumsum([0] + [space.shape[0] for space in self.space.values()])
         self._parts = {key: slice(a, b) for key, a, b in zip(self.space, offsets[:-1], offsets[1:])}
+        self._starts = {key: int(a) for key, a in zip(self.space, offsets[:-1])}
         self._size = int(offsets[-1])
 
     def encode(self, raw: dict[str, np.ndarray], view: FocusView | None, event: tuple[bool, bool, bool],
@@ -134,20 +135,23 @@ class FocusEncoder:
             memory: ``(K, 6)`` rows of ``WorkingMemory.read``; None: every slot empty.
         """
         flat = np.zeros(self._size, _F32)  # every entry's view below shares this buffer
-        obs = {key: flat[part] for key, part in self._parts.items()}
+        obs = dict(zip(self._parts, map(flat.__getitem__, self._parts.values())))
         obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
         if memory is not None and "memory" in obs:
             np.minimum(memory.reshape(-1), self._memory_high, out=obs["memory"])
+        at = self._starts  # scalar entries are written into ``flat`` at their offsets
         if view is None:
-            obs["region"][-1] = 1.0
+            flat[at["region"] + self.grid.n_regions] = 1.0
             return obs
-        obs["region"][view.region] = 1.0
-        obs["event"][:] = event
-        obs["sonar"][:] = (view.sonar_range_m, view.sonar_echo)
+        flat[at["region"] + view.region] = 1.0
+        event_at = at["event"]
+        flat[event_at], flat[event_at + 1], flat[event_at + 2] = event
+        flat[at["sonar"]], flat[at["sonar"] + 1] = view.sonar_range_m, view.sonar_echo
         obs["laser"][:] = np.minimum.reduceat(view.laser_ranges_m, self._bin_starts[view.region])
-        obs["distance"][0] = self._max_distance if view.distance_m is None else min(view.distance_m, self._max_distance)
-        obs["motion"][0] = min(max(view.range_rate_mps, -self._max_speed), self._max_speed)
-        obs["motion"][2 + int(view.direction)] = 1.0
+        flat[at["distance"]] = (self._max_distance if view.distance_m is None
+                                else min(view.distance_m, self._max_distance))
+        flat[at["motion"]] = min(max(view.range_rate_mps, -self._max_speed), self._max_speed)
+        flat[at["motion"] + 2 + view.direction] = 1.0
         obs["features"][:] = view.features
         return obs
 
