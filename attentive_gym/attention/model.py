@@ -190,7 +190,7 @@ class AttentionOutput:
     # (grid, clipped readings (188,), their validity (188,), range rates (188,),
     #  nearest valid reading per region (J,), inf where none, the tracker's slot behind
     #  each front sonar's channel (8,), −1 for none, the tracks' rows (n, 11) and
-    #  covariances (n, 4, 4) of ``Tracker.snapshot``)
+    #  covariances (n, 4, 4) of ``Tracker.step``)
     _sources: tuple = field(repr=False, default=())
 
     def __eq__(self, other: object) -> bool:
@@ -710,7 +710,7 @@ class AttentionModel:
 #: The track slots behind the sonar channels, and the tracks, in the modes without a tracker.
 _NO_REGION_TRACKS = np.full(FRONT_SONARS, -1, np.int64)
 _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
-#: The column of ``Tracker.snapshot``'s rows that holds a track's slot.
+#: The column of the track rows (``Tracker.step``) that holds a track's slot.
 _SLOT = TRACK_TABLE_FIELDS.index("slot")
 _ID, _X, _VX, _SPEED, _AGE = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed", "age"))
 
@@ -743,11 +743,12 @@ def _as_float_array(values, name: str) -> np.ndarray:
 
 # --- compiled kernels ----------------------------------------------------------------------
 # A step is: ``_load_row`` (input check), ``_ego_change`` (kinematics.scan_points, numpy's
-# arctan2, kinematics.ego_range_change) when the robot moved, ``_sonar_grid_step`` (§2–§6;
-# on the laser grid ``_sense``, numpy F1–F3 and ``_goal_maps``), then ``_select`` (the
-# courses of ``attentional_map`` and ``_saliency``). The kernels repeat the arithmetic of
-# the numpy expressions they replace (features.py, kinematics.py, memory.py) operation for
-# operation, with sums in numpy's pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
+# arctan2, kinematics.ego_range_change) when the robot moved, ``_sense``, the tracker's
+# ``track_step`` (tracker mode), ``_sonar_grid_maps`` (§4–§6; on the laser grid numpy F1–F3
+# and ``_goal_maps``), then ``_select`` (the courses of ``attentional_map`` and
+# ``_saliency``). The kernels repeat the arithmetic of the numpy expressions they replace
+# (features.py, kinematics.py, memory.py) operation for operation, with sums in numpy's
+# pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
 # the same floats. Outputs are arrays allocated per step by the caller (users keep them).
 # After editing a callee in another file, clear the numba cache (see ``_numerics``).
 

@@ -2,9 +2,8 @@
 
 - ``Tracker``: the state of every track and of the sonar filters, as plain arrays
   (struct of arrays, one row per track slot), and the robot's pose in a frame that
-  odometry keeps fixed to the world. ``scan`` processes a laser scan, ``sonar`` a sonar
-  reading, ``advance`` integrates odometry; ``step`` does all of a model step's tracking
-  in one compiled call (``track_step``); ``tracks`` reports them.
+  odometry keeps fixed to the world. ``step`` takes one reading (odometry, laser scan,
+  sonar reading) in one compiled call (``track_step``) and reports the tracks.
 - ``TrackTable``: the tracks of one step, as the model outputs them (robot frame).
 - ``track_scan``: the compiled kernel of one scan: segment, split bodies off the structure
   they stand in front of (``segmentation``), predict, gate and assign (``association``),
@@ -136,7 +135,7 @@ _TABLE_ATTRIBUTES = ("id", "position_m", "velocity_mps", "speed_mps", "moving_pr
 
 
 def table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
-    """A read-only ``TrackTable`` from the rows of ``Tracker.snapshot`` ``(n, 11)`` (columns
+    """A read-only ``TrackTable`` from the track rows of ``Tracker.step`` ``(n, 11)`` (columns
     ``TRACK_TABLE_FIELDS``) and their covariances ``(n, 4, 4)``."""
     arrays = (rows[:, 0].astype(np.int64), rows[:, 1:3], rows[:, 3:5], rows[:, 5], rows[:, 6], covariance, rows[:, 7],
               rows[:, 8] > 0.0, rows[:, 9].astype(np.int64))
@@ -157,7 +156,7 @@ class Tracker:
     Args:
         config: the model's configuration (the tracker's fields, §10).
 
-    The robot's pose is dead-reckoned from odometry (``advance``) in a frame fixed to
+    The robot's pose is dead-reckoned from odometry (``step``) in a frame fixed to
     the world at the first reading; tracks live in that frame. ``reset`` forgets all.
     """
 
@@ -225,24 +224,32 @@ class Tracker:
         self.sonar_pose[:] = 0.0
         self.odometry[:] = 0.0
 
-    def advance(self, dt_s: float, odometry: tuple[float, float] | None) -> None:
-        """Dead-reckon the pose over ``dt_s`` seconds (``advance_pose``).
-
-        ``odometry`` is the robot's ``(linear m/s, angular rad/s)`` at this reading (None:
-        standing still).
-        """
-        linear, angular = (0.0, 0.0) if odometry is None else odometry
-        advance_pose(float(dt_s), float(linear), float(angular), self.pose, self.odometry)
-
     def step(self, t_s: float, dt_s: float, odometry: tuple[float, float] | None, laser_new: bool, sonar_new: bool,
              readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray,
              wanted_speed: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
-        """One reading in one compiled call (``track_step``): ``advance``, then ``scan`` when
-        the laser scan is new, ``sonar`` when the sonar reading is new, ``channels`` and
-        ``snapshot`` (see those for the arguments; ``readings``, ``valid``: ``(188,)``).
+        """One reading, in one compiled call (``track_step``): dead-reckon the pose over
+        ``dt_s``, take the laser scan and the sonar reading where they are new, and write
+        every reading channel's kinematics.
+
+        Args:
+            t_s: the reading's time (s); dt_s: the time since the previous reading (s).
+            odometry: the robot's ``(linear m/s, angular rad/s)`` at this reading (None:
+                standing still); the motion over the interval uses the mean of this and the
+                previous reading's velocities (``advance_pose``).
+            laser_new, sonar_new: whether the laser scan and the sonar reading are new scans
+                (a held reading is not tracked twice).
+            readings, valid: ``(188,)`` clipped readings (m) and echo flags (8 front sonars,
+                then 180 beams; the laser's are clipped to its maximum range).
+            rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output
+                (``track_regions.track_channels``).
+            wanted_speed: ``(2,)`` the speeds ``[lo, hi]`` a speed goal asks for (m/s),
+                ``[inf, inf]`` without one.
 
         Returns:
-            ``channels``'s region slots ``(8,)`` and ``snapshot``'s rows and covariances.
+            ``(8,)`` int64 the track slot behind each front sonar's channel (−1 for none),
+            and the live tracks in the robot frame: rows ``(n, 11)`` (columns
+            ``TRACK_TABLE_FIELDS``, slot order) and covariances ``(n, 4, 4)``, new arrays
+            (``table_from_rows`` makes them a ``TrackTable``).
         """
         cfg = self.config
         linear, angular = (0.0, 0.0) if odometry is None else odometry
@@ -257,59 +264,6 @@ class Tracker:
                        self.segment_of, self.counters, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t,
                        rates, speeds, moving, region_slot, self._rows, self._covariance)
         return region_slot, (self._rows[:n].copy(), self._covariance[:n].copy())
-
-    def scan(self, t_s: float, ranges_m: np.ndarray) -> None:
-        """Process a laser scan ``(180,)`` (m, clipped to the laser's maximum) taken at ``t_s`` (s)."""
-        track_scan(t_s, self.pose, ranges_m, self.beam_cos, self.beam_sin, self.beam_step_rad, self.params,
-                   self.bounds, self.segments, self.cv_x, self.cv_P, self.static_x, self.static_P, self.p_moving,
-                   self.alive, self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.seen_s,
-                   self.extent_m, self.segment_of, self.counters)
-
-    def channels(self, t_s: float, readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray,
-                 moving: np.ndarray, wanted_speed: np.ndarray) -> np.ndarray:
-        """Write the kinematics of every reading channel at ``t_s`` (``track_regions.track_channels``).
-
-        Args:
-            readings, valid: ``(188,)`` clipped readings (m) and echo flags (8 front
-                sonars, then 180 beams).
-            rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output.
-            wanted_speed: ``(2,)`` the speeds ``[lo, hi]`` a speed goal asks for (m/s),
-                ``[inf, inf]`` without one.
-
-        Returns:
-            ``(8,)`` int64 the track slot behind each front sonar's channel, −1 for none.
-        """
-        cfg = self.config
-        region_slot = np.empty(FRONT_SONARS, np.int64)
-        track_channels(t_s, self.pose, cfg.track_confirm_hits, cfg.max_speed_mps, cfg.direction_epsilon_mps,
-                       wanted_speed, self.beam_step_rad, self._beam_region, self._cone_bounds, cfg.sonar_ego_match_m,
-                       cfg.segment_jump_sigmas, cfg.range_noise_rel, cfg.range_noise_floor_m, readings,
-                       valid, self.cv_x, self.p_moving, self.alive, self.hits,
-                       self.filter_t, self.segment_of, self.bounds, self.sonar_x, self.sonar_hits, rates, speeds,
-                       moving, region_slot)
-        return region_slot
-
-    def snapshot(self, t_s: float) -> tuple[np.ndarray, np.ndarray]:
-        """The live tracks at ``t_s`` (s) in the robot frame: rows ``(n, 11)`` (columns
-        ``TRACK_TABLE_FIELDS``, slot order) and covariances ``(n, 4, 4)``, new arrays
-        (``table_from_rows`` makes them a ``TrackTable``)."""
-        n = track_table(t_s, self.pose, self.config.track_confirm_hits, self.beam_step_rad, self._beam_region,
-                        self.cv_x, self.cv_P, self.p_moving, self.alive, self.ids, self.hits, self.born_s,
-                        self.filter_t, self._rows, self._covariance)
-        return self._rows[:n].copy(), self._covariance[:n].copy()
-
-    def sonar(self, t_s: float, readings_m: np.ndarray, valid: np.ndarray) -> None:
-        """Update the front sonars' range/rate filters with a reading taken at ``t_s`` (s).
-
-        Args:
-            readings_m: ``(8,)`` ranges (m).
-            valid: ``(8,)`` bool, the sonar has an echo; a sonar without one restarts.
-
-        The robot's own motion since the previous reading is taken out first, as for an
-        echo on the sonar's axis (docs/model.md §3's point model ``−(dx cos θ + dy sin θ)``).
-        """
-        sonar_filters(t_s, self.pose, self.sonar_pose, readings_m, valid, self._sonar_cos, self._sonar_sin,
-                      self.params, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t)
 
 
 @njit(cache=True)
@@ -364,8 +318,13 @@ def track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid
 
 @njit(cache=True)
 def sonar_filters(t_s, pose, sonar_pose, readings_m, valid, sonar_cos, sonar_sin, params, x, P, hits, filter_t):
-    """One reading of each front sonar into its ``(r, ṙ)`` filter (see ``Tracker.sonar``);
-    ``sonar_pose`` ``(3,)``, the pose of the previous reading, becomes ``pose``."""
+    """One reading of each front sonar into its ``(r, ṙ)`` range/rate filter, in place.
+
+    ``readings_m`` ``(8,)`` (m) and ``valid`` ``(8,)`` bool (a sonar without an echo
+    restarts) taken at ``t_s`` (s). The robot's own motion since the previous reading is
+    taken out first, as for an echo on the sonar's axis (docs/model.md §3's point model
+    ``−(dx cos θ + dy sin θ)``); ``sonar_pose`` ``(3,)``, the pose of the previous reading,
+    becomes ``pose``."""
     dx_world, dy_world = pose[0] - sonar_pose[0], pose[1] - sonar_pose[1]
     c, s = math.cos(sonar_pose[2]), math.sin(sonar_pose[2])
     dx, dy = c * dx_world + s * dy_world, -s * dx_world + c * dy_world  # in the previous robot frame
