@@ -1,8 +1,8 @@
 """Perception benchmark: does the attentional model see motion and attend to the goal's target?
 
-Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [--episodes 6]
-[--seconds 20] [--control-episodes 20] [--sections speed,focus,control,cost] [--csv PATH]``
-(about 1.5 minutes on 2 cores with the defaults).
+Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [--episodes 24]
+[--seconds 20] [--control-episodes 40] [--sections speed,focus,control,cost] [--csv PATH]``
+(about 5 minutes on 2 cores with the defaults).
 
 For each kinematics mode (``AttentionConfig(kinematics=...)``, docs/model.md §3 and §10), the
 robot still or driving (a scripted wander, ``Wander``), and each sensor noise setting
@@ -18,7 +18,7 @@ markdown tables of:
    ≈ 0); and how often "the goal holds" judged from the estimate agrees with the truth.
 2. ``focus``: per default task goal, the fraction of the steps with the target in front and
    within 5 m at which the focus is the target's region (chance: 1/8).
-3. ``control``: success rates in the 8 m arena with 2 distractors (seeds 0..19) of a
+3. ``control``: success rates in the 8 m arena with 2 distractors (seeds 0..N−1) of a
    controller steered by the latest top-down focus, of the same controller steered by the
    true target bearing (a privileged oracle) and of random actions.
 4. ``cost``: µs per ``AttentionModel.step`` on readings recorded from a driving episode at
@@ -264,6 +264,8 @@ class EpisodeRecord:
             in the whole episode (the modes without a tracker).
         focus: ``(T,)`` the focused region, −1 for none.
         static_region: ``(T, J)`` regions with an echo and no echo from a mover.
+        target_case: ``(T,)`` why the focus is or is not on the target at each step, an
+            index into ``TARGET_CASES`` (``target_case``); None when not recorded.
     """
 
     goal: Goal
@@ -275,6 +277,7 @@ class EpisodeRecord:
     track_speed: np.ndarray | None
     focus: np.ndarray
     static_region: np.ndarray
+    target_case: np.ndarray | None = None
 
 
 #: ``(J, 180)`` which laser beams each region holds.
@@ -308,12 +311,42 @@ def matched_track_speeds(tracks, mover_xy: np.ndarray) -> np.ndarray:
 
 Policy = Callable[[Mapping[str, np.ndarray], Mapping[str, Any]], np.ndarray]
 
+#: Why the focus is or is not on the target's region at a step, checked in this order: the
+#: focus is there; the perception misses the target (the laser does not see it; it sees it
+#: but no confirmed track lies within ``TRACK_MATCH_M``; a track does, but the goal is not
+#: judged to hold in the target's region, the track younger or older than ``SETTLE_S``);
+#: or the goal is judged to hold there and the selection goes elsewhere (no focus at all;
+#: the region is inhibited, M < 1; another region wins).
+TARGET_CASES = ("on target", "hidden from the laser", "seen, no track", "young track, goal not judged",
+                "track, goal not judged", "no focus", "inhibited", "another region won")
+
+
+def target_case(output, target_xy: np.ndarray, target_laser_beams: int) -> int:
+    """The index in ``TARGET_CASES`` of a step: the model's ``output``, the target's
+    robot-frame position ``target_xy`` (2,) (m) and how many laser beams hit it."""
+    region = int(region_of(target_xy))
+    if output.focus == region:
+        return 0
+    tracks = output.tracks
+    confirmed = np.asarray(tracks.confirmed, bool)
+    distance = np.linalg.norm(np.asarray(tracks.position_m, float).reshape(-1, 2) - target_xy, axis=1)
+    near = confirmed & (distance <= TRACK_MATCH_M)
+    if not near.any():
+        return 1 if target_laser_beams == 0 else 2
+    if not output.goal_fulfilled[region]:
+        nearest = np.flatnonzero(near)[np.argmin(distance[near])]
+        return 3 if tracks.age_s[nearest] < SETTLE_S else 4
+    if output.focus is None:
+        return 5
+    return 6 if output.M[region] < 1.0 else 7
+
 
 def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -> EpisodeRecord:
     """Run one episode of the attended ``env`` (reset with ``seed`` and ``goal``) under
     ``policy`` for ``seconds`` (s) or until it ends, and record every step after the reset."""
     obs, info = env.reset(seed=seed, options={"goal": goal})
     mover_ids = np.array([m.entity.id for m in env.unwrapped.world.movers])
+    target_id = mover_ids[info["target_index"]]
     steps: list[tuple] = []
     tracked = False  # whether the model produced any track in the episode
     while info["time_s"] < seconds - 1e-9:
@@ -327,15 +360,16 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
             np.full(len(xy), np.nan) if tracks is None else matched_track_speeds(tracks, xy),
             -1 if output.focus is None else output.focus,
             static_regions(info["laser_hits"], info["sonar_hits"], mover_ids),
+            target_case(output, xy[info["target_index"]], int(np.sum(info["laser_hits"] == target_id))),
         ))
         if terminated or truncated:
             break
-    t_s, xy, velocity, region_speed, track_speed, focus, static = zip(*steps)
+    t_s, xy, velocity, region_speed, track_speed, focus, static, case = zip(*steps)
     return EpisodeRecord(
         goal=goal, target=int(info["target_index"]), t_s=np.array(t_s), mover_xy=np.array(xy),
         mover_velocity=np.array(velocity), region_speed=np.array(region_speed),
         track_speed=np.array(track_speed) if tracked else None,
-        focus=np.array(focus), static_region=np.array(static),
+        focus=np.array(focus), static_region=np.array(static), target_case=np.array(case) if tracked else None,
     )
 
 
@@ -486,6 +520,37 @@ def focus_on_target(records: Iterable[EpisodeRecord]) -> dict[str, tuple[float, 
     return {goal: (on / n if n else math.nan, n) for goal, (on, n) in hits.items()}
 
 
+def target_cases(records: Iterable[EpisodeRecord]) -> dict[str, float]:
+    """The fraction of the steps with the target in view (``in_view``) that falls in each of
+    ``TARGET_CASES`` (keys ``case_...``), over the records that have cases."""
+    counts = np.zeros(len(TARGET_CASES))
+    for record in records:
+        if record.target_case is not None:
+            visible = in_view(record.mover_xy[:, record.target])
+            counts += np.bincount(record.target_case[visible], minlength=len(TARGET_CASES))
+    total = counts.sum()
+    return {_case_key(case): (n / total if total else math.nan) for case, n in zip(TARGET_CASES, counts)}
+
+
+def focus_after_turns(records: Iterable[EpisodeRecord]) -> dict[str, float]:
+    """Focus on target (as ``focus_on_target``, both goals) over the in-view steps within
+    ``TRANSIENT_S`` after the target turned (``turns``), and over the others."""
+    hits = np.zeros((2, 2))  # [after a turn, otherwise] × [on target, steps]
+    for record in records:
+        target_xy = record.mover_xy[:, record.target]
+        visible = in_view(target_xy)
+        after = time_since(record.t_s, turns(record.mover_velocity))[:, record.target] <= TRANSIENT_S
+        on_target = record.focus == region_of(target_xy)
+        for row, mask in enumerate((visible & after, visible & ~after)):
+            hits[row] += on_target[mask].sum(), mask.sum()
+    rates = [on / n if n else math.nan for on, n in hits]
+    return {"focus_on_target_after_turn": rates[0], "focus_on_target_otherwise": rates[1]}
+
+
+def _case_key(case: str) -> str:
+    return "case_" + case.replace(",", "").replace(" ", "_")
+
+
 # ===================================================================== sections
 @dataclass
 class Results:
@@ -563,7 +628,7 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
     """Sections 1–3: speed error, static structure, goal classification, focus on target."""
     goals = tuple(arena.DEFAULT_TASK_GOALS)
     goal_names = [str(goal) for goal in goals]
-    speed_rows, track_rows, focus_rows = [], [], []
+    speed_rows, track_rows, focus_rows, case_rows = [], [], [], []
     for mode, noise, robot, records in perception_records(modes, episodes, seconds, goals):
         config = {"mode": mode, "robot": robot, "noise": noise}
         label = [mode, robot, noise]
@@ -584,6 +649,13 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
                 results.add("focus", config, {"focus_on_target": rate, "target_in_view_steps": steps}, goal=goal)
         focus_rows.append(label + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})"
                                    for g in goal_names])
+        cases = target_cases(records)
+        if not math.isnan(cases[_case_key(TARGET_CASES[0])]):
+            after_turns = focus_after_turns(records)
+            if "focus" in sections:
+                results.add("focus", config, {**cases, **after_turns})
+            case_rows.append(label + [_fmt(cases[_case_key(case)], 3) for case in TARGET_CASES]
+                             + [_fmt(after_turns[key], 3) for key in after_turns])
     header = ["mode", "robot", "noise"]
     print(f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
           f"10 m arena, 3 distractors; goals in turn: {', '.join(goal_names)})")
@@ -602,6 +674,15 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
               f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
               f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}.\n")
         print(markdown_table(header + [f"`{g}`" for g in goal_names], focus_rows))
+        if case_rows:
+            print("\nWhy the focus is or is not on the target, as fractions of the same steps (both goals; "
+                  f"`TARGET_CASES`): perception misses it (hidden from the laser; seen but no confirmed track within "
+                  f"{TRACK_MATCH_M:g} m; a track younger or older than {SETTLE_S:g} s, but the goal is not judged to "
+                  "hold in the target's region), or the goal holds there and the selection goes elsewhere. "
+                  f"Then the focus on target within {TRANSIENT_S:g} s after the target turned, and at the other "
+                  "steps.\n")
+            print(markdown_table(header + list(TARGET_CASES) + ["on target after a turn", "on target otherwise"],
+                                 case_rows))
 
 
 def control_success(env, make_policy: Callable[[Any, int], Policy], seeds: Iterable[int]) -> float:
@@ -742,9 +823,9 @@ def _choices(text: str, allowed: tuple[str, ...]) -> list[str]:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--modes", type=lambda s: _choices(s, MODES), default=list(MODES))
-    parser.add_argument("--episodes", type=int, default=6, help="episodes per row of sections speed and focus")
+    parser.add_argument("--episodes", type=int, default=24, help="episodes per row of sections speed and focus")
     parser.add_argument("--seconds", type=float, default=20.0, help="length of those episodes (s)")
-    parser.add_argument("--control-episodes", type=int, default=20, help="episodes per controller (seeds 0..N-1)")
+    parser.add_argument("--control-episodes", type=int, default=40, help="episodes per controller (seeds 0..N-1)")
     parser.add_argument("--rounds", type=int, default=5, help="timing rounds of the cost section")
     parser.add_argument("--sections", type=lambda s: _choices(s, SECTIONS), default=list(SECTIONS))
     parser.add_argument("--csv", type=Path, default=None, help="also write the figures as a tidy CSV")

@@ -123,3 +123,64 @@ def test_controllers_and_csv(tmp_path):
                             "metric": "region_median_mps", "value": 0.5}])
     assert path.read_text().splitlines()[1] == "speed,window,still,gauss 0,,region_median_mps,0.5"
     assert [p.name for p in path.parent.iterdir()] == ["figures.csv"]
+
+
+def _output(focus, fulfilled_region=None, inhibited=False, track_xy=None, track_age_s=2.0):
+    """A stand-in for an ``AttentionOutput`` with one confirmed track at ``track_xy`` (none if None)."""
+    from types import SimpleNamespace
+
+    positions = np.zeros((0, 2)) if track_xy is None else np.array([track_xy], float)
+    tracks = SimpleNamespace(confirmed=np.ones(len(positions), bool), position_m=positions,
+                             age_s=np.full(len(positions), track_age_s))
+    fulfilled = np.zeros(8, bool)
+    if fulfilled_region is not None:
+        fulfilled[fulfilled_region] = True
+    M = np.ones(8)
+    if inhibited:
+        M[fulfilled_region] = 0.5
+    return SimpleNamespace(focus=focus, tracks=tracks, goal_fulfilled=fulfilled, M=M)
+
+
+def test_target_cases_tell_perception_from_selection():
+    target = np.array([3.0, 0.1])  # region 3 (s4), 3 m ahead
+    region = int(bench.region_of(target))
+    assert region == 3
+    case = bench.TARGET_CASES.index
+    assert bench.target_case(_output(3), target, 5) == case("on target")
+    assert bench.target_case(_output(1), target, 0) == case("hidden from the laser")
+    assert bench.target_case(_output(1), target, 5) == case("seen, no track")
+    assert bench.target_case(_output(1, track_xy=(3.0, 1.0)), target, 5) == case("seen, no track")  # 0.9 m off
+    assert bench.target_case(_output(1, track_xy=(3.1, 0.1), track_age_s=0.5), target, 5) == case(
+        "young track, goal not judged")
+    assert bench.target_case(_output(1, track_xy=(3.1, 0.1)), target, 5) == case("track, goal not judged")
+    assert bench.target_case(_output(None, 3, track_xy=(3.1, 0.1)), target, 5) == case("no focus")
+    assert bench.target_case(_output(1, 3, inhibited=True, track_xy=(3.1, 0.1)), target, 5) == case("inhibited")
+    assert bench.target_case(_output(1, 3, track_xy=(3.1, 0.1)), target, 5) == case("another region won")
+
+
+def test_target_cases_of_a_tracker_episode_add_up_to_one():
+    env = bench.make_attentive_env("tracker", bench.NOISE_SETTINGS[2], **bench.PERCEPTION_ARENA)
+    record = bench.record_episode(env, SEED, GOAL, bench.stand_still, SECONDS)
+    env.close()
+    cases = bench.target_cases([record])
+    assert sum(cases.values()) == pytest.approx(1.0)
+    visible = bench.in_view(record.mover_xy[:, record.target])
+    on_target = record.focus[visible] == bench.region_of(record.mover_xy[visible, record.target])
+    assert cases["case_on_target"] == pytest.approx(on_target.mean())
+    assert math.isnan(bench.target_cases([dataclasses.replace(record, target_case=None)])["case_on_target"])
+
+
+def test_focus_after_turns_splits_the_steps_at_the_target_s_turns():
+    steps = 60
+    t_s = np.arange(1, steps + 1) * 0.0625  # steps of 1/16 s: 1 s after a step is exactly a step
+    velocity = np.zeros((steps, 1, 2))
+    velocity[:, 0] = (0.5, 0.0)
+    velocity[30:, 0] = (-0.5, 0.0)  # the target reverses at step 30
+    xy = np.tile([[2.0, 0.0]], (steps, 1, 1))  # in view, region 3 or 4 (on the axis)
+    region = int(bench.region_of(xy[0, 0]))
+    focus = np.full(steps, region)
+    focus[30:47] = -1  # lost for the 17 steps within 1 s after the turn (its end included)
+    record = bench.EpisodeRecord(GOAL, 0, t_s, xy, velocity, np.zeros((steps, 8)), None, focus,
+                                 np.zeros((steps, 8), bool))
+    rates = bench.focus_after_turns([record])
+    assert rates == {"focus_on_target_after_turn": 0.0, "focus_on_target_otherwise": 1.0}
