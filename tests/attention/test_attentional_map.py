@@ -77,6 +77,25 @@ def test_top_down_course_never_below_one_before_vigilance_and_vanishes_after_rel
     assert np.all(_m(book, 3.4) == 1.0) and book.empty  # no IOR, course dropped
 
 
+def test_a_book_grows_past_its_first_capacity_and_keeps_every_course():
+    # 3 J courses of each kind at once: more than the 2 J rows a book starts with
+    book = CourseBook(CFG, 8)
+    for k in range(24):
+        book.start_bottom_up(k % 8, 0.01 * k)
+        book.start_top_down(k % 8, 0.01 * k)
+    book.update_holds(0.3, np.arange(8) % 2 == 0)  # the odd regions' courses are released at 0.3 s
+    t = 0.4
+    expected = np.zeros(8)
+    for k in range(24):
+        expected[k % 8] += bottom_up_gain(t - 0.01 * k, CFG)
+    for k in range(24):
+        released = k % 2 == 1
+        expected[k % 8] += top_down_gain((0.3 if released else t) - 0.01 * k, t - 0.3 if released else 0.0, CFG)
+    np.testing.assert_allclose(book.centre_gains(t), expected, rtol=1e-12, atol=1e-15)
+    assert book.top_down_held(0) and not book.top_down_held(1)
+    assert book.bottom_up_active(7, t)
+
+
 def test_vigilance_pushes_m_below_plateau_then_below_one_and_recovers_slowly():
     book = CourseBook(CFG, 8)
     book.start_top_down(1, 0.0)
