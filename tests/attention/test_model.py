@@ -242,3 +242,22 @@ def test_subnormal_weights_give_finite_maps():
     for k in range(3):
         out = model.step(0.05 * k, np.full(16, 3.0 - 0.1 * k), np.full(180, 8.0), (0.2, 0.0))
     assert np.isfinite(out.C).all() and np.isfinite(out.L).all() and np.isfinite(out.M).all()
+
+
+def test_outputs_and_views_built_without_their_init_have_every_field_in_order():
+    # the step and view_of fill these frozen dataclasses' fields directly (their __init__ is slow):
+    # a field added to either class must be filled there too
+    from attentive_gym.attention import AttentionOutput, FocusView
+
+    model = AttentionModel(AttentionConfig(ego_motion=None))
+    model.set_goals(Goal.between("speed", 0.5, 0.9))
+    out = _target_run(model, speed=0.7, steps=30)[-1]
+    assert list(vars(out)) == [f.name for f in dataclasses.fields(AttentionOutput)]
+    assert AttentionOutput(**vars(out)) == out
+    for region in range(8):
+        view = out.view_of(region)
+        assert list(vars(view)) == [f.name for f in dataclasses.fields(FocusView)]
+        rebuilt = FocusView(**vars(view))
+        for name, value in vars(view).items():
+            np.testing.assert_equal(getattr(rebuilt, name), value, err_msg=name)
+    assert out.view_of(3).track_id is not None  # the view of the target's region names its track
