@@ -86,6 +86,19 @@ def test_map_ceilings_bound_the_attentional_map():
     assert l_high == pytest.approx(1.5 * m_high)
 
 
+@pytest.mark.parametrize(("weights", "balance", "c_high"), [
+    ((1, 1, 1, 1, 1, 1), True, 6.0),  # the top-down group scaled to the bottom-up total 3
+    ((1, 1, 1, 1, 0, 0), True, 6.0),  # F4 alone weighs 3 while its goal is set
+    ((1, 1, 1, 1, 0, 0), False, 4.0),
+    ((0, 0, 0, 2, 1, 0), True, 3.0),  # no bottom-up map: nothing to balance
+    ((2, 0, 0, 0, 0, 0), True, 2.0),
+])
+def test_unnormalised_ceiling_follows_the_balanced_weights(weights, balance, c_high):
+    config = AttentionConfig(normalise_combined=False, balance_groups=balance, weights=weights)
+    m_high, l_high = map_ceilings(config, gain=1.0)
+    assert l_high == pytest.approx(m_high * c_high)
+
+
 @pytest.mark.parametrize("grid", ["sonar", "laser"])
 def test_masked_observation_keeps_only_the_focused_readings(grid, run_until_focus):
     env = make_env("masked", scenario="exp01", sensor_noise=0.0, attention=AttentionConfig(grid=grid))
