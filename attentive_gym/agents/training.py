@@ -252,6 +252,16 @@ def _bind_spec(spec: RunSpec, run_dir: Path) -> None:
     write_text_atomic(path, spec.to_json() + "\n")
 
 
+def _logger_without_folder(verbose: int):
+    """An SB3 logger that writes nowhere but, when ``verbose``, to stdout (SB3's default
+    without TensorBoard also creates an empty folder under the temp directory)."""
+    import sys
+
+    from stable_baselines3.common.logger import HumanOutputFormat, Logger
+
+    return Logger(folder=None, output_formats=[HumanOutputFormat(sys.stdout)] if verbose else [])
+
+
 def train(
     spec: RunSpec,
     run_dir: str | os.PathLike,
@@ -312,6 +322,8 @@ def train(
             model = algo_cls(_policy_name(spec.algo, vec.observation_space), vec, seed=spec.seed, device="cpu",
                              verbose=verbose, tensorboard_log=tb, **spec.merged_algo_kwargs())
             resumed_from = 0
+        if tb is None:  # SB3's own logger would make an empty folder in the temp directory
+            model.set_logger(_logger_without_folder(verbose))
         callback = _make_callback(spec, run_dir, rows, start_wall, eval_envs)
         remaining = spec.total_steps - int(model.num_timesteps)
         t0 = time.perf_counter()

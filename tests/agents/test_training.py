@@ -99,3 +99,15 @@ def test_evaluate_policy_counts_episodes(tiny):
     assert result.mean_episode_length <= 40
     with pytest.raises(ValueError):
         evaluate_policy(Forward(), env_factory(spec), 0, seed=1)
+
+
+def test_a_run_without_tensorboard_leaves_nothing_in_the_temp_directory(tmp_path, tiny, monkeypatch):
+    import tempfile
+
+    temp = tmp_path / "temp"
+    temp.mkdir()
+    monkeypatch.delenv("SB3_LOGDIR", raising=False)  # SB3 would otherwise make SB3-<date> folders here
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    train(tiny(total_steps=128), tmp_path / "run", tensorboard=False)
+    assert [p.name for p in temp.iterdir() if p.name.startswith("SB3-")] == []
+    assert (tmp_path / "run" / "metrics.json").is_file() and not (tmp_path / "run" / "tb").exists()
