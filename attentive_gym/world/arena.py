@@ -49,6 +49,7 @@ DEFAULT_TASK_GOALS = (Goal.between("speed", 0.5, 0.9), Goal.between("speed", 0.1
 
 _SPEED_GRID_STEP_MPS = 0.05  # resolution of the speeds a mover can be given
 _PLACEMENT_ATTEMPTS = 200  # rejection-sampling tries per body before giving up
+_LAYOUT_ATTEMPTS = 20  # whole layouts drawn (from the same generator) before a crowded arena gives up
 _WALL_MARGIN_M = 0.6  # keep bodies this far from the enclosure's centre lines
 _PATROL_WAYPOINTS = 3
 _MAX_MOVER_SPEED_MPS = 20.0  # the largest speed a goal can name (the goal encoding's bound)
@@ -246,7 +247,7 @@ def _place_mover(layout: _Layout, config: ArenaConfig, robot_xy: np.ndarray, nam
         heading = float(layout.rng.uniform(-180.0, 180.0))
         start = Pose(round(float(p[0]), 6), round(float(p[1]), 6), round(heading, 6))
         return MoverSpec(name=name, kind=kind, start=start, behaviour=path)
-    raise ValueError(f"could not place mover {name!r} in a {config.width_m} × {config.height_m} m arena; lower the rubble density or the number of distractors")
+    raise _NoRoom(f"could not place mover {name!r} in a {config.width_m} × {config.height_m} m arena; lower the rubble density or the number of distractors")
 
 
 def generate_arena(config: ArenaConfig, rng: np.random.Generator, goal: Goal | None = None) -> Scenario:
@@ -256,10 +257,30 @@ def generate_arena(config: ArenaConfig, rng: np.random.Generator, goal: Goal | N
         config: the arena's knobs.
         rng: every random draw comes from it (pass ``env.np_random``).
         goal: the episode's goal; ``None`` samples one from ``config.goals``.
+
+    Raises:
+        ValueError: when no room is left for a mover in ``_LAYOUT_ATTEMPTS`` layouts in a
+            row (a crowded arena: fewer distractors or less rubble). A layout without room
+            is drawn again, so a crowded arena fails on no single unlucky draw.
     """
     if goal is None:
         goal = config.goals[int(rng.integers(len(config.goals)))]
     check_task_goal(goal, config)
+    for _ in range(_LAYOUT_ATTEMPTS):
+        try:
+            return _draw_arena(config, rng, goal)
+        except _NoRoom as crowded:
+            error = crowded
+    raise ValueError(f"{error} (in {_LAYOUT_ATTEMPTS} layouts in a row)")
+
+
+class _NoRoom(ValueError):
+    """No room is left in a layout for a mover."""
+
+
+def _draw_arena(config: ArenaConfig, rng: np.random.Generator, goal: Goal) -> Scenario:
+    """One draw of ``generate_arena``'s layout for ``goal`` (checked); ``_NoRoom`` when a
+    mover finds no room."""
     layout = _Layout(config, rng)
     robot_xy = layout.random_point(0.5)
     layout.discs.append((robot_xy, 0.5))

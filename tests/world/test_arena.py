@@ -87,3 +87,18 @@ def test_goals_that_cannot_single_out_a_victim_are_refused():
 def test_bad_knobs_are_refused(kwargs, message):
     with pytest.raises(ValueError, match=message):
         ArenaConfig(**kwargs)
+
+
+def test_a_crowded_arena_draws_its_layout_again_instead_of_failing():
+    # 6 distractors in an 8 m arena: about 1 first layout in 20 has no room for a mover
+    config = ArenaConfig(width_m=8.0, height_m=8.0, rubble_per_100m2=3.0, num_distractors=6)
+    for seed in range(200):
+        scenario = generate_arena(config, np.random.default_rng(seed))
+        assert len(scenario.movers) == 7
+
+
+def test_an_arena_without_room_says_so():
+    config = ArenaConfig(width_m=4.0, height_m=4.0, num_distractors=20)
+    with pytest.raises(ValueError, match=r"could not place mover .* 4.0 × 4.0 m arena; lower the rubble density or "
+                                         r"the number of distractors \(in 20 layouts in a row\)"):
+        generate_arena(config, np.random.default_rng(0))
