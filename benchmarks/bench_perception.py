@@ -2,7 +2,7 @@
 
 Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [--episodes 24]
 [--seconds 20] [--control-episodes 40] [--sections speed,focus,control,cost] [--csv PATH]``
-(about 5 minutes on 2 cores with the defaults).
+(about 2 minutes on 2 quiet cores with the defaults).
 
 For each kinematics mode (``AttentionConfig(kinematics=...)``, docs/model.md §3 and §10), the
 robot still or driving (a scripted wander, ``Wander``), and each sensor noise setting
