@@ -31,6 +31,7 @@ import inspect
 import json
 import os
 import signal
+import sys
 import time
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -255,8 +256,6 @@ def _bind_spec(spec: RunSpec, run_dir: Path) -> None:
 def _logger_without_folder(verbose: int):
     """An SB3 logger that writes nowhere but, when ``verbose``, to stdout (SB3's default
     without TensorBoard also creates an empty folder under the temp directory)."""
-    import sys
-
     from stable_baselines3.common.logger import HumanOutputFormat, Logger
 
     return Logger(folder=None, output_formats=[HumanOutputFormat(sys.stdout)] if verbose else [])

@@ -466,17 +466,18 @@ class AttentionModel:
         # choice of a region's track
         speed_goal = self._goals.get(Feature.SPEED) if active[GOAL_MAP_OF_FEATURE[Feature.SPEED]] > 0.0 else None
         self._wanted_speed = np.full(2, np.inf) if speed_goal is None else np.array(_fulfilling_range(speed_goal))
-        bottom_up, top_down = active[list(BOTTOM_UP_MAPS)], active[list(TOP_DOWN_MAPS)]
-        bottom_up_total, top_down_total = float(bottom_up.sum()), float(top_down.sum())
+        combined = active.copy()  # the weights C uses
+        bottom_up, top_down = list(BOTTOM_UP_MAPS), list(TOP_DOWN_MAPS)
+        bottom_up_total, top_down_total = float(active[bottom_up].sum()), float(active[top_down].sum())
         if self.config.balance_groups and bottom_up_total > 0.0 and top_down_total > 0.0:
             # the top-down weights' shares of their group, times the bottom-up group's total
             # (dividing first keeps subnormal weights finite)
-            top_down = top_down / top_down_total * bottom_up_total
-        total = float(bottom_up.sum() + top_down.sum())
+            combined[top_down] = active[top_down] / top_down_total * bottom_up_total
+        total = float(combined.sum())
         divisor = total if (self.config.normalise_combined and total > 0.0) else 1.0
         # weights of C_BU = w_BU @ F[:3] (row 0) and C_TD = w_TD @ F[3:] (row 1), normaliser folded in;
         # divided, not multiplied by 1/total, which overflows for subnormal weights
-        self._combine = np.stack([bottom_up, top_down]) / divisor
+        self._combine = np.stack([combined[bottom_up], combined[top_down]]) / divisor
 
     # --- dynamics -----------------------------------------------------------------------
     def reset(self) -> None:
