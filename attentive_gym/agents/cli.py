@@ -93,7 +93,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
                              f"{_with_quick('none', 'env_kwargs', quick)}")
     parser.add_argument("--algo-kwargs", metavar="JSON",
                         help='SB3 keyword arguments over the run\'s defaults, e.g. \'{"n_steps": 128}\' (defaults: '
-                             f"ppo and recurrent-ppo {json.dumps(RunSpec().default_algo_kwargs())}, "
+                             f"ppo {json.dumps(RunSpec().default_algo_kwargs())}, recurrent-ppo the same with "
+                             f"{json.dumps({'policy_kwargs': RunSpec(algo='recurrent-ppo').default_algo_kwargs()['policy_kwargs']})}, "
                              f"sac {json.dumps(RunSpec(algo='sac').default_algo_kwargs())})")
 
 

@@ -110,18 +110,25 @@ class RunSpec:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.
 
         PPO and RecurrentPPO: rollouts of 256 steps per env, minibatch 256, 5 epochs,
-        lr 3e-4, gamma 0.99, a small ent_coef for exploration (RecurrentPPO keeps
-        sb3-contrib's LSTM: one layer of 256 units). SAC: SB3's defaults with a
-        100 000-step buffer and 1 000 warm-up steps.
+        lr 3e-4, gamma 0.99, a small ent_coef for exploration. RecurrentPPO's LSTM has
+        one layer of 64 units (sb3-contrib's default is 256): the observations hold at
+        most a few hundred numbers, and 64 units train ≈ 3× faster on a CPU. SAC: SB3's
+        defaults with a 100 000-step buffer and 1 000 warm-up steps.
         """
         if self.algo in ("ppo", "recurrent-ppo"):
-            return {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4,
-                    "gamma": 0.99, "ent_coef": 0.005}
+            ppo = {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4, "gamma": 0.99,
+                   "ent_coef": 0.005}
+            return ppo if self.algo == "ppo" else {**ppo, "policy_kwargs": {"lstm_hidden_size": 64}}
         return {"buffer_size": 100_000, "learning_starts": 1_000, "batch_size": 256}
 
     def merged_algo_kwargs(self) -> dict[str, Any]:
-        """``default_algo_kwargs`` updated with ``algo_kwargs``."""
-        return {**self.default_algo_kwargs(), **self.algo_kwargs}
+        """``default_algo_kwargs`` updated with ``algo_kwargs``; ``policy_kwargs`` are merged
+        key by key (``{"policy_kwargs": {"net_arch": [32]}}`` keeps the LSTM's size)."""
+        merged = {**self.default_algo_kwargs(), **self.algo_kwargs}
+        default_policy = self.default_algo_kwargs().get("policy_kwargs")
+        if default_policy is not None and isinstance(self.algo_kwargs.get("policy_kwargs"), Mapping):
+            merged["policy_kwargs"] = {**default_policy, **self.algo_kwargs["policy_kwargs"]}
+        return merged
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-serialisable dict (``from_dict`` inverts it)."""

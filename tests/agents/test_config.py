@@ -30,6 +30,19 @@ def test_roundtrip_and_names():
         RunSpec.from_dict({**spec.to_dict(), "colour": 1})
 
 
+def test_recurrent_policy_kwargs_merge_key_by_key():
+    """RecurrentPPO's 64-unit LSTM stays when other policy keywords are given, and goes
+    when the size itself is; PPO has no default policy keywords to merge."""
+    assert RunSpec(algo="recurrent-ppo").merged_algo_kwargs()["policy_kwargs"] == {"lstm_hidden_size": 64}
+    spec = RunSpec(algo="recurrent-ppo", algo_kwargs={"policy_kwargs": {"net_arch": [32]}})
+    assert spec.merged_algo_kwargs()["policy_kwargs"] == {"lstm_hidden_size": 64, "net_arch": [32]}
+    spec = RunSpec(algo="recurrent-ppo", algo_kwargs={"policy_kwargs": {"lstm_hidden_size": 256}})
+    assert spec.merged_algo_kwargs()["policy_kwargs"] == {"lstm_hidden_size": 256}
+    assert "policy_kwargs" not in RunSpec(algo="ppo").merged_algo_kwargs()
+    spec = RunSpec(algo="ppo", algo_kwargs={"policy_kwargs": {"net_arch": [32]}})
+    assert spec.merged_algo_kwargs()["policy_kwargs"] == {"net_arch": [32]}
+
+
 def test_parsers():
     assert parse_variants(" raw, focus ") == ("raw", "focus")
     assert parse_seeds("3") == (0, 1, 2)

@@ -19,8 +19,18 @@ from attentive_gym.agents.rl_zoo import ZOO_ALGOS, conf_file, load_hyperparams
 
 ROOT = Path(__file__).resolve().parents[2]
 POLICIES = {"ppo": "MultiInputPolicy", "ppo_lstm": "MultiInputLstmPolicy"}
+RUNSPEC_ALGOS = {"ppo": "ppo", "ppo_lstm": "recurrent-ppo"}
 #: Entries that configure rl-zoo3 rather than the algorithm.
 ZOO_KEYS = ("n_envs", "n_timesteps", "policy")
+
+
+def algorithm_kwargs(entry: dict) -> dict:
+    """An entry's keyword arguments of the algorithm, as rl-zoo3 passes them: without its
+    own keys, and ``policy_kwargs`` (a string of Python in the file) evaluated."""
+    kwargs = {k: v for k, v in entry.items() if k not in ZOO_KEYS}
+    if isinstance(kwargs.get("policy_kwargs"), str):
+        kwargs["policy_kwargs"] = eval(kwargs["policy_kwargs"], {"dict": dict})
+    return kwargs
 
 
 def registered_ids() -> list[str]:
@@ -42,12 +52,13 @@ def test_every_registered_id_has_an_entry(algo):
 
 @pytest.mark.parametrize("algo", ZOO_ALGOS)
 def test_the_entries_are_the_projects_settings(algo):
-    """The algorithm's settings are ``RunSpec``'s PPO defaults and its environment count."""
-    spec = RunSpec(algo="ppo")
+    """The algorithm's settings are ``RunSpec``'s defaults for it and its environment count
+    (rl-zoo3 evaluates ``policy_kwargs``, a string of Python, into keyword arguments)."""
+    spec = RunSpec(algo=RUNSPEC_ALGOS[algo])
     for env_id, entry in load_hyperparams(algo).items():
         assert entry["policy"] == POLICIES[algo], env_id
         assert entry["n_envs"] == spec.n_envs, env_id
-        assert {k: v for k, v in entry.items() if k not in ZOO_KEYS} == spec.default_algo_kwargs(), env_id
+        assert algorithm_kwargs(entry) == spec.default_algo_kwargs(), env_id
 
 
 def test_the_modules_serve_the_files():
@@ -68,8 +79,7 @@ def test_every_entry_builds_on_its_environment(algo):
     for env_id, entry in load_hyperparams(algo).items():
         env = gym.make(env_id)
         try:
-            kwargs = {k: v for k, v in entry.items() if k not in ZOO_KEYS}
-            model = ALGOS[algo](entry["policy"], env, device="cpu", **kwargs)
+            model = ALGOS[algo](entry["policy"], env, device="cpu", **algorithm_kwargs(entry))
             assert model.observation_space == env.observation_space, env_id
         finally:
             env.close()
