@@ -8,10 +8,14 @@ whether the goals held at its region); between fixations its position is dead-re
 with the track's last velocity and the robot's odometry pose. Nothing enters from a
 track that was never attended.
 
-``read`` gives one row per slot, most recently attended first (``MEMORY_FIELDS``):
-cos and sin of the bearing (robot frame, counter-clockwise from the heading), distance
-(m), speed (m/s), goal match (0/1) and age (s since it was last attended). An empty
-slot is all zeros, which no filled slot is (cos² + sin² = 1).
+``read`` gives one row per slot (``MEMORY_FIELDS``): cos and sin of the bearing (robot
+frame, counter-clockwise from the heading), distance (m), speed (m/s), goal match (0/1)
+and age (s since it was last attended). The bodies that matched the goal when they were
+attended come first, then the others, each group most recently attended first: the
+first row is the body the task asks for whenever attention has found one, in the same
+place as the ``oracle`` variant's target, so a policy need not search the rows for it.
+An empty slot is all zeros, which no filled slot is (cos² + sin² = 1); empty slots come
+last.
 """
 
 from __future__ import annotations
@@ -68,7 +72,8 @@ class WorkingMemory:
 
     def read(self, t: float, pose: np.ndarray, max_distance_m: float) -> np.ndarray:
         """``(slots, 6)`` float32 rows of ``MEMORY_FIELDS`` at time ``t`` (s), the robot at
-        ``pose``; distances are clipped to ``max_distance_m``."""
+        ``pose``, goal matches first (see the module docstring); distances are clipped to
+        ``max_distance_m``."""
         rows = np.zeros((self.slots, len(MEMORY_FIELDS)), np.float32)
         _read(t, pose, max_distance_m, self.horizon_s, self._ids, self._state, self._speed, self._match, self._time, rows)
         return rows
@@ -98,19 +103,30 @@ def _attend(t, pose, track_id, position_m, velocity_mps, speed_mps, goal_match, 
 @njit(cache=True)
 def _read(t, pose, max_distance_m, horizon_s, ids, state, speed, match, time, rows):
     """``WorkingMemory.read`` into ``rows`` ``(K, 6)`` (zeros on entry): dead-reckon each live
-    entry to ``t`` and express it in the robot frame at ``pose``."""
+    entry to ``t`` and express it in the robot frame at ``pose``; the entries that matched
+    the goal first, then the others, each in slot (recency) order."""
     c, s = math.cos(pose[2]), math.sin(pose[2])
-    for k in range(ids.shape[0]):
-        age = t - time[k]
-        if ids[k] < 0 or age > horizon_s:
-            continue
-        dx = state[k, 0] + state[k, 2] * age - pose[0]
-        dy = state[k, 1] + state[k, 3] * age - pose[1]
-        forward, left = c * dx + s * dy, -s * dx + c * dy
-        distance = math.hypot(forward, left)
-        if distance > 0.0:
-            rows[k, 0], rows[k, 1] = forward / distance, left / distance
-        else:
-            rows[k, 0] = 1.0
-        rows[k, 2] = min(distance, max_distance_m)
-        rows[k, 3], rows[k, 4], rows[k, 5] = speed[k], match[k], age
+    row = 0
+    for matched_pass in range(2):
+        for k in range(ids.shape[0]):
+            age = t - time[k]
+            if ids[k] < 0 or age > horizon_s or (match[k] == 1.0) != (matched_pass == 0):
+                continue
+            _read_entry(k, age, c, s, pose, max_distance_m, state, speed, match, rows[row])
+            row += 1
+
+
+@njit(cache=True)
+def _read_entry(k, age, c, s, pose, max_distance_m, state, speed, match, out):
+    """Entry ``k`` dead-reckoned over ``age`` seconds, in the robot frame at ``pose``
+    (``c, s``: cos, sin of its heading), into the row ``out`` ``(6,)``."""
+    dx = state[k, 0] + state[k, 2] * age - pose[0]
+    dy = state[k, 1] + state[k, 3] * age - pose[1]
+    forward, left = c * dx + s * dy, -s * dx + c * dy
+    distance = math.hypot(forward, left)
+    if distance > 0.0:
+        out[0], out[1] = forward / distance, left / distance
+    else:
+        out[0] = 1.0
+    out[2] = min(distance, max_distance_m)
+    out[3], out[4], out[5] = speed[k], match[k], age

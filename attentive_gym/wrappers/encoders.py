@@ -81,9 +81,10 @@ class FocusEncoder:
       direction label one-hot (towards, static, away).
     - ``"features"`` (6,): F1..F6 at the region.
     - ``"memory"`` (K · 6,), when ``memory_slots`` = K > 0: the rows of
-      ``WorkingMemory.read``, most recently attended first (cos and sin of the bearing,
-      distance in m up to ``max_distance_m``, speed in m/s up to ``max_speed_mps``, goal
-      match, age in s up to the memory's horizon); an empty slot is all zeros.
+      ``WorkingMemory.read``, the bodies that matched the goal first, each group most
+      recently attended first (cos and sin of the bearing, distance in m up to
+      ``max_distance_m``, speed in m/s up to ``max_speed_mps``, goal match, age in s up
+      to the memory's horizon); empty slots are all zeros, last.
     - ``"odometry"`` (2,), ``"goal"`` (13,): as in the base observation.
 
     64 numbers with the sonar grid (J = 8) and K = 3. Needs ``grid="sonar"``: with one

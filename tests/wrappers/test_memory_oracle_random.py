@@ -41,6 +41,26 @@ def test_memory_keeps_the_most_recent_bodies_first_and_refreshes_a_known_one():
     assert rows[:, 5].tolist() == [0.0, 1.0, 2.0]
 
 
+def test_memory_reads_the_goal_matches_first_then_the_others_each_by_recency():
+    memory = WorkingMemory(slots=4, horizon_s=10.0)
+    pose = np.zeros(3)
+    # attended in turn: 20 (match), 21, 22 (match), 23; 24 fills no slot (20 falls out)
+    for t, (track, match) in enumerate(((20, True), (21, False), (22, True), (23, False), (24, False))):
+        memory.attend(float(t), pose, track, np.array([float(track), 0.0]), np.zeros(2), 0.0, match)
+    rows = memory.read(4.0, pose, 30.0)
+    assert rows[:, 2].tolist() == [22.0, 24.0, 23.0, 21.0]
+    assert rows[:, 4].tolist() == [1.0, 0.0, 0.0, 0.0]
+    memory.attend(5.0, pose, 21, np.array([21.0, 0.0]), np.zeros(2), 0.0, True)  # 21 now matches
+    rows = memory.read(5.0, pose, 30.0)
+    assert rows[:, 2].tolist() == [21.0, 22.0, 24.0, 23.0] and rows[:, 4].tolist() == [1.0, 1.0, 0.0, 0.0]
+    # an entry past the horizon leaves no gap: the empty rows come last
+    memory = WorkingMemory(slots=3, horizon_s=2.0)
+    memory.attend(0.0, pose, 1, np.array([5.0, 0.0]), np.zeros(2), 0.0, True)
+    memory.attend(1.5, pose, 2, np.array([6.0, 0.0]), np.zeros(2), 0.0, False)
+    rows = memory.read(2.5, pose, 30.0)
+    assert rows[:, 2].tolist() == [6.0, 0.0, 0.0] and rows[:, 4].tolist() == [0.0, 0.0, 0.0]
+
+
 def test_memory_forgets_after_its_horizon_and_clips_the_distance():
     memory = WorkingMemory(slots=1, horizon_s=2.0)
     memory.attend(0.0, np.zeros(3), 1, np.array([30.0, 0.0]), np.zeros(2), 0.0, False)
