@@ -20,7 +20,10 @@ markdown tables of:
    within 5 m at which the focus is the target's region (chance: 1/8).
 3. ``control``: success rates in the 8 m arena with 2 distractors (seeds 0..N−1) of a
    controller steered by the latest top-down focus, of the same controller steered by the
-   true target bearing (a privileged oracle) and of random actions.
+   first row of the ``focus`` observation's working memory when it matched the goal
+   (``memory_controller``: it reads nothing but the observation a policy gets), of the
+   same controller steered by the true target bearing (a privileged oracle) and of random
+   actions.
 4. ``cost``: µs per ``AttentionModel.step`` on readings recorded from a driving episode at
    5 % noise, beside a raw ``AttentiveRescue-v0`` step with random actions, measured in
    alternating rounds of the same run (medians).
@@ -49,6 +52,7 @@ import numpy as np
 from attentive_gym.attention import ORIGIN_TOP_DOWN, AttentionConfig, AttentionModel, Goal, Grid
 from attentive_gym.attention.goals import Feature
 from attentive_gym.attention.regions import nearest_sonar
+from attentive_gym.attention.working_memory import MEMORY_FIELDS
 from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
 
@@ -97,6 +101,7 @@ SETTLE_S = 1.0  # a mover counts once it has been in view continuously this long
 TURN_ANGLE_RAD = math.radians(30.0)  # a velocity direction change above this is a turn
 TRANSIENT_S = 1.0  # pairs within this after a turn are reported apart
 MOVING_MPS = 0.02  # below this a mover is still, its direction undefined (movers go in 0.05 m/s steps)
+_COS, _SIN, _MATCH = (MEMORY_FIELDS.index(f) for f in ("cos_bearing", "sin_bearing", "goal_match"))
 TRACK_MATCH_M = 0.75  # the nearest confirmed track within this of a mover is its track
 
 # --- controllers (actions are fractions of 0.7 m/s and 140°/s) ---------------------------
@@ -192,6 +197,15 @@ class FocusController:
         return steer(self.bearing_rad)
 
 
+def memory_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+    """``steer`` towards the first row of a ``focus`` observation's working memory when that
+    body matched the goal (the rows hold the goal matches first), else spin: a reactive
+    policy that reads nothing but the observation (``info`` is not used)."""
+    rows = np.asarray(obs["memory"]).reshape(-1, len(MEMORY_FIELDS))
+    cos_bearing, sin_bearing, goal_match = rows[0, _COS], rows[0, _SIN], rows[0, _MATCH]
+    return steer(math.atan2(sin_bearing, cos_bearing) if goal_match > 0.5 else None)
+
+
 def true_bearing_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
     """``steer`` towards the target's true bearing (a privileged oracle)."""
     return steer(true_target_bearing(info))
@@ -240,6 +254,13 @@ def make_attentive_env(mode: str, noise: NoiseSetting, **env_kwargs: Any):
     """
     config = AttentionConfig(kinematics=mode, range_noise_rel=noise.sigma_rel)
     return make_env(VARIANT, attention=config, **noise.env_kwargs, **env_kwargs)
+
+
+def make_focus_env(mode: str, noise: NoiseSetting, **env_kwargs: Any):
+    """The ``focus`` variant (its observation has the working memory) with the model in
+    kinematics ``mode``."""
+    config = AttentionConfig(kinematics=mode, range_noise_rel=noise.sigma_rel)
+    return make_env("focus", attention=config, **noise.env_kwargs, **env_kwargs)
 
 
 def make_raw_env(noise: NoiseSetting, **env_kwargs: Any):
@@ -701,7 +722,8 @@ def control_success(env, make_policy: Callable[[Any, int], Policy], seeds: Itera
 
 
 def print_control(results: Results, modes, episodes: int) -> None:
-    """Section 4: success of the focus controller, the true-bearing oracle and random actions."""
+    """Section 4: success of the focus and memory controllers, the true-bearing oracle and
+    random actions."""
     seeds = range(episodes)
     rows = []
     for noise_name in CONTROL_NOISE:
@@ -716,16 +738,23 @@ def print_control(results: Results, modes, episodes: int) -> None:
         for mode in modes:
             env = make_attentive_env(mode, noise, **CONTROL_ARENA)
             focus = control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
+            memory = control_success(make_focus_env(mode, noise, **CONTROL_ARENA),
+                                     lambda env, seed: memory_controller, seeds)
             ratio = focus / oracle if oracle else math.nan
+            memory_ratio = memory / oracle if oracle else math.nan
             results.add("control", {"mode": mode, "robot": "controller", "noise": noise_name},
-                        {"success_focus": focus, "success_true_bearing": oracle, "success_random": random,
-                         "focus_over_true_bearing": ratio})
-            rows.append([mode, noise_name, _fmt(focus, 2), _fmt(oracle, 2), _fmt(random, 2), _fmt(ratio, 2)])
+                        {"success_focus": focus, "success_memory": memory, "success_true_bearing": oracle,
+                         "success_random": random, "focus_over_true_bearing": ratio,
+                         "memory_over_true_bearing": memory_ratio})
+            rows.append([mode, noise_name, _fmt(focus, 2), _fmt(memory, 2), _fmt(oracle, 2), _fmt(random, 2),
+                         _fmt(ratio, 2), _fmt(memory_ratio, 2)])
     print(f"\n### Steering controllers (8 m arena, 2 distractors, {episodes} episodes, seeds 0..{episodes - 1}; "
           "success = target reached before the time limit)\n")
     print("The true-bearing and random controllers do not use the model: their rates are the same in every mode.\n")
-    print(markdown_table(["mode", "noise", "focus controller", "true bearing (oracle)", "random", "focus / true bearing"],
-                         rows))
+    print("The memory controller reads only the `focus` observation: the first row of its working memory when "
+          "that body matched the goal.\n")
+    print(markdown_table(["mode", "noise", "focus controller", "memory controller", "true bearing (oracle)", "random",
+                          "focus / true bearing", "memory / true bearing"], rows))
 
 
 def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:

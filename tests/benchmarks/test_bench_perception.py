@@ -116,6 +116,8 @@ def test_controllers_and_csv(tmp_path):
                         lambda env, seed: bench.true_bearing_controller,
                         lambda env, seed: bench.RandomController(env.action_space, seed)):
         assert 0.0 <= bench.control_success(env, make_policy, [0]) <= 1.0
+    focus_env = bench.make_focus_env("tracker", bench.NOISE_SETTINGS[0], time_limit_s=1.0, **bench.CONTROL_ARENA)
+    assert 0.0 <= bench.control_success(focus_env, lambda env, seed: bench.memory_controller, [0]) <= 1.0
     action = bench.steer(0.0)
     assert action.tolist() == [1.0, 0.0] and bench.steer(None).tolist() == [0.0, bench.SEARCH_SPIN]
     path = tmp_path / "out" / "figures.csv"
@@ -123,6 +125,16 @@ def test_controllers_and_csv(tmp_path):
                             "metric": "region_median_mps", "value": 0.5}])
     assert path.read_text().splitlines()[1] == "speed,window,still,gauss 0,,region_median_mps,0.5"
     assert [p.name for p in path.parent.iterdir()] == ["figures.csv"]
+
+
+def test_memory_controller_steers_at_the_first_memory_row_only_when_it_matched_the_goal():
+    memory = np.zeros((3, 6), np.float32)
+    memory[0, :5] = [math.cos(0.5), math.sin(0.5), 2.0, 0.6, 1.0]  # 0.5 rad to the left, matched
+    memory[1, :5] = [1.0, 0.0, 1.0, 0.3, 0.0]
+    obs = {"memory": memory.ravel()}
+    np.testing.assert_allclose(bench.memory_controller(obs, None), bench.steer(0.5), rtol=1e-6)
+    memory[0, 4] = 0.0  # no goal match anywhere: search
+    assert bench.memory_controller({"memory": memory.ravel()}, None).tolist() == bench.steer(None).tolist()
 
 
 def _output(focus, fulfilled_region=None, inhibited=False, track_xy=None, track_age_s=2.0):
