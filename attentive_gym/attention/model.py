@@ -240,12 +240,7 @@ class AttentionOutput:
         j = int(region)
         sonar_index = int(grid.region_sonar[j])
         beams = grid.beam_slices[j]
-        slot = region_slot[sonar_index]
-        track = None
-        if slot >= 0:  # the rows are in slot order
-            row = int(np.searchsorted(track_rows[:, _SLOT], slot))
-            if row < len(track_rows) and track_rows[row, _SLOT] == slot:
-                track = track_rows[row]  # TrackTable's row
+        track = self._track_row(j)
         nearest_m = float(nearest[j])
         # the frozen dataclass's generated __init__ costs ~4 µs: fill its fields (all of them) directly
         view = object.__new__(FocusView)
@@ -267,6 +262,13 @@ class AttentionOutput:
             track_age_s=None if track is None else float(track[_AGE]),
         )
         return view
+
+    def _track_row(self, region: int) -> np.ndarray | None:
+        """The row ``(11,)`` (columns ``TRACK_TABLE_FIELDS``) of the track behind ``region``'s
+        motion (its sonar channel's), None for none; ``region`` in ``[0, J)``."""
+        grid, region_slot, track_rows = self._sources[0], self._sources[5], self._sources[6]
+        row = _row_of_slot(track_rows, region_slot[grid.region_sonar[region]])
+        return None if row < 0 else track_rows[row]
 
 
 #: The direction labels by ``label + 1``.
@@ -714,6 +716,18 @@ _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
 #: The column of the track rows (``Tracker.step``) that holds a track's slot.
 _SLOT = TRACK_TABLE_FIELDS.index("slot")
 _ID, _X, _VX, _SPEED, _AGE = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed", "age"))
+
+
+
+@njit(cache=True)
+def _row_of_slot(track_rows, slot):
+    """The row of ``track_rows`` ``(n, 11)`` (``Tracker.step``'s, in slot order) that holds track
+    slot ``slot``, −1 for none (also for ``slot`` < 0)."""
+    for row in range(track_rows.shape[0]):
+        if track_rows[row, _SLOT] == slot:
+            return row
+    return -1
+
 
 #: The smallest time between two readings (s): closer readings would make the range-rate
 #: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).
