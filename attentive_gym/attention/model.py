@@ -661,30 +661,21 @@ class AttentionModel:
 
     def _check_scan_times(self, t: float, sonar_time_s, laser_time_s) -> tuple[bool, bool]:
         """Whether the sonar and the laser readings are new scans (see ``step``)."""
-        fresh = []
-        for name, value, previous in (("sonar_time_s", sonar_time_s, self._sonar_time),
-                                      ("laser_time_s", laser_time_s, self._laser_time)):
-            if value is None:
-                fresh.append(True)
-                continue
-            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not math.isfinite(value):
-                raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
-            if value > t:
-                raise ValueError(f"{name}={value!r} is after the reading's time t={t!r}; a scan cannot come from the future")
-            if previous is not None and value < previous:
-                raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
-            fresh.append(previous is None or value > previous)
-        return fresh[0], fresh[1]
+        return (_is_new_scan("sonar_time_s", sonar_time_s, self._sonar_time, t),
+                _is_new_scan("laser_time_s", laser_time_s, self._laser_time, t))
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
         if odometry is None:
             return None
-        try:
-            linear, angular = odometry
-            motion = (float(linear), float(angular))
-        except (TypeError, ValueError):
-            raise ValueError(f"odometry must be (linear m/s, angular rad/s), got {odometry!r}") from None
+        if type(odometry) is np.ndarray and odometry.shape == (2,) and odometry.dtype in _KERNEL_DTYPES:
+            motion = tuple(odometry.tolist())  # the floats that float() of each entry gives
+        else:
+            try:
+                linear, angular = odometry
+                motion = (float(linear), float(angular))
+            except (TypeError, ValueError):
+                raise ValueError(f"odometry must be (linear m/s, angular rad/s), got {odometry!r}") from None
         if not (math.isfinite(motion[0]) and math.isfinite(motion[1])):
             raise ValueError(f"odometry must be 2 finite numbers (linear m/s, angular rad/s), got {odometry!r}")
         return motion
@@ -745,6 +736,23 @@ def _map_index(key: str) -> int:
 
 #: Array types the compiled kernels read as they are (others are converted to float64 first).
 _KERNEL_DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
+
+
+def _is_new_scan(name: str, value, previous: float | None, t: float) -> bool:
+    """Whether a scan at time ``value`` (s; None: a fresh scan at ``t``) is new after the
+    previous scan's time ``previous`` (None: none yet); ``ValueError`` for a time that is not
+    a finite number, after ``t`` or before ``previous``."""
+    if value is None:
+        return True
+    if type(value) is not float and (isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real)):
+        raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
+    if value > t:
+        raise ValueError(f"{name}={value!r} is after the reading's time t={t!r}; a scan cannot come from the future")
+    if previous is not None and value < previous:
+        raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
+    return previous is None or value > previous
 
 
 def _as_float_array(values, name: str) -> np.ndarray:
