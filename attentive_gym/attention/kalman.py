@@ -22,6 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
+from attentive_gym.attention._numerics import fma
+
 __all__ = [
     "cv_predict",
     "cv_update",
@@ -79,35 +81,53 @@ def _joseph_update(x, P, z0, z1, R):
 
     ``x`` ``(n,)``, ``P`` ``(n, n)``, measurement ``z`` (m) with covariance ``R`` ``(2, 2)``.
     Returns ``log N(innovation; 0, S)``.
+
+    The Joseph form's two matrix products ``(A P) Aᵀ`` (``A = I − K H``, never stored) are
+    summed as numba's ``@`` has OpenBLAS's dgemm sum them: each entry a chain of fused
+    multiply-adds over k from 0 (``_numerics.fma``), so the floats are those of the
+    BLAS form; one scratch allocation (K and A P), no BLAS call.
     """
     n = x.shape[0]
     s00, s01, s11 = P[0, 0] + R[0, 0], 0.5 * (P[0, 1] + P[1, 0]) + R[0, 1], P[1, 1] + R[1, 1]
     y0, y1 = z0 - x[0], z1 - x[1]
     log_likelihood = gaussian_log_likelihood_2d(y0, y1, s00, s01, s11)
     i00, i01, i11, _ = _inverse_2x2(s00, s01, s11)
-    K = np.empty((n, 2))
+    scratch = np.empty((n, n + 2))  # columns 0, 1: the gain K; then A P
     for i in range(n):
-        K[i, 0] = P[i, 0] * i00 + P[i, 1] * i01
-        K[i, 1] = P[i, 0] * i01 + P[i, 1] * i11
+        scratch[i, 0] = P[i, 0] * i00 + P[i, 1] * i01
+        scratch[i, 1] = P[i, 0] * i01 + P[i, 1] * i11
     for i in range(n):
-        x[i] += K[i, 0] * y0 + K[i, 1] * y1
+        x[i] += scratch[i, 0] * y0 + scratch[i, 1] * y1
     # Joseph form: P <- (I - K H) P (I - K H)^T + K R K^T, H = [I 0]
-    A = np.empty((n, n))
     for i in range(n):
         for j in range(n):
-            A[i, j] = (1.0 if i == j else 0.0) - (K[i, 0] if j == 0 else (K[i, 1] if j == 1 else 0.0))
-    AP = A @ P
-    new = AP @ A.T
-    for i in range(n):
-        for j in range(n):
-            kr = K[i, 0] * (R[0, 0] * K[j, 0] + R[0, 1] * K[j, 1]) + K[i, 1] * (R[1, 0] * K[j, 0] + R[1, 1] * K[j, 1])
-            new[i, j] += kr
+            total = 0.0
+            for k in range(n):
+                total = fma(_gain_complement(scratch, i, k), P[k, j], total)
+            scratch[i, 2 + j] = total
     for i in range(n):
         for j in range(i, n):
-            value = 0.5 * (new[i, j] + new[j, i])
+            upper = _joseph_entry(scratch, R, i, j)
+            value = 0.5 * (upper + (upper if i == j else _joseph_entry(scratch, R, j, i)))
             P[i, j] = value
             P[j, i] = value
     return log_likelihood
+
+
+@njit(cache=True)
+def _gain_complement(scratch, i, k):
+    """Entry ``(i, k)`` of ``A = I − K H`` (``H = [I 0]``), K in ``scratch[:, :2]``."""
+    return (1.0 if i == k else 0.0) - (scratch[i, 0] if k == 0 else (scratch[i, 1] if k == 1 else 0.0))
+
+
+@njit(cache=True)
+def _joseph_entry(scratch, R, i, j):
+    """Entry ``(i, j)`` of ``(A P) Aᵀ + K R Kᵀ``, ``A P`` in ``scratch[:, 2:]`` and K in ``scratch[:, :2]``."""
+    total = 0.0
+    for k in range(scratch.shape[0]):
+        total = fma(scratch[i, 2 + k], _gain_complement(scratch, j, k), total)
+    k_i0, k_i1, k_j0, k_j1 = scratch[i, 0], scratch[i, 1], scratch[j, 0], scratch[j, 1]
+    return total + (k_i0 * (R[0, 0] * k_j0 + R[0, 1] * k_j1) + k_i1 * (R[1, 0] * k_j0 + R[1, 1] * k_j1))
 
 
 @njit(cache=True)

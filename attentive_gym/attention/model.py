@@ -240,12 +240,7 @@ class AttentionOutput:
         j = int(region)
         sonar_index = int(grid.region_sonar[j])
         beams = grid.beam_slices[j]
-        slot = region_slot[sonar_index]
-        track = None
-        if slot >= 0:  # the rows are in slot order
-            row = int(np.searchsorted(track_rows[:, _SLOT], slot))
-            if row < len(track_rows) and track_rows[row, _SLOT] == slot:
-                track = track_rows[row]  # TrackTable's row
+        track = self._track_row(j)
         nearest_m = float(nearest[j])
         # the frozen dataclass's generated __init__ costs ~4 µs: fill its fields (all of them) directly
         view = object.__new__(FocusView)
@@ -267,6 +262,13 @@ class AttentionOutput:
             track_age_s=None if track is None else float(track[_AGE]),
         )
         return view
+
+    def _track_row(self, region: int) -> np.ndarray | None:
+        """The row ``(11,)`` (columns ``TRACK_TABLE_FIELDS``) of the track behind ``region``'s
+        motion (its sonar channel's), None for none; ``region`` in ``[0, J)``."""
+        grid, region_slot, track_rows = self._sources[0], self._sources[5], self._sources[6]
+        row = _row_of_slot(track_rows, region_slot[grid.region_sonar[region]])
+        return None if row < 0 else track_rows[row]
 
 
 #: The direction labels by ``label + 1``.
@@ -659,30 +661,21 @@ class AttentionModel:
 
     def _check_scan_times(self, t: float, sonar_time_s, laser_time_s) -> tuple[bool, bool]:
         """Whether the sonar and the laser readings are new scans (see ``step``)."""
-        fresh = []
-        for name, value, previous in (("sonar_time_s", sonar_time_s, self._sonar_time),
-                                      ("laser_time_s", laser_time_s, self._laser_time)):
-            if value is None:
-                fresh.append(True)
-                continue
-            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not math.isfinite(value):
-                raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
-            if value > t:
-                raise ValueError(f"{name}={value!r} is after the reading's time t={t!r}; a scan cannot come from the future")
-            if previous is not None and value < previous:
-                raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
-            fresh.append(previous is None or value > previous)
-        return fresh[0], fresh[1]
+        return (_is_new_scan("sonar_time_s", sonar_time_s, self._sonar_time, t),
+                _is_new_scan("laser_time_s", laser_time_s, self._laser_time, t))
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
         if odometry is None:
             return None
-        try:
-            linear, angular = odometry
-            motion = (float(linear), float(angular))
-        except (TypeError, ValueError):
-            raise ValueError(f"odometry must be (linear m/s, angular rad/s), got {odometry!r}") from None
+        if type(odometry) is np.ndarray and odometry.shape == (2,) and odometry.dtype in _KERNEL_DTYPES:
+            motion = tuple(odometry.tolist())  # the floats that float() of each entry gives
+        else:
+            try:
+                linear, angular = odometry
+                motion = (float(linear), float(angular))
+            except (TypeError, ValueError):
+                raise ValueError(f"odometry must be (linear m/s, angular rad/s), got {odometry!r}") from None
         if not (math.isfinite(motion[0]) and math.isfinite(motion[1])):
             raise ValueError(f"odometry must be 2 finite numbers (linear m/s, angular rad/s), got {odometry!r}")
         return motion
@@ -715,6 +708,18 @@ _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
 _SLOT = TRACK_TABLE_FIELDS.index("slot")
 _ID, _X, _VX, _SPEED, _AGE = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed", "age"))
 
+
+
+@njit(cache=True)
+def _row_of_slot(track_rows, slot):
+    """The row of ``track_rows`` ``(n, 11)`` (``Tracker.step``'s, in slot order) that holds track
+    slot ``slot``, −1 for none (also for ``slot`` < 0)."""
+    for row in range(track_rows.shape[0]):
+        if track_rows[row, _SLOT] == slot:
+            return row
+    return -1
+
+
 #: The smallest time between two readings (s): closer readings would make the range-rate
 #: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).
 _MIN_TIME_STEP_S = 1e-9
@@ -731,6 +736,23 @@ def _map_index(key: str) -> int:
 
 #: Array types the compiled kernels read as they are (others are converted to float64 first).
 _KERNEL_DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
+
+
+def _is_new_scan(name: str, value, previous: float | None, t: float) -> bool:
+    """Whether a scan at time ``value`` (s; None: a fresh scan at ``t``) is new after the
+    previous scan's time ``previous`` (None: none yet); ``ValueError`` for a time that is not
+    a finite number, after ``t`` or before ``previous``."""
+    if value is None:
+        return True
+    if type(value) is not float and (isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real)):
+        raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be the scan's time in seconds (a finite number), got {value!r}")
+    if value > t:
+        raise ValueError(f"{name}={value!r} is after the reading's time t={t!r}; a scan cannot come from the future")
+    if previous is not None and value < previous:
+        raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
+    return previous is None or value > previous
 
 
 def _as_float_array(values, name: str) -> np.ndarray:

@@ -15,7 +15,8 @@ from typing import Any, Mapping
 import gymnasium as gym
 import numpy as np
 
-from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, FocusView, Goal
+from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, Goal
+from attentive_gym.attention.tracker import TRACK_TABLE_FIELDS
 from attentive_gym.attention.working_memory import WorkingMemory
 from attentive_gym.wrappers.encoders import ENCODERS, NO_EVENT, FocusEncoder
 from attentive_gym.wrappers.overlay import draw_attention
@@ -150,23 +151,25 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         info["attention"] = output
         if self.mode != "focus":
             return self._encoder.encode(raw, output)
-        view, event = self._attended(output)
-        return self._encoder.encode(raw, view, event, self._remember(output, view))
+        region, event = self._attended(output)
+        return self._encoder.encode_region(raw, output, region, event, self._remember(output, region))
 
-    def _attended(self, output: AttentionOutput) -> tuple[FocusView | None, tuple[bool, bool, bool]]:
-        """The attended region's view and the step's (fired, bottom-up, top-down) event."""
+    def _attended(self, output: AttentionOutput) -> tuple[int | None, tuple[bool, bool, bool]]:
+        """The attended region (None: no focus) and the step's (fired, bottom-up, top-down) event."""
         if self.selection == "random":
-            return output.view_of(int(self._selection_rng.integers(self.model.grid.n_regions))), NO_EVENT
-        return output.view, (output.fired, output.origin == "bottom-up", output.origin == "top-down")
+            return int(self._selection_rng.integers(self.model.grid.n_regions)), NO_EVENT
+        return output.focus, (output.fired, output.origin == "bottom-up", output.origin == "top-down")
 
-    def _remember(self, output: AttentionOutput, view: FocusView | None) -> np.ndarray | None:
-        """Write the attended track into the working memory; its rows now (None: empty or no memory)."""
+    def _remember(self, output: AttentionOutput, region: int | None) -> np.ndarray | None:
+        """Write the attended region's track into the working memory; its rows now (None: empty or no memory)."""
         pose = None if self.memory is None else self.model.odometry_pose
         if pose is None:  # no memory, or no tracks without the tracker: nothing to remember
             return None
-        if view is not None and view.track_id is not None:
-            self.memory.attend(output.t, pose, view.track_id, view.track_position_m, view.track_velocity_mps,
-                               view.track_speed_mps, bool(output.goal_fulfilled[view.region]))
+        track = None if region is None else output._track_row(region)
+        if track is not None:
+            self.memory.attend(output.t, pose, int(track[_TRACK_ID]), track[_TRACK_X:_TRACK_X + 2],
+                               track[_TRACK_VX:_TRACK_VX + 2], float(track[_TRACK_SPEED]),
+                               bool(output.goal_fulfilled[region]))
         return self.memory.read(output.t, pose, self.model.config.max_distance_m)
 
     def _draw_overlay(self, renderer, surface) -> None:
@@ -174,6 +177,9 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if self.last_output is not None:
             draw_attention(renderer, surface, self.env.unwrapped.world.robot.pose, self.model.grid, self.last_output)
 
+
+#: Columns of the track rows (``AttentionOutput._track_row``) the working memory takes.
+_TRACK_ID, _TRACK_X, _TRACK_VX, _TRACK_SPEED = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed"))
 
 #: Second word of the random selection's seed, so that its stream differs from the env's.
 _SELECTION_STREAM = 0x5E1EC7

@@ -16,11 +16,14 @@ chosen otherwise: at random, or from the privileged state).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from gymnasium import spaces
+from numba import njit
 
 from attentive_gym.attention import AttentionConfig, AttentionOutput, FocusView, Grid
-from attentive_gym.attention.regions import SONAR_RING
+from attentive_gym.attention.regions import FRONT_SONARS, SONAR_RING
 
 __all__ = ["ENCODERS", "NO_EVENT", "FocusEncoder", "MaskedEncoder", "SaliencyEncoder", "LASER_BINS", "map_ceilings"]
 
@@ -117,12 +120,15 @@ class FocusEncoder:
             }
         )
         self._memory_high = memory_high
-        # per region: where each laser sub-sector starts within the region's beams
-        self._bin_starts = [np.cumsum([0] + [len(b) for b in np.array_split(beams, LASER_BINS)[:-1]]).astype(np.intp)
-                            for beams in self.grid.beam_indices]
+        # per region: where each laser sub-sector starts within the region's beams (J, LASER_BINS),
+        # and the region's beams (start, stop) in the laser scan
+        self._bin_starts = np.array([np.cumsum([0] + [len(b) for b in np.array_split(beams, LASER_BINS)[:-1]])
+                                     for beams in self.grid.beam_indices], np.int64)
+        self._beam_bounds = np.array([(s.start, s.stop) for s in self.grid.beam_slices], np.int64)
         offsets = np.cumsum([0] + [space.shape[0] for space in self.space.values()])
         self._parts = {key: slice(a, b) for key, a, b in zip(self.space, offsets[:-1], offsets[1:])}
         self._starts = {key: int(a) for key, a in zip(self.space, offsets[:-1])}
+        self._at = np.array([self._starts[key] for key in _REGION_KEYS], np.int64)
         self._size = int(offsets[-1])
 
     def encode(self, raw: dict[str, np.ndarray], view: FocusView | None, event: tuple[bool, bool, bool],
@@ -135,26 +141,87 @@ class FocusEncoder:
             event: (fired, origin bottom-up, origin top-down) of the attention step.
             memory: ``(K, 6)`` rows of ``WorkingMemory.read``; None: every slot empty.
         """
+        flat, obs = self._blank(raw, memory)
+        if view is None:
+            flat[self._at[0] + self.grid.n_regions] = 1.0
+            return obs
+        _write_focus(flat, self._at, view.region, *event, view.sonar_range_m, view.sonar_echo, view.laser_ranges_m,
+                     self._bin_starts[view.region], math.inf if view.distance_m is None else view.distance_m,
+                     self._max_distance, view.range_rate_mps, self._max_speed, int(view.direction), view.features)
+        return obs
+
+    def encode_region(self, raw: dict[str, np.ndarray], output: AttentionOutput, region: int | None,
+                      event: tuple[bool, bool, bool], memory: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """``encode(raw, output.view_of(region), event, memory)`` (None: no focus), the same
+        numbers, without building the ``FocusView``: one compiled call reads the region
+        from the output's arrays."""
+        flat, obs = self._blank(raw, memory)
+        if region is None:
+            flat[self._at[0] + self.grid.n_regions] = 1.0
+            return obs
+        grid, readings, valid, rates, nearest = output._sources[:5]
+        if grid.name != self.grid.name:
+            raise ValueError(f"the output is on the {grid.name!r} grid; the 'focus' observation needs the 'sonar' grid")
+        _write_output_focus(flat, self._at, region, *event, readings, valid, rates, nearest, output.F,
+                            output.directions, self.grid.region_sonar, self._beam_bounds, self._bin_starts,
+                            self._max_distance, self._max_speed)
+        return obs
+
+    def _blank(self, raw: dict[str, np.ndarray], memory: np.ndarray | None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """A new observation without its region entries: its flat float32 buffer ``(size,)``
+        and the dict of views into it, with the odometry, goal and memory written."""
         flat = np.zeros(self._size, _F32)  # every entry's view below shares this buffer
         obs = dict(zip(self._parts, map(flat.__getitem__, self._parts.values())))
         obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
         if memory is not None and "memory" in obs:
             np.minimum(memory.reshape(-1), self._memory_high, out=obs["memory"])
-        at = self._starts  # scalar entries are written into ``flat`` at their offsets
-        if view is None:
-            flat[at["region"] + self.grid.n_regions] = 1.0
-            return obs
-        flat[at["region"] + view.region] = 1.0
-        event_at = at["event"]
-        flat[event_at], flat[event_at + 1], flat[event_at + 2] = event
-        flat[at["sonar"]], flat[at["sonar"] + 1] = view.sonar_range_m, view.sonar_echo
-        obs["laser"][:] = np.minimum.reduceat(view.laser_ranges_m, self._bin_starts[view.region])
-        flat[at["distance"]] = (self._max_distance if view.distance_m is None
-                                else min(view.distance_m, self._max_distance))
-        flat[at["motion"]] = min(max(view.range_rate_mps, -self._max_speed), self._max_speed)
-        flat[at["motion"] + 2 + view.direction] = 1.0
-        obs["features"][:] = view.features
-        return obs
+        return flat, obs
+
+
+#: The keys of ``FocusEncoder``'s region entries, in the order of ``_write_focus``'s offsets ``at``.
+_REGION_KEYS = ("region", "event", "sonar", "laser", "distance", "motion", "features")
+
+
+@njit(cache=True)
+def _write_focus(flat, at, region, fired, bottom_up, top_down, sonar_range_m, sonar_echo, laser_ranges_m, bin_starts,
+                 distance_m, max_distance_m, range_rate_mps, max_speed_mps, direction, features):
+    """Write the entries of the attended ``region`` into ``flat`` (float32, zeros there):
+    ``at`` ``(7,)`` the offsets of ``_REGION_KEYS``; the region's sonar range (m) and echo,
+    its beams' ranges ``(n,)`` (m) summarised as the minimum of each sub-sector starting at
+    ``bin_starts`` ``(LASER_BINS,)`` (as ``np.minimum.reduceat``), its nearest reading
+    ``distance_m`` (m, not finite for none; clipped to ``max_distance_m``), range rate (m/s,
+    clipped to ±``max_speed_mps``), direction label (−1, 0, +1) and ``features`` ``(6,)``."""
+    flat[at[0] + region] = 1.0
+    flat[at[1]], flat[at[1] + 1], flat[at[1] + 2] = fired, bottom_up, top_down
+    flat[at[2]], flat[at[2] + 1] = sonar_range_m, sonar_echo
+    n_bins, n_beams = bin_starts.shape[0], laser_ranges_m.shape[0]
+    for b in range(n_bins):
+        first = bin_starts[b]
+        stop = bin_starts[b + 1] if b + 1 < n_bins else n_beams
+        low = laser_ranges_m[first]
+        for i in range(first + 1, stop):
+            value = laser_ranges_m[i]
+            low = low if (low < value or low != low) else value  # np.minimum's choice
+        flat[at[3] + b] = low
+    flat[at[4]] = max_distance_m if not math.isfinite(distance_m) else min(distance_m, max_distance_m)
+    flat[at[5]] = min(max(range_rate_mps, -max_speed_mps), max_speed_mps)
+    flat[at[5] + 2 + direction] = 1.0
+    for f in range(features.shape[0]):
+        flat[at[6] + f] = features[f]
+
+
+@njit(cache=True)
+def _write_output_focus(flat, at, region, fired, bottom_up, top_down, readings, valid, rates, nearest, F, directions,
+                        region_sonar, beam_bounds, bin_starts, max_distance_m, max_speed_mps):
+    """``_write_focus`` of ``region`` read from a model step's arrays (``AttentionOutput``:
+    clipped readings, echo flags and range rates ``(188,)``, nearest reading per region
+    ``(J,)``, F ``(6, J)``, direction labels ``(J,)``), as ``AttentionOutput.view_of`` reads
+    them: the region's sonar ``region_sonar[region]``, its beams ``beam_bounds[region]``."""
+    sonar = region_sonar[region]
+    first, stop = beam_bounds[region, 0], beam_bounds[region, 1]
+    _write_focus(flat, at, region, fired, bottom_up, top_down, readings[sonar], valid[sonar],
+                 readings[FRONT_SONARS + first:FRONT_SONARS + stop], bin_starts[region], nearest[region],
+                 max_distance_m, rates[sonar], max_speed_mps, directions[region], F[:, region])
 
 
 class SaliencyEncoder:

@@ -124,3 +124,51 @@ def test_focus_encoder_space_has_the_documented_layout():
     assert sum(sizes.values()) == 64
     without = FocusEncoder(AttentionConfig(), env.observation_space, memory_slots=0)
     assert "memory" not in without.space.spaces and sum(s.shape[0] for s in without.space.values()) == 46
+
+
+def _reference_focus_encode(encoder, raw, view, event, memory):
+    """The focus observation as the encoder computed it in numpy before its compiled kernel."""
+    flat = np.zeros(encoder._size, np.float32)
+    obs = {key: flat[part] for key, part in encoder._parts.items()}
+    obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
+    if memory is not None and "memory" in obs:
+        np.minimum(memory.reshape(-1), encoder._memory_high, out=obs["memory"])
+    if view is None:
+        obs["region"][encoder.grid.n_regions] = 1.0
+        return obs
+    obs["region"][view.region] = 1.0
+    obs["event"][:] = event
+    obs["sonar"][:] = view.sonar_range_m, view.sonar_echo
+    obs["laser"][:] = np.minimum.reduceat(view.laser_ranges_m, encoder._bin_starts[view.region])
+    obs["distance"][0] = encoder._max_distance if view.distance_m is None else min(view.distance_m, encoder._max_distance)
+    obs["motion"][0] = min(max(view.range_rate_mps, -encoder._max_speed), encoder._max_speed)
+    obs["motion"][2 + view.direction] = 1.0
+    obs["features"][:] = view.features
+    return obs
+
+
+def test_focus_encodings_of_a_view_and_of_a_region_equal_the_numpy_encoding_exactly():
+    env = make_env("focus", sensor_noise=0.05)
+    encoder = env._encoder
+    rng = np.random.default_rng(3)
+    obs, info = env.reset(seed=3)
+    regions = [None, *range(encoder.grid.n_regions)]
+    checked = 0
+    for step in range(120):
+        raw = {"odometry": rng.normal(size=2).astype(np.float32), "goal": rng.uniform(size=13).astype(np.float32)}
+        out = info["attention"]
+        memory = rng.uniform(-1.0, 12.0, size=(3, 6)).astype(np.float32) if step % 2 else None
+        for region in regions:
+            event = tuple(bool(b) for b in rng.integers(0, 2, 3))
+            view = None if region is None else out.view_of(region)
+            expected = _reference_focus_encode(encoder, raw, view, event, memory)
+            for got in (encoder.encode(raw, view, event, memory), encoder.encode_region(raw, out, region, event, memory)):
+                assert list(got) == list(expected)
+                for key in expected:
+                    np.testing.assert_array_equal(got[key], expected[key], err_msg=key)
+                    assert got[key].dtype == np.float32
+            checked += view is not None and view.distance_m is not None and view.track_id is not None
+        obs, _, terminated, truncated, info = env.step(rng.uniform(-1, 1, 2).astype(np.float32))
+        if terminated or truncated:
+            obs, info = env.reset()
+    assert checked > 0  # some regions had an echo and a track
