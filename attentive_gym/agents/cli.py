@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from attentive_gym.agents.backends import BACKENDS, Interrupted, raise_on_stop_signals
-from attentive_gym.agents.config import ALGOS, QUICK, VEC_ENVS, RunSpec
+from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, QUICK, VEC_ENVS, RunSpec
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_env_kwargs"]
@@ -82,6 +82,10 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
     parser.add_argument("--vec-env", "--vec", choices=VEC_ENVS, default=RunSpec.vec_env,
                         help="native (one process, all sensors in one call), dummy (SB3 DummyVecEnv) or subproc "
                              f"(SB3 SubprocVecEnv, one process per env); same numbers (default: {RunSpec.vec_env})")
+    parser.add_argument("--obs-scaling", choices=OBS_SCALINGS, default=RunSpec.obs_scaling,
+                        help="bounds: the policy sees every observation entry mapped from its declared bounds to "
+                             "[-1, 1]; none: in its own units (metres, seconds, flags) "
+                             f"(default: {RunSpec.obs_scaling})")
     parser.add_argument("--eval-every", type=_positive_int,
                         help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}")
     episodes = _with_quick(str(RunSpec.eval_episodes), "eval_episodes", quick)
@@ -111,7 +115,7 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
         env_kwargs=parse_env_kwargs(args.env_kwargs) if args.env_kwargs else dict(defaults.get("env_kwargs", {})),
         algo_kwargs=algo_kwargs,
-        torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads),
+        torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads), obs_scaling=args.obs_scaling,
     )
 
 

@@ -15,7 +15,7 @@ from typing import Any, Mapping, Sequence
 
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "QUICK", "RunSpec", "parse_variants", "parse_seeds"]
+__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "QUICK", "RunSpec", "parse_variants", "parse_seeds"]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
@@ -24,6 +24,11 @@ ALGOS = ("ppo", "sac", "recurrent-ppo")
 #: all sensors in one call; the default), SB3's ``DummyVecEnv`` or ``SubprocVecEnv``. All
 #: three give the same numbers.
 VEC_ENVS = ("native", "dummy", "subproc")
+#: What the policy sees of the observation: ``"bounds"`` (the default) maps every entry
+#: from its declared bounds to [−1, 1] (``wrappers.ScaledObservation``); ``"none"`` passes
+#: the observation on in its own units (metres, seconds, flags), as runs did before
+#: scaling existed (their ``spec.json`` has no ``obs_scaling`` and reads as ``"none"``).
+OBS_SCALINGS = ("bounds", "none")
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 150 000 PPO steps, 10 eval episodes every 30 000 steps, in the main
@@ -66,6 +71,7 @@ class RunSpec:
         algo_kwargs: keyword arguments of the SB3 algorithm (override ``default_algo_kwargs``).
         torch_threads: threads of torch and of the compiled sensor sweep (numba) in the
             training process (1 suits a pool of runs).
+        obs_scaling: one of ``OBS_SCALINGS``: how the observation reaches the policy.
     """
 
     variant: str = "focus"
@@ -80,6 +86,7 @@ class RunSpec:
     env_kwargs: Mapping[str, Any] = field(default_factory=dict)
     algo_kwargs: Mapping[str, Any] = field(default_factory=dict)
     torch_threads: int = 1
+    obs_scaling: str = "bounds"
 
     def __post_init__(self) -> None:
         if self.variant not in VARIANTS:
@@ -88,6 +95,8 @@ class RunSpec:
             raise ValueError(f"unknown algo {self.algo!r}; allowed: {list(ALGOS)}")
         if self.vec_env not in VEC_ENVS:
             raise ValueError(f"unknown vec_env {self.vec_env!r}; allowed: {list(VEC_ENVS)}")
+        if self.obs_scaling not in OBS_SCALINGS:
+            raise ValueError(f"unknown obs_scaling {self.obs_scaling!r}; allowed: {list(OBS_SCALINGS)}")
         _check_int("total_steps", self.total_steps, 1)
         _check_int("seed", self.seed, 0)
         _check_int("n_envs", self.n_envs, 1)
@@ -136,12 +145,13 @@ class RunSpec:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> "RunSpec":
-        """Build from ``to_dict``'s output; unknown keys raise ``ValueError``."""
+        """Build from ``to_dict``'s output; unknown keys raise ``ValueError``. A spec without
+        ``obs_scaling`` was written before observations were scaled: it reads as ``"none"``."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(data) - names)
         if unknown:
             raise ValueError(f"unknown RunSpec field(s) {unknown}; allowed: {sorted(names)}")
-        return cls(**data)
+        return cls(**{"obs_scaling": "none", **data})
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)

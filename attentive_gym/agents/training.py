@@ -42,6 +42,7 @@ from attentive_gym.agents.backends import raise_if_stopped, signals_blocked
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
+from attentive_gym.wrappers.scaling import ScaledObservation
 from attentive_gym.wrappers.variants import make_env
 
 __all__ = ["train", "validate_spec", "load_model", "env_factory", "eval_seed", "is_done", "checkpoint_steps",
@@ -54,8 +55,15 @@ _SET_BY_TRAIN = ("self", "policy", "env", "seed", "device", "verbose", "tensorbo
 
 
 def env_factory(spec: RunSpec, **overrides: Any) -> Callable[..., gym.Env]:
-    """A picklable zero-argument builder of one environment of ``spec`` (Dict observation)."""
-    return functools.partial(make_env, spec.variant, **{**spec.env_kwargs, **overrides})
+    """A picklable zero-argument builder of one environment of ``spec`` (Dict observation),
+    scaled as ``spec.obs_scaling`` says."""
+    return functools.partial(_make_env, spec.variant, spec.obs_scaling, **{**spec.env_kwargs, **overrides})
+
+
+def _make_env(variant: str, obs_scaling: str, **env_kwargs: Any) -> gym.Env:
+    """``make_env(variant, **env_kwargs)``, under ``ScaledObservation`` when ``obs_scaling`` is ``"bounds"``."""
+    env = make_env(variant, **env_kwargs)
+    return ScaledObservation(env) if obs_scaling == "bounds" else env
 
 
 def eval_seed(spec: RunSpec) -> int:
