@@ -2,17 +2,22 @@
 
 Two steps, so that batches of runs trained in different sessions add up:
 
-- ``python -m attentive_gym.agents.report add RUNS/results.csv [--algo recurrent-ppo]``:
-  merge a comparison's ``results.csv`` (or a sweep's ``sweep.csv``, with ``--clutter``) into
-  ``docs/results/rl_comparison.csv`` (``docs/results/rl_clutter.csv``). Rows carry their
-  ``algo``; a (variant, algo, seed[, num_distractors]) already there is replaced.
+- ``python -m attentive_gym.agents.report add RUNS/results.csv [--algo recurrent-ppo]
+  [--obs-scaling none]``: merge a comparison's ``results.csv`` (or a sweep's ``sweep.csv``,
+  with ``--clutter``) into ``docs/results/rl_comparison.csv`` (``docs/results/rl_clutter.csv``).
+  Rows carry their ``algo`` and ``obs_scaling`` (rows written before that column existed
+  read as ``"none"``); a (variant, algo, obs_scaling, seed[, num_distractors]) already
+  there is replaced.
 - ``python -m attentive_gym.agents.report render``: write the figures under
   ``docs/figures/`` and the README's block between ``<!-- rl-results:start -->`` and
   ``<!-- rl-results:end -->``: the summary table, the targets of attention against the
   bounds and controls, and the clutter table. ``--check`` writes nothing and exits 1 when
   the README is not what the CSVs give.
 
-A variant trained with another algorithm than PPO is shown as ``"<variant> (<algo>)"``.
+A variant trained with another algorithm than PPO, or without observation scaling, is
+shown as ``"<variant> (<algo>, unscaled)"``; the targets compare each attended variant with
+the raw and oracle runs of the same algorithm and scaling. The learning-curve figure
+shows the runs with scaled observations (all runs when there are none).
 """
 
 from __future__ import annotations
@@ -24,14 +29,17 @@ import sys
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
+from attentive_gym.agents.config import OBS_SCALINGS
 from attentive_gym.agents.plots import curve_stats, plot_learning_curves, plot_success_vs_distractors
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown, write_csv_atomic, write_text_atomic
 from attentive_gym.agents.sweep import sweep_tables
 
 __all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "merge_rows", "labelled", "targets", "render_block", "main"]
 
-COMPARISON_COLUMNS = ("algo", *EVAL_COLUMNS)
-CLUTTER_COLUMNS = ("algo", "num_distractors", *EVAL_COLUMNS)
+COMPARISON_COLUMNS = ("algo", "obs_scaling", *EVAL_COLUMNS)
+CLUTTER_COLUMNS = ("algo", "obs_scaling", "num_distractors", *EVAL_COLUMNS)
+#: The scaling of the runs whose learning curves the figure shows (``RunSpec``'s default).
+SCALED = "bounds"
 #: Variants that bound or control attention, and the baselines; the rest are "attended".
 BASELINE, ORACLE = "raw", "oracle"
 _NOT_ATTENDED = {"raw", "raw-stack", "oracle", "random-focus"}
@@ -41,24 +49,37 @@ _DEFAULT = {"comparison": Path("docs/results/rl_comparison.csv"), "clutter": Pat
 
 
 def merge_rows(existing: Sequence[Mapping[str, Any]], new: Sequence[Mapping[str, Any]], algo: str,
-               keys: Sequence[str]) -> list[dict[str, Any]]:
-    """``existing`` rows with every run of ``new`` (tagged with ``algo``) replacing the rows of
-    the same run; a run is identified by ``keys`` (with ``algo``)."""
-    tagged = [{"algo": algo, **row} for row in new]
-    run = lambda row: tuple(row[k] for k in ("algo", *keys))  # noqa: E731
+               keys: Sequence[str], obs_scaling: str = SCALED) -> list[dict[str, Any]]:
+    """``existing`` rows with every run of ``new`` (tagged with ``algo`` and ``obs_scaling``)
+    replacing the rows of the same run; a run is identified by ``keys`` (with ``algo`` and
+    ``obs_scaling``; an existing row without ``obs_scaling`` has ``"none"``)."""
+    tagged = [{"algo": algo, "obs_scaling": obs_scaling, **row} for row in new]
+    run = lambda row: tuple(row[k] for k in ("algo", "obs_scaling", *keys))  # noqa: E731
     replaced = {run(row) for row in tagged}
-    return [dict(row) for row in existing if run(row) not in replaced] + tagged
+    kept = [{"obs_scaling": "none", **row} for row in existing]
+    return [row for row in kept if run(row) not in replaced] + tagged
 
 
 def labelled(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Rows whose variant names their algorithm when it is not PPO."""
-    return [{**row, "variant": row["variant"] if row["algo"] == "ppo" else f"{row['variant']} ({row['algo']})"}
-            for row in rows]
+    """Rows whose variant names their algorithm when it is not PPO and says "unscaled" when
+    the policy saw the observation in its own units (``obs_scaling`` ``"none"``, or absent)."""
+    out = []
+    for row in rows:
+        notes = [row["algo"]] if row["algo"] != "ppo" else []
+        notes += ["unscaled"] if row.get("obs_scaling", "none") == "none" else []
+        out.append({**row, "variant": f"{row['variant']} ({', '.join(notes)})" if notes else row["variant"]})
+    return out
+
+
+def _setting(label: str) -> str:
+    """The part of a ``labelled`` variant name after the variant: ``" (recurrent-ppo)"`` or ``""``."""
+    _, bracket, notes = label.partition(" (")
+    return bracket + notes
 
 
 def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """For every attended variant, the figures of the comparison's targets against ``raw``
-    and ``oracle`` (NaN where a variant is missing):
+    and ``oracle`` of the same algorithm and scaling (NaN where they are missing):
 
     - ``steps_fraction``: the env steps at which its mean curve first reaches raw's final
       mean success, as a fraction of raw's budget (target ≤ 0.5);
@@ -66,11 +87,12 @@ def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, An
     - ``gap_closed``: (its final success − raw's) / (oracle's − raw's) (target ≥ 0.7).
     """
     by_variant = {row["variant"]: row for row in summary}
-    raw, oracle = by_variant.get(BASELINE), by_variant.get(ORACLE)
     out = []
     for row in summary:
         if row["variant"].split(" (")[0] in _NOT_ATTENDED:
             continue
+        setting = _setting(row["variant"])
+        raw, oracle = by_variant.get(BASELINE + setting), by_variant.get(ORACLE + setting)
         steps_fraction = gap = math.nan
         above = False
         if raw is not None:
@@ -124,16 +146,19 @@ def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapp
     """The README block (markdown) of the results read from ``sources``, with paths relative
     to ``readme_dir``; writes the figures into ``figures`` unless told not to."""
     link = Path(os.path.relpath(figures, readme_dir))
+    comparison = sorted(comparison, key=lambda row: row.get("obs_scaling", "none") != SCALED)  # scaled runs first
     rows = labelled(comparison)
     summary = summarise(rows)
+    scaled = [row for row in rows if row.get("obs_scaling") == SCALED]
     parts = ["_Generated by `python -m attentive_gym.agents.report render` from "
              + " and ".join(f"`{Path(os.path.relpath(path, readme_dir)).as_posix()}`" for path in sources) + "._", "",
              f"![learning curves]({(link / 'rl_learning_curves.png').as_posix()})", "",
              summary_markdown(summary), "Attention against its bounds and controls:", "",
              _targets_markdown(targets(rows, summary))]
     if write_figures:
-        plot_learning_curves(rows, figures / "rl_learning_curves.png")
+        plot_learning_curves(scaled or rows, figures / "rl_learning_curves.png")
     if clutter:
+        clutter = sorted(clutter, key=lambda row: row.get("obs_scaling", "none") != SCALED)
         clutter_summary = sweep_tables(labelled(clutter))
         parts += ["Final success against clutter (mean [95 % bootstrap CI]):", "", _clutter_markdown(clutter_summary),
                   f"![final success against distractors]({(link / 'rl_clutter.png').as_posix()})", ""]
@@ -157,6 +182,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     add.add_argument("csv", type=Path)
     add.add_argument("--algo", default="ppo", help="the algorithm the runs trained with (default: ppo)")
     add.add_argument("--clutter", action="store_true", help="the file is a sweep's sweep.csv")
+    add.add_argument("--obs-scaling", choices=OBS_SCALINGS, default=SCALED,
+                     help=f"the runs' --obs-scaling (default: {SCALED})")
     render = commands.add_parser("render", help="write the figures and the README's results block")
     render.add_argument("--check", action="store_true", help="write nothing; exit 1 if the README is out of date")
     for sub in (add, render):
@@ -177,11 +204,11 @@ def _add(args) -> int:
     if not new:
         raise ValueError(f"{args.csv} holds no rows")
     target, columns = (args.clutter_csv, CLUTTER_COLUMNS) if args.clutter else (args.comparison, COMPARISON_COLUMNS)
-    missing = [c for c in columns[1:] if c not in new[0]]
+    missing = [c for c in columns if c not in ("algo", "obs_scaling") and c not in new[0]]  # add tags those two
     if missing:
         raise ValueError(f"{args.csv} lacks the columns {missing} (a {'sweep.csv' if args.clutter else 'results.csv'} has them)")
     keys = ("variant", "seed", *(("num_distractors",) if args.clutter else ()))
-    rows = merge_rows(read_csv(target) if target.is_file() else [], new, args.algo, keys)
+    rows = merge_rows(read_csv(target) if target.is_file() else [], new, args.algo, keys, args.obs_scaling)
     write_csv_atomic(target, rows, columns)
     print(f"{target}: {len(rows)} rows ({len(new)} from {args.csv})")
     return 0
