@@ -83,9 +83,9 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
                         help="native (one process, all sensors in one call), dummy (SB3 DummyVecEnv) or subproc "
                              f"(SB3 SubprocVecEnv, one process per env); same numbers (default: {RunSpec.vec_env})")
     parser.add_argument("--obs-scaling", choices=OBS_SCALINGS, default=RunSpec.obs_scaling,
-                        help="bounds: the policy sees every observation entry mapped from its declared bounds to "
-                             "[-1, 1]; none: in its own units (metres, seconds, flags) "
-                             f"(default: {RunSpec.obs_scaling})")
+                        help="running: the policy sees every observation entry normalised by running mean and "
+                             "standard deviation (SB3 VecNormalize; saved with the model, frozen in evaluation); "
+                             f"none: in its own units (metres, seconds, flags) (default: {RunSpec.obs_scaling})")
     parser.add_argument("--eval-every", type=_positive_int,
                         help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}")
     episodes = _with_quick(str(RunSpec.eval_episodes), "eval_episodes", quick)
@@ -185,9 +185,9 @@ def add_evaluate(subparsers) -> None:
 
 def _run_evaluate(args: argparse.Namespace) -> int:
     from attentive_gym.agents.evaluation import evaluate_policy, record_videos
-    from attentive_gym.agents.training import env_factory, eval_seed, load_model
+    from attentive_gym.agents.training import env_factory, eval_seed, load_policy
 
-    model, spec = load_model(args.model)
+    model, spec = load_policy(args.model)
     seed = eval_seed(spec) if args.seed is None else args.seed
     result = evaluate_policy(model, env_factory(spec), args.episodes, seed)
     row = {"variant": spec.variant, "model": str(args.model), "seed": seed, **result.row()}

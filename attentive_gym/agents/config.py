@@ -24,11 +24,12 @@ ALGOS = ("ppo", "sac", "recurrent-ppo")
 #: all sensors in one call; the default), SB3's ``DummyVecEnv`` or ``SubprocVecEnv``. All
 #: three give the same numbers.
 VEC_ENVS = ("native", "dummy", "subproc")
-#: What the policy sees of the observation: ``"bounds"`` (the default) maps every entry
-#: from its declared bounds to [−1, 1] (``wrappers.ScaledObservation``); ``"none"`` passes
-#: the observation on in its own units (metres, seconds, flags), as runs did before
-#: scaling existed (their ``spec.json`` has no ``obs_scaling`` and reads as ``"none"``).
-OBS_SCALINGS = ("bounds", "none")
+#: What the policy sees of the observation: ``"running"`` (the default) normalises every
+#: entry with running statistics (SB3's ``VecNormalize``, ``agents.normalization``; saved
+#: with the model, frozen in evaluation); ``"none"`` passes the observation on in its own
+#: units (metres, seconds, flags), as runs did before normalisation existed (their
+#: ``spec.json`` has no ``obs_scaling`` and reads as ``"none"``).
+OBS_SCALINGS = ("running", "none")
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 150 000 PPO steps, 10 eval episodes every 30 000 steps, in the main
@@ -86,7 +87,7 @@ class RunSpec:
     env_kwargs: Mapping[str, Any] = field(default_factory=dict)
     algo_kwargs: Mapping[str, Any] = field(default_factory=dict)
     torch_threads: int = 1
-    obs_scaling: str = "bounds"
+    obs_scaling: str = "running"
 
     def __post_init__(self) -> None:
         if self.variant not in VARIANTS:

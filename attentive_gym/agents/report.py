@@ -14,10 +14,10 @@ Two steps, so that batches of runs trained in different sessions add up:
   bounds and controls, and the clutter table. ``--check`` writes nothing and exits 1 when
   the README is not what the CSVs give.
 
-A variant trained with another algorithm than PPO, or without observation scaling, is
+A variant trained with another algorithm than PPO, or without observation normalisation, is
 shown as ``"<variant> (<algo>, unscaled)"``; the targets compare each attended variant with
 the raw and oracle runs of the same algorithm and scaling. The learning-curve figure
-shows the runs with scaled observations (all runs when there are none).
+shows the runs with normalised observations (all runs when there are none).
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ __all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "merge_rows", "labelled", "t
 COMPARISON_COLUMNS = ("algo", "obs_scaling", *EVAL_COLUMNS)
 CLUTTER_COLUMNS = ("algo", "obs_scaling", "num_distractors", *EVAL_COLUMNS)
 #: The scaling of the runs whose learning curves the figure shows (``RunSpec``'s default).
-SCALED = "bounds"
+SCALED = "running"
 #: Variants that bound or control attention, and the baselines; the rest are "attended".
 BASELINE, ORACLE = "raw", "oracle"
 _NOT_ATTENDED = {"raw", "raw-stack", "oracle", "random-focus"}

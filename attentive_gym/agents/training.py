@@ -8,14 +8,17 @@ into ``run_dir``:
   the same spec);
 - ``eval.csv``: one row per evaluation (``results.EVAL_COLUMNS``), at 0, every
   ``spec.eval_every`` env steps and at the end;
-- ``checkpoint/model.zip`` (+ ``replay_buffer.pkl`` for SAC, + ``meta.json``): the latest
+- ``checkpoint/model.zip`` (+ ``replay_buffer.pkl`` for SAC, + ``meta.json``, +
+  ``obs_normalization.npz`` when ``spec.obs_scaling`` is ``"running"``): the latest
   checkpoint, every ``spec.checkpoint_every`` env steps;
 - ``tb/``: TensorBoard logs (SB3's ``train/``, ``rollout/`` and our ``eval/`` scalars);
-- ``final_model.zip``, ``metrics.json`` and, last of all, the ``done`` marker.
+- ``final_model.zip`` (+ ``obs_normalization.npz``: the observation statistics that
+  ``load_policy`` puts in front of it), ``metrics.json`` and, last of all, the ``done``
+  marker.
 
 Every file is written atomically (temp file + ``os.replace``). Calling ``train`` again on a
 folder without ``done`` resumes from the checkpoint: the step count continues, the saved
-model (and SAC's replay buffer) is loaded, and evaluation rows after the checkpoint are
+model (and SAC's replay buffer, and the observation statistics) is loaded, and evaluation rows after the checkpoint are
 dropped, so an interrupted run loses at most one checkpoint interval. PPO's rollout buffer
 cannot be saved by SB3, so checkpoints are taken at rollout boundaries (after an update,
 before the next rollout) where it is empty; a resumed run therefore ends at exactly the
@@ -42,10 +45,10 @@ from attentive_gym.agents.backends import raise_if_stopped, signals_blocked
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
-from attentive_gym.wrappers.scaling import ScaledObservation
+from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, load_stats, normalize, save_stats
 from attentive_gym.wrappers.variants import make_env
 
-__all__ = ["train", "validate_spec", "load_model", "env_factory", "eval_seed", "is_done", "checkpoint_steps",
+__all__ = ["train", "validate_spec", "load_model", "load_policy", "env_factory", "eval_seed", "is_done", "checkpoint_steps",
            "DONE_MARKER", "RunResult"]
 
 DONE_MARKER = "done"
@@ -55,15 +58,8 @@ _SET_BY_TRAIN = ("self", "policy", "env", "seed", "device", "verbose", "tensorbo
 
 
 def env_factory(spec: RunSpec, **overrides: Any) -> Callable[..., gym.Env]:
-    """A picklable zero-argument builder of one environment of ``spec`` (Dict observation),
-    scaled as ``spec.obs_scaling`` says."""
-    return functools.partial(_make_env, spec.variant, spec.obs_scaling, **{**spec.env_kwargs, **overrides})
-
-
-def _make_env(variant: str, obs_scaling: str, **env_kwargs: Any) -> gym.Env:
-    """``make_env(variant, **env_kwargs)``, under ``ScaledObservation`` when ``obs_scaling`` is ``"bounds"``."""
-    env = make_env(variant, **env_kwargs)
-    return ScaledObservation(env) if obs_scaling == "bounds" else env
+    """A picklable zero-argument builder of one environment of ``spec`` (Dict observation)."""
+    return functools.partial(make_env, spec.variant, **{**spec.env_kwargs, **overrides})
 
 
 def eval_seed(spec: RunSpec) -> int:
@@ -176,9 +172,11 @@ def _save_atomic_zip(model, path: Path) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool) -> None:
+def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool, vec_normalize) -> None:
     folder = run_dir / _CHECKPOINT
     folder.mkdir(parents=True, exist_ok=True)
+    if vec_normalize is not None:  # before the model: a checkpoint's model always has its statistics
+        save_stats(vec_normalize, folder / STATS_FILE)
     if is_off_policy:
         tmp = folder / ".replay_buffer.tmp.pkl"
         model.save_replay_buffer(tmp)
@@ -187,7 +185,8 @@ def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool) 
     write_json_atomic(folder / "meta.json", {"env_steps": int(model.num_timesteps), "wall_s": wall_s})
 
 
-def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: float, eval_envs: list[gym.Env]):
+def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: float, eval_envs: list[gym.Env],
+                   vec_normalize):
     from stable_baselines3.common.callbacks import BaseCallback
 
     class RunCallback(BaseCallback):
@@ -225,7 +224,8 @@ def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: f
                 self.evaluate()
 
         def evaluate(self) -> None:
-            result = evaluate_policy(self.model, env_factory(spec), spec.eval_episodes, eval_seed(spec), envs=eval_envs)
+            policy = self.model if vec_normalize is None else NormalizedPolicy(self.model, vec_normalize)
+            result = evaluate_policy(policy, env_factory(spec), spec.eval_episodes, eval_seed(spec), envs=eval_envs)
             row = {"variant": spec.variant, "seed": spec.seed, "env_steps": int(self.num_timesteps),
                    **result.row(), "wall_s": self.wall()}
             rows.append(row)
@@ -235,7 +235,7 @@ def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: f
             self.last_eval = self.num_timesteps
 
         def checkpoint(self) -> None:
-            _write_checkpoint(self.model, run_dir, self.wall(), spec.algo == "sac")
+            _write_checkpoint(self.model, run_dir, self.wall(), spec.algo == "sac", vec_normalize)
             self.last_ckpt = self.num_timesteps
 
     return RunCallback()
@@ -308,8 +308,12 @@ def train(
     algo_cls = _algo_class(spec.algo)
     eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
     vec = _make_vec_env(spec)
+    ckpt = run_dir / _CHECKPOINT / "model.zip"
+    vec_normalize = None
+    if spec.obs_scaling == "running":
+        stats = run_dir / _CHECKPOINT / STATS_FILE
+        vec = vec_normalize = normalize(vec, stats if ckpt.is_file() and stats.is_file() else None)
     try:
-        ckpt = run_dir / _CHECKPOINT / "model.zip"
         tb = str(run_dir / "tb") if tensorboard else None
         rows: list[dict] = []
         start_wall = 0.0
@@ -331,7 +335,7 @@ def train(
             resumed_from = 0
         if tb is None:  # SB3's own logger would make an empty folder in the temp directory
             model.set_logger(_logger_without_folder(verbose))
-        callback = _make_callback(spec, run_dir, rows, start_wall, eval_envs)
+        callback = _make_callback(spec, run_dir, rows, start_wall, eval_envs, vec_normalize)
         remaining = spec.total_steps - int(model.num_timesteps)
         t0 = time.perf_counter()
         if remaining > 0:
@@ -343,7 +347,9 @@ def train(
             callback.init_callback(model)
             callback.evaluate()
         train_s = time.perf_counter() - t0
-        _write_checkpoint(model, run_dir, callback.wall(), spec.algo == "sac")
+        _write_checkpoint(model, run_dir, callback.wall(), spec.algo == "sac", vec_normalize)
+        if vec_normalize is not None:
+            save_stats(vec_normalize, run_dir / STATS_FILE)
         _save_atomic_zip(model, run_dir / "final_model.zip")
         metrics = RunResult(
             spec=spec.to_dict(), run_name=spec.run_name, env_steps=int(model.num_timesteps),
@@ -377,3 +383,22 @@ def load_model(model_path: str | os.PathLike):
     """(SB3 model, ``RunSpec``) from a run folder or a ``.zip`` saved by ``train``."""
     path, spec = find_spec(model_path)
     return _algo_class(spec.algo).load(path, device="cpu"), spec
+
+
+def load_policy(model_path: str | os.PathLike):
+    """(policy, ``RunSpec``) as ``load_model``, where the policy is what evaluation asks for
+    actions: the model, behind its saved observation statistics (``NormalizedPolicy``) when
+    the run normalised its observations.
+
+    Raises:
+        ValueError: when such a run's statistics (``obs_normalization.npz`` beside the
+            ``.zip``) are missing.
+    """
+    path, spec = find_spec(model_path)
+    model = _algo_class(spec.algo).load(path, device="cpu")
+    if spec.obs_scaling != "running":
+        return model, spec
+    stats = path.parent / STATS_FILE
+    if not stats.is_file():
+        raise ValueError(f"{path} was trained on normalised observations, but {stats} is missing")
+    return NormalizedPolicy(model, load_stats(stats, env_factory(spec))), spec

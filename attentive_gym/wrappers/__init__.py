@@ -5,15 +5,12 @@
 - ``GoalActionWrapper``: the agent's action also chooses the top-down goal and weights.
 - ``StackedReadings``: the raw-sensor baseline with a frame stack.
 - ``OracleFocus``: the focus observation filled from the privileged state (a bound).
-- ``ScaledObservation``: every observation entry mapped from its bounds to [−1, 1] (what
-  the agents' policies see by default).
 - ``make_env`` / ``VARIANTS`` / ``VARIANT_IDS``: one line per observation variant.
 """
 
 from attentive_gym.wrappers.attention import OBSERVATION_MODES, AttentionWrapper
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, GoalActionWrapper
 from attentive_gym.wrappers.oracle import OracleFocus
-from attentive_gym.wrappers.scaling import ScaledObservation
 from attentive_gym.wrappers.stack import StackedReadings
 from attentive_gym.wrappers.variants import VARIANT_IDS, VARIANTS, make_env
 
@@ -23,7 +20,6 @@ __all__ = [
     "GoalActionWrapper",
     "OBSERVATION_MODES",
     "OracleFocus",
-    "ScaledObservation",
     "StackedReadings",
     "VARIANTS",
     "VARIANT_IDS",

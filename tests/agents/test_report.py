@@ -19,7 +19,7 @@ def _rows(levels, steps=(0, 100, 200)):
 
 
 def test_targets_measure_speed_margin_and_gap_against_raw_and_oracle():
-    rows = labelled([{"algo": "ppo", "obs_scaling": "bounds", **r}
+    rows = labelled([{"algo": "ppo", "obs_scaling": "running", **r}
                      for r in _rows({"raw": [0.40, 0.42, 0.44], "oracle": [0.80, 0.82, 0.84],
                                      "focus": [0.70, 0.72, 0.74], "random-focus": [0.3, 0.3, 0.3]})])
     (focus,) = targets(rows, summarise(rows))  # the controls and bounds are not "attended"
@@ -30,7 +30,7 @@ def test_targets_measure_speed_margin_and_gap_against_raw_and_oracle():
 
 
 def test_merging_a_batch_replaces_its_runs_and_keeps_the_rest():
-    old = [{"algo": "ppo", "obs_scaling": "bounds", **r} for r in _rows({"raw": [0.4, 0.5], "focus": [0.3]})]
+    old = [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.4, 0.5], "focus": [0.3]})]
     new = _rows({"focus": [0.6, 0.7]})
     merged = merge_rows(old, new, "ppo", ("variant", "seed"))
     focus = [r for r in merged if r["variant"] == "focus" and r["env_steps"] == 200]
@@ -40,14 +40,14 @@ def test_merging_a_batch_replaces_its_runs_and_keeps_the_rest():
     assert {r["variant"] for r in labelled(lstm)} == {"raw", "focus", "raw (recurrent-ppo)"}
     # rows from before the obs_scaling column are unscaled runs: kept beside the scaled ones
     before = merge_rows([{"algo": "ppo", **r} for r in _rows({"focus": [0.2]})], new, "ppo", ("variant", "seed"))
-    assert {(r["obs_scaling"], r["seed"]) for r in before} == {("none", 0), ("bounds", 0), ("bounds", 1)}
+    assert {(r["obs_scaling"], r["seed"]) for r in before} == {("none", 0), ("running", 0), ("running", 1)}
     unscaled = merge_rows(before, _rows({"raw": [0.5]}), "recurrent-ppo", ("variant", "seed"), "none")
     assert {r["variant"] for r in labelled(unscaled)} == {"focus", "focus (unscaled)", "raw (recurrent-ppo, unscaled)"}
 
 
 def test_targets_compare_within_one_algorithm_and_scaling():
     rows = labelled([{"algo": "ppo", "obs_scaling": scaling, **r}
-                     for scaling, levels in (("bounds", {"raw": [0.5, 0.5], "oracle": [0.9, 0.9], "focus": [0.7, 0.7]}),
+                     for scaling, levels in (("running", {"raw": [0.5, 0.5], "oracle": [0.9, 0.9], "focus": [0.7, 0.7]}),
                                              ("none", {"raw": [0.3, 0.3], "oracle": [0.5, 0.5], "focus": [0.4, 0.4]}))
                      for r in _rows(levels)])
     by_variant = {row["variant"]: row for row in targets(rows, summarise(rows))}
@@ -66,7 +66,7 @@ def test_render_fills_the_readme_block_and_check_detects_a_stale_one(tmp_path):
     paths = ["--comparison", str(comparison), "--clutter-csv", str(tmp_path / "none.csv")]
     assert main(["add", str(results), *paths]) == 0
     assert len(read_csv(comparison)) == 27 and read_csv(comparison)[0]["algo"] == "ppo"
-    assert read_csv(comparison)[0]["obs_scaling"] == "bounds"
+    assert read_csv(comparison)[0]["obs_scaling"] == "running"
     render = ["render", *paths, "--readme", str(readme), "--figures", str(tmp_path / "fig")]
     assert main([*render, "--check"]) == 1  # the block still says "old"
     assert main(render) == 0
