@@ -45,10 +45,11 @@ def normalize(vec_env, stats: Path | None = None):
 
 def save_stats(vec_normalize, path: Path) -> None:
     """Write ``vec_normalize``'s observation statistics to ``path`` (``.npz``), atomically."""
-    arrays = {"count": np.array([_rms(vec_normalize, key).count for key in _keys(vec_normalize)])}
-    for i, key in enumerate(_keys(vec_normalize)):
+    keys = _keys(vec_normalize)
+    arrays = {"keys": np.array([str(key) for key in keys]),
+              "count": np.array([_rms(vec_normalize, key).count for key in keys])}
+    for i, key in enumerate(keys):
         arrays[f"mean_{i}"], arrays[f"var_{i}"] = _rms(vec_normalize, key).mean, _rms(vec_normalize, key).var
-    arrays["keys"] = np.array([str(key) for key in _keys(vec_normalize)])
     tmp = path.with_name(f".{path.stem}.tmp.npz")
     try:
         np.savez(tmp, **arrays)
