@@ -246,21 +246,15 @@ def stand_still(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.nd
 
 
 # ===================================================================== environments
-def make_attentive_env(mode: str, noise: NoiseSetting, **env_kwargs: Any):
-    """The attended environment (``VARIANT``) with the model in kinematics ``mode``.
+def make_attentive_env(mode: str, noise: NoiseSetting, variant: str = VARIANT, **env_kwargs: Any):
+    """The attended environment ``variant`` (default ``VARIANT``; ``"focus"`` for an
+    observation with the working memory) with the model in kinematics ``mode``.
 
     Raises:
         TypeError: when the installed environment does not accept a keyword of ``noise``.
     """
     config = AttentionConfig(kinematics=mode, range_noise_rel=noise.sigma_rel)
-    return make_env(VARIANT, attention=config, **noise.env_kwargs, **env_kwargs)
-
-
-def make_focus_env(mode: str, noise: NoiseSetting, **env_kwargs: Any):
-    """The ``focus`` variant (its observation has the working memory) with the model in
-    kinematics ``mode``."""
-    config = AttentionConfig(kinematics=mode, range_noise_rel=noise.sigma_rel)
-    return make_env("focus", attention=config, **noise.env_kwargs, **env_kwargs)
+    return make_env(variant, attention=config, **noise.env_kwargs, **env_kwargs)
 
 
 def make_raw_env(noise: NoiseSetting, **env_kwargs: Any):
@@ -738,7 +732,7 @@ def print_control(results: Results, modes, episodes: int) -> None:
         for mode in modes:
             env = make_attentive_env(mode, noise, **CONTROL_ARENA)
             focus = control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
-            memory = control_success(make_focus_env(mode, noise, **CONTROL_ARENA),
+            memory = control_success(make_attentive_env(mode, noise, "focus", **CONTROL_ARENA),
                                      lambda env, seed: memory_controller, seeds)
             ratio = focus / oracle if oracle else math.nan
             memory_ratio = memory / oracle if oracle else math.nan

@@ -18,10 +18,10 @@ into ``run_dir``:
 
 Every file is written atomically (temp file + ``os.replace``). Calling ``train`` again on a
 folder without ``done`` resumes from the checkpoint: the step count continues, the saved
-model (and SAC's replay buffer, and the observation statistics) is loaded, and evaluation rows after the checkpoint are
-dropped, so an interrupted run loses at most one checkpoint interval. PPO's rollout buffer
-cannot be saved by SB3, so checkpoints are taken at rollout boundaries (after an update,
-before the next rollout) where it is empty; a resumed run therefore ends at exactly the
+model (with SAC's replay buffer and the observation statistics) is loaded, and evaluation
+rows after the checkpoint are dropped, so an interrupted run loses at most one checkpoint
+interval. PPO's rollout buffer cannot be saved by SB3, so checkpoints are taken at rollout
+boundaries (after an update, before the next rollout) where it is empty; a resumed run therefore ends at exactly the
 step count of an uninterrupted one. RecurrentPPO resumes the same way; its LSTM state
 starts from zeros at the resumed run's first (fresh) episodes.
 """
@@ -382,7 +382,12 @@ def find_spec(model_path: str | os.PathLike) -> tuple[Path, RunSpec]:
 def load_model(model_path: str | os.PathLike):
     """(SB3 model, ``RunSpec``) from a run folder or a ``.zip`` saved by ``train``."""
     path, spec = find_spec(model_path)
-    return _algo_class(spec.algo).load(path, device="cpu"), spec
+    return _load(path, spec), spec
+
+
+def _load(path: Path, spec: RunSpec):
+    """The SB3 model saved at ``path`` by a run of ``spec``."""
+    return _algo_class(spec.algo).load(path, device="cpu")
 
 
 def load_policy(model_path: str | os.PathLike):
@@ -395,7 +400,7 @@ def load_policy(model_path: str | os.PathLike):
             ``.zip``) are missing.
     """
     path, spec = find_spec(model_path)
-    model = _algo_class(spec.algo).load(path, device="cpu")
+    model = _load(path, spec)
     if spec.obs_scaling != "running":
         return model, spec
     stats = path.parent / STATS_FILE

@@ -116,7 +116,8 @@ def test_controllers_and_csv(tmp_path):
                         lambda env, seed: bench.true_bearing_controller,
                         lambda env, seed: bench.RandomController(env.action_space, seed)):
         assert 0.0 <= bench.control_success(env, make_policy, [0]) <= 1.0
-    focus_env = bench.make_focus_env("tracker", bench.NOISE_SETTINGS[0], time_limit_s=1.0, **bench.CONTROL_ARENA)
+    focus_env = bench.make_attentive_env("tracker", bench.NOISE_SETTINGS[0], "focus", time_limit_s=1.0,
+                                        **bench.CONTROL_ARENA)
     assert 0.0 <= bench.control_success(focus_env, lambda env, seed: bench.memory_controller, [0]) <= 1.0
     action = bench.steer(0.0)
     assert action.tolist() == [1.0, 0.0] and bench.steer(None).tolist() == [0.0, bench.SEARCH_SPIN]
