@@ -21,8 +21,8 @@ folder without ``done`` resumes from the checkpoint: the step count continues, t
 model (with SAC's replay buffer and the observation statistics) is loaded, and evaluation
 rows after the checkpoint are dropped, so an interrupted run loses at most one checkpoint
 interval. PPO's rollout buffer cannot be saved by SB3, so checkpoints are taken at rollout
-boundaries (after an update, before the next rollout) where it is empty; a resumed run therefore ends at exactly the
-step count of an uninterrupted one. RecurrentPPO resumes the same way; its LSTM state
+boundaries (after an update, before the next rollout) where it is empty; a resumed run
+therefore ends at exactly the step count of an uninterrupted one. RecurrentPPO resumes the same way; its LSTM state
 starts from zeros at the resumed run's first (fresh) episodes.
 """
 
