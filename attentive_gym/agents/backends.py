@@ -168,7 +168,9 @@ def run_job(spec_dict: dict[str, Any], run_dir: str) -> JobOutcome:
 
     start_s = time.perf_counter()
     try:
-        metrics = train(RunSpec.from_dict(spec_dict), run_dir)
+        # compare has checked its settings (compare.json) before queueing the job: a run of a
+        # smaller budget in run_dir is one that the comparison extends
+        metrics = train(RunSpec.from_dict(spec_dict), run_dir, extend=True)
         error_file = Path(run_dir) / "error.txt"
         error_file.unlink(missing_ok=True)
         return JobOutcome(run_dir, True, int(metrics["env_steps"]), wall_s=time.perf_counter() - start_s)

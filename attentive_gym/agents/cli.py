@@ -64,6 +64,11 @@ _COMPARE_VARIANTS = ("raw", "focus", "oracle", "random-focus")
 _COMPARE_SEEDS = 5
 
 
+#: ``--extend``'s help; ``what`` names the existing runs.
+_EXTEND_HELP = ("train {what}, trained with a smaller --steps and otherwise the same options, on to --steps from "
+                "its latest checkpoint (its evaluations so far are kept; the final model is replaced)")
+
+
 def _with_quick(text: str, key: str, quick: bool) -> str:
     """``"(default: <text>)"``, plus ``QUICK[key]`` (as JSON) with ``--quick`` where the command has that option."""
     return f"(default: {text}; {json.dumps(QUICK[key])} with --quick)" if quick else f"(default: {text})"
@@ -127,12 +132,14 @@ def add_train(subparsers) -> None:
                     "TensorBoard logs and checkpoints. Writes DIR/spec.json, eval.csv, checkpoint/, tb/, "
                     "final_model.zip, metrics.json, done. The spec is checked (one env built, the SB3 keywords "
                     "checked) before anything is written. Rerunning into an unfinished DIR, after Ctrl-C or a "
-                    "kill, resumes from its checkpoint.",
+                    "kill, resumes from its checkpoint; with --extend and a larger --steps, a finished run trains "
+                    "on from its final checkpoint.",
     )
     parser.add_argument("--variant", default="focus", metavar="NAME", help=f"one of {', '.join(VARIANTS)} (default: focus)")
     parser.add_argument("--seed", type=_non_negative_int, default=0, help="seed (default: 0)")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/train-<variant>-seed<seed>)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--extend", action="store_true", help=_EXTEND_HELP.format(what="the run in --out"))
     parser.add_argument("--torch-threads", type=_positive_int, default=RunSpec.torch_threads,
                         help=f"threads of torch and of the sensor sweep (default: {RunSpec.torch_threads})")
     _add_run_options(parser, quick=False)
@@ -146,7 +153,7 @@ def _run_train(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"train-{spec.run_name}"
     with raise_on_stop_signals():
         try:
-            metrics = train(spec, out, progress_bar=not args.no_progress)
+            metrics = train(spec, out, progress_bar=not args.no_progress, extend=args.extend)
         except Interrupted as stop:
             raise Interrupted(stop.signum, _train_resume_hint(out, spec)) from None
     final = metrics.get("final") or {}
@@ -233,6 +240,7 @@ def add_compare(subparsers) -> None:
                         help="a clutter sweep: the comparison at each distractor count of the comma list (e.g. 1,3,6), "
                              "into DIR/distractors-N/, then DIR/sweep.csv, sweep_summary.csv and "
                              "success_vs_distractors.png (final success against distractors per variant)")
+    parser.add_argument("--extend", action="store_true", help=_EXTEND_HELP.format(what="the comparison in --out"))
     _add_run_options(parser, quick=True)
     parser.set_defaults(handler=_run_compare)
 
@@ -253,7 +261,7 @@ def _run_compare(args: argparse.Namespace) -> int:
     print(f"compare: {len(variants)} variants × {len(seeds)} seeds × {base.total_steps} env steps "
           f"({args.backend}, {args.workers} workers) → {out}", flush=True)
     result = compare(variants, seeds, base, out, backend=args.backend, workers=args.workers, threshold=args.threshold,
-                     log=lambda line: print(line, flush=True))
+                     extend=args.extend, log=lambda line: print(line, flush=True))
     if result.summary_md is not None:
         print(result.summary_md.read_text(), end="")
         print(f"wrote {result.results_csv}, {result.figure}, {result.summary_csv}, {result.summary_md}")
@@ -273,7 +281,7 @@ def _run_sweep(args: argparse.Namespace, variants, seeds, base, out: Path) -> in
     print(f"compare: clutter sweep over {len(counts)} distractor counts × {len(variants)} variants × {len(seeds)} seeds "
           f"× {base.total_steps} env steps ({args.backend}, {args.workers} workers) → {out}", flush=True)
     result = clutter_sweep(variants, seeds, base, counts, out, backend=args.backend, workers=args.workers,
-                           threshold=args.threshold, log=lambda line: print(line, flush=True))
+                           threshold=args.threshold, extend=args.extend, log=lambda line: print(line, flush=True))
     if result.summary_csv is not None:
         print(f"wrote {result.results_csv}, {result.summary_csv}, {result.figure}")
     if result.failed:

@@ -12,6 +12,8 @@
 Every run's spec is validated (``training.validate_spec``, once per variant) before anything
 is written or trained. A rerun (after Ctrl-C, a kill or a crash) trains only the runs without
 a ``done`` marker, resuming each from its checkpoint; finished runs are read, not retrained.
+With ``extend``, a comparison whose settings differ only by a larger ``total_steps`` trains
+every run on to the new budget from its latest checkpoint (``training.train``'s ``extend``).
 SIGINT or SIGTERM stop the runs in progress and start no queued one: ``compare`` raises
 ``Interrupted`` saying what finished. ``QUICK`` (from ``config``) is the budget of
 ``attentive-gym compare --quick``: about ten minutes on two cores.
@@ -39,7 +41,7 @@ from attentive_gym.agents.results import (
     write_json_atomic,
     write_text_atomic,
 )
-from attentive_gym.agents.training import is_done, validate_spec
+from attentive_gym.agents.training import budget_grows, is_done, validate_spec
 from attentive_gym.progress import Progress, format_duration
 
 __all__ = ["QUICK", "CompareResult", "compare", "collect", "run_dir_of"]
@@ -80,6 +82,7 @@ def compare(
     backend: str = "process",
     workers: int = 2,
     threshold: float = 0.5,
+    extend: bool = False,
     log: Callable[[str], None] = print,
 ) -> CompareResult:
     """Train the missing (variant, seed) runs of the comparison in ``out``, then ``collect``.
@@ -92,11 +95,13 @@ def compare(
         backend: ``"process"`` (one spawned process per run) or ``"ray"``.
         workers: runs in parallel.
         threshold: success rate for "env steps to threshold" in the summary.
+        extend: ``out`` may hold the comparison with a smaller ``total_steps``: train its
+            runs on to ``base.total_steps``.
         log: progress lines, one per finished run (its own wall time, the elapsed time, an ETA).
 
     Raises:
-        ValueError: a run's spec cannot start, or ``out`` holds another comparison (nothing
-            is written or trained then).
+        ValueError: a run's spec cannot start, or ``out`` holds another comparison (one of a
+            smaller budget too, without ``extend``); nothing is written or trained then.
         Interrupted: SIGINT or SIGTERM stopped the comparison; its text says how many runs
             are done and how to resume.
     """
@@ -106,8 +111,8 @@ def compare(
     for variant in variants:  # the seed changes nothing that validation checks
         validate_spec(base.replace(variant=variant))
     out = Path(out)
-    _bind_settings(out, _settings(variants, seeds, base, threshold))
-    skipped = [spec.run_name for spec in specs if is_done(run_dir_of(out, spec))]
+    _bind_settings(out, _settings(variants, seeds, base, threshold), base, extend)
+    skipped = [spec.run_name for spec in specs if is_done(run_dir_of(out, spec), spec.total_steps)]
     todo = [(spec.to_dict(), str(run_dir_of(out, spec))) for spec in specs if spec.run_name not in skipped]
     if skipped:
         log(f"{len(skipped)} run(s) already done, {len(todo)} to train")
@@ -129,13 +134,21 @@ def compare(
     return result
 
 
-def _bind_settings(out: Path, settings: dict[str, Any]) -> None:
-    """Write ``out/compare.json``, or check that the comparison already there has ``settings``."""
+def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: bool) -> None:
+    """Write ``out/compare.json``, or check that the comparison already there has ``settings``
+    (or, with ``extend``, the same with a smaller ``total_steps``: then it is rewritten)."""
     path = out / "compare.json"
     if path.is_file():
-        if json.loads(path.read_text()) != json.loads(json.dumps(settings)):
+        old, new = json.loads(path.read_text()), json.loads(json.dumps(settings))
+        if old == new:
+            return
+        old_base = RunSpec.from_dict({"variant": base.variant, "seed": base.seed, **old["run"]})
+        same_runs = {k: v for k, v in old.items() if k != "run"} == {k: v for k, v in new.items() if k != "run"}
+        if not (same_runs and budget_grows(old_base, base)):
             raise ValueError(f"{out} holds a comparison with other settings ({path}); use another --out folder")
-        return
+        if not extend:
+            raise ValueError(f"{out} holds this comparison with {old_base.total_steps} env steps per run; extend it to "
+                             f"{base.total_steps} (--extend) or use another --out folder")
     write_json_atomic(path, settings)
 
 
@@ -151,7 +164,7 @@ def _outcome_text(name: str, outcome: JobOutcome) -> str:
 
 def _resume_hint(out: Path, specs: Sequence[RunSpec]) -> str:
     """What an interrupted comparison finished, and how to train the rest."""
-    missing = [spec for spec in specs if not is_done(run_dir_of(out, spec))]
+    missing = [spec for spec in specs if not is_done(run_dir_of(out, spec), spec.total_steps)]
     return (f"{len(specs) - len(missing)}/{len(specs)} runs done in {out}; rerun the same command to train only "
             f"the {len(missing)} missing one(s) (a stopped run resumes from its last checkpoint)")
 
@@ -162,7 +175,7 @@ def collect(out: str | os.PathLike, specs: Sequence[RunSpec], threshold: float =
     rows: list[dict[str, Any]] = []
     for spec in specs:
         run_dir = run_dir_of(out, spec)
-        if is_done(run_dir):
+        if is_done(run_dir, spec.total_steps):
             rows.extend(read_csv(run_dir / "eval.csv"))
     if not rows:
         return CompareResult(out, None, None, None, None)

@@ -65,11 +65,13 @@ def clutter_sweep(
     backend: str = "process",
     workers: int = 2,
     threshold: float = 0.5,
+    extend: bool = False,
     log: Callable[[str], None] = print,
 ) -> SweepResult:
     """Compare ``variants`` over ``seeds`` at each count in ``distractors`` (the env keyword
     ``num_distractors`` of ``base.env_kwargs`` replaced), then tabulate and plot.
 
+    ``extend`` trains each count's comparison on to a larger budget, as in ``compare``.
     Raises what ``compare`` raises (invalid specs before anything trains, an interrupt).
     """
     if not distractors:
@@ -80,7 +82,7 @@ def clutter_sweep(
     for n, spec in specs.items():
         log(f"sweep: {n} distractor(s)")
         outcome = compare(variants, seeds, spec, out / f"distractors-{n}", backend=backend, workers=workers,
-                          threshold=threshold, log=log)
+                          threshold=threshold, extend=extend, log=log)
         result.failed.update({f"distractors-{n}/{name}": error for name, error in outcome.failed.items()})
     rows = []
     for n in distractors:

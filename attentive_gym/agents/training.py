@@ -5,7 +5,7 @@ built, the algorithm's keywords are checked) and writes nothing if it cannot. Th
 into ``run_dir``:
 
 - ``spec.json``: the ``RunSpec`` (once the folder holds a checkpoint, a rerun into it must use
-  the same spec);
+  the same spec, or, with ``extend``, the same with a larger ``total_steps``);
 - ``eval.csv``: one row per evaluation (``results.EVAL_COLUMNS``), at 0, every
   ``spec.eval_every`` env steps and at the end;
 - ``checkpoint/model.zip`` (+ ``replay_buffer.pkl`` for SAC, + ``meta.json``, +
@@ -24,6 +24,12 @@ interval. PPO's rollout buffer cannot be saved by SB3, so checkpoints are taken 
 boundaries (after an update, before the next rollout) where it is empty; a resumed run
 therefore ends at exactly the step count of an uninterrupted one. RecurrentPPO resumes the same way; its LSTM state
 starts from zeros at the resumed run's first (fresh) episodes.
+
+``train(..., extend=True)`` (``--extend``) trains a run on to a larger ``total_steps``, the
+rest of its spec unchanged: a finished run resumes from its final checkpoint the same way,
+and its final model, statistics and metrics are replaced at the new end; its evaluation
+rows so far are kept. Like any resumed run, it does not replay, number for number, a run
+trained straight to the larger budget (the envs restart, the random seed is re-drawn).
 """
 
 from __future__ import annotations
@@ -48,8 +54,8 @@ from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomi
 from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, load_stats, normalize, save_stats
 from attentive_gym.wrappers.variants import make_env
 
-__all__ = ["train", "validate_spec", "load_model", "load_policy", "env_factory", "eval_seed", "is_done", "checkpoint_steps",
-           "DONE_MARKER", "RunResult"]
+__all__ = ["train", "validate_spec", "load_model", "load_policy", "env_factory", "eval_seed", "is_done", "budget_grows",
+           "checkpoint_steps", "DONE_MARKER", "RunResult"]
 
 DONE_MARKER = "done"
 _CHECKPOINT = "checkpoint"
@@ -67,9 +73,11 @@ def eval_seed(spec: RunSpec) -> int:
     return EVAL_SEED_OFFSET + 1000 * spec.seed
 
 
-def is_done(run_dir: str | os.PathLike) -> bool:
-    """Whether ``run_dir`` holds a finished run (its ``done`` marker)."""
-    return (Path(run_dir) / DONE_MARKER).is_file()
+def is_done(run_dir: str | os.PathLike, total_steps: int = 0) -> bool:
+    """Whether ``run_dir`` holds a finished run (its ``done`` marker, which holds the run's
+    env steps) of at least ``total_steps`` env steps."""
+    marker = Path(run_dir) / DONE_MARKER
+    return marker.is_file() and int(marker.read_text()) >= total_steps
 
 
 def checkpoint_steps(run_dir: str | os.PathLike) -> int | None:
@@ -246,18 +254,33 @@ def _holds_progress(run_dir: Path) -> bool:
     return (run_dir / _CHECKPOINT / "model.zip").is_file() or is_done(run_dir)
 
 
-def _bind_spec(spec: RunSpec, run_dir: Path) -> None:
+def budget_grows(old: RunSpec, new: RunSpec) -> bool:
+    """Whether ``new`` is ``old`` with a larger ``total_steps`` (and any vectorisation, which
+    changes no number): a run of ``old`` can be extended to ``new``."""
+    return new.total_steps > old.total_steps and dataclasses.replace(
+        old, vec_env=new.vec_env, total_steps=new.total_steps) == new
+
+
+def _bind_spec(spec: RunSpec, run_dir: Path, extend: bool) -> None:
     """Write ``run_dir/spec.json``, or check that the run already there has ``spec``.
 
-    A different spec is refused once the folder holds progress (``_holds_progress``); before
-    that, as after a start that failed, the folder is simply taken over.
+    A different spec is refused once the folder holds progress (``_holds_progress``), except,
+    with ``extend``, a larger budget (``budget_grows``): the finished run's ``done`` marker
+    is removed, then the new spec written, so that an interruption from here on leaves an
+    unfinished run that resumes from its checkpoint. Before any progress, as after a start
+    that failed, the folder is simply taken over.
     """
     path = run_dir / "spec.json"
     if path.is_file() and _holds_progress(run_dir):
         old = RunSpec.from_dict(json.loads(path.read_text()))
-        if dataclasses.replace(old, vec_env=spec.vec_env) != spec:  # the vectorisation changes no number
+        if dataclasses.replace(old, vec_env=spec.vec_env) == spec:  # the vectorisation changes no number
+            return
+        if not budget_grows(old, spec):
             raise ValueError(f"{run_dir} holds a run with a different spec ({path}); use another --out folder")
-        return
+        if not extend:
+            raise ValueError(f"{run_dir} holds a run of {old.total_steps} env steps with otherwise the same spec; "
+                             f"extend it to {spec.total_steps} (--extend) or use another --out folder")
+        (run_dir / DONE_MARKER).unlink(missing_ok=True)
     write_text_atomic(path, spec.to_json() + "\n")
 
 
@@ -277,11 +300,14 @@ def train(
     tensorboard: bool = True,
     verbose: int = 0,
     callbacks: Sequence[Any] = (),
+    extend: bool = False,
 ) -> RunResult:
     """Train (or resume, or skip if ``done``) the run ``spec`` into ``run_dir``.
 
     Raises ``ValueError`` before writing anything when ``spec`` cannot start
-    (``validate_spec``) or ``run_dir`` holds another run.
+    (``validate_spec``) or ``run_dir`` holds another run (with ``extend``, a run of the same
+    spec but a smaller ``total_steps``, finished or not, is trained on to ``spec``'s budget
+    from its latest checkpoint).
 
     Args:
         spec: the run.
@@ -290,6 +316,7 @@ def train(
         tensorboard: write TensorBoard logs under ``run_dir/tb``.
         verbose: SB3's verbosity.
         callbacks: extra SB3 callbacks (run after the evaluation/checkpoint one).
+        extend: train a shorter run already in ``run_dir`` on (see above).
 
     Returns:
         The run's metrics (also in ``run_dir/metrics.json``).
@@ -300,7 +327,7 @@ def train(
     run_dir = Path(run_dir)
     validate_spec(spec)
     run_dir.mkdir(parents=True, exist_ok=True)
-    _bind_spec(spec, run_dir)
+    _bind_spec(spec, run_dir, extend)
     if is_done(run_dir):
         return RunResult(json.loads((run_dir / "metrics.json").read_text()))
     torch.set_num_threads(spec.torch_threads)

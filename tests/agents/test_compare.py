@@ -74,6 +74,29 @@ def _spec_from(out):
     return RunSpec(variant=settings["variants"][0], seed=settings["seeds"][0], **settings["run"])
 
 
+def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tiny):
+    out = tmp_path / "cmp"
+
+    def argv(steps, *more):
+        return ["compare", "--variants", "raw", "--seeds", "1", "--steps", str(steps), "--n-envs", "2",
+                "--eval-every", "128", "--checkpoint-every", "128", "--eval-episodes", "2",
+                "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs),
+                "--workers", "1", "--out", str(out), *more]
+
+    assert main(argv(256)) == 0
+    settings = (out / "compare.json").read_text()
+    before = read_csv(out / "results.csv")
+    assert main(argv(384)) == 2 and (out / "compare.json").read_text() == settings  # refused, nothing written
+    assert main(argv(384, "--eval-episodes", "3", "--extend")) == 2  # only the budget may change
+    assert main(argv(384, "--extend")) == 0
+    rows = read_csv(out / "results.csv")
+    drop_wall = lambda table: [{k: v for k, v in r.items() if k != "wall_s"} for r in table]  # noqa: E731
+    assert drop_wall(rows[:len(before)]) == drop_wall(before) and [r["env_steps"] for r in rows] == [0, 128, 256, 384]
+    assert json.loads((out / "compare.json").read_text())["run"]["total_steps"] == 384
+    assert json.loads((out / "runs" / "raw-seed0" / "metrics.json").read_text())["resumed_from"] == 256
+    assert main(argv(256, "--extend")) == 2  # a budget never shrinks
+
+
 def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
     good = tiny(total_steps=128)
     bad = tiny(total_steps=128, seed=1).to_dict() | {"env_kwargs": {"bogus_knob": 1}}

@@ -72,6 +72,29 @@ def test_resume_continues_the_step_count(tmp_path, tiny):
     assert result.n_episodes == 2
 
 
+def test_extend_trains_a_finished_run_on_to_a_larger_budget(tmp_path, tiny):
+    spec = tiny()
+    run_dir = tmp_path / "run"
+    train(spec, run_dir)
+    before = _eval_table(run_dir)
+    longer = spec.replace(total_steps=640)
+    with pytest.raises(ValueError, match="--extend"):
+        train(longer, run_dir)
+    assert is_done(run_dir, 384) and not is_done(run_dir, 640)
+    with pytest.raises(ValueError, match="different spec"):  # only the budget may change, and only grow
+        train(longer.replace(seed=1), run_dir, extend=True)
+    with pytest.raises(ValueError, match="different spec"):
+        train(spec.replace(total_steps=256), run_dir, extend=True)
+    metrics = train(longer, run_dir, extend=True)
+    assert metrics["resumed_from"] == 384 and metrics["env_steps"] == 640 and is_done(run_dir, 640)
+    after = _eval_table(run_dir)
+    assert after[:len(before)] == before and [r["env_steps"] for r in after[len(before):]] == [512, 640]
+    assert json.loads((run_dir / "spec.json").read_text())["total_steps"] == 640
+    model, loaded_spec = load_model(run_dir)
+    assert model.num_timesteps == 640 and loaded_spec == longer
+    assert train(longer, run_dir, extend=True)["resumed_from"] == 384  # done: read, not retrained
+
+
 def test_sac_resume_keeps_the_replay_buffer(tmp_path, tiny):
     spec = tiny(algo="sac", variant="raw", total_steps=120, n_envs=1, checkpoint_every=50, eval_every=60,
                 algo_kwargs={"learning_starts": 20, "batch_size": 16, "buffer_size": 1000})
