@@ -2,7 +2,7 @@
 
 import pytest
 
-from attentive_gym.agents.report import END, START, labelled, main, merge_rows, targets
+from attentive_gym.agents.report import END, START, budgets, labelled, main, merge_rows, targets
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, write_csv_atomic
 
 
@@ -72,9 +72,33 @@ def test_render_fills_the_readme_block_and_check_detects_a_stale_one(tmp_path):
     assert main(render) == 0
     text = readme.read_text()
     assert text.startswith("# title") and text.endswith("after\n") and "\nold\n" not in text
-    assert "| focus | 3 | 200 |" in text and "gap raw → oracle closed" in text
+    assert "| focus | 3 | 200 |" in text and "gap raw → oracle closed" in text and "After 200 env steps" in text
     assert (tmp_path / "fig" / "rl_learning_curves.png").is_file()
     assert main([*render, "--check"]) == 0
+
+
+def test_runs_trained_on_count_at_every_budget_cut_to_it():
+    rows = _rows({"raw": [0.4, 0.5], "focus": [0.6]}) + _rows({"focus": [0.8]}, steps=(0, 100, 200, 300, 400))[3:]
+    (short, short_rows), (long, long_rows) = budgets(rows)
+    assert (short, long) == (200, 400)
+    assert sorted({(r["variant"], r["env_steps"]) for r in short_rows}) == sorted(
+        {(v, s) for v in ("raw", "focus") for s in (0, 100, 200)})
+    assert {r["variant"] for r in long_rows} == {"focus"} and max(r["env_steps"] for r in long_rows) == 400
+    assert len(long_rows) == 5  # the focus run's whole curve: its first 200 steps and the extension
+
+
+def test_a_comparison_adds_to_the_clutter_table_as_one_distractor_count(tmp_path, capsys):
+    results = tmp_path / "results.csv"
+    write_csv_atomic(results, _rows({"raw": [0.4, 0.5], "focus": [0.6, 0.7]}), EVAL_COLUMNS)
+    clutter = tmp_path / "clutter.csv"
+    paths = ["--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(clutter)]
+    assert main(["add", str(results), "--num-distractors", "2", *paths]) == 2  # needs --clutter
+    assert "needs --clutter" in capsys.readouterr().err and not clutter.exists()
+    assert main(["add", str(results), "--clutter", "--num-distractors", "2", *paths]) == 0
+    rows = read_csv(clutter)
+    assert len(rows) == 12 and {r["num_distractors"] for r in rows} == {2}
+    assert main(["add", str(clutter), "--clutter", "--num-distractors", "3", *paths]) == 2  # already has counts
+    assert "has one" in capsys.readouterr().err
 
 
 def test_bad_input_to_the_report_is_one_line(tmp_path, capsys):
