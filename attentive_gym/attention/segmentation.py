@@ -171,9 +171,10 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
     searching up to twice the limit keeps its parts from passing for bodies). The search
     repeats among the beams not yet taken until none qualifies. To keep it cheap,
     runs only start and end where a loose screen sees a step (the 2 beams outside at
-    least ``_EDGE_SCREEN_SIGMAS`` σ farther than the 2 inside) or at a segment's end,
-    and the depth is only computed where a cheap bound (the line between the flanks lies
-    nowhere farther than the farther flank's mean range) allows it to pass.
+    least ``_EDGE_SCREEN_SIGMAS`` σ farther than the 2 inside) or at a segment's end; the
+    flanks' centroids are computed once per start and per end; and a run's depth comes
+    first, alone: its variance, a bound from the flanks' mean ranges (``_flank_bound``) and
+    its edges are only worked out for a run deeper than ``margin_m`` that may beat the best.
 
     Args:
         ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m: the scan, as in ``measure_segments``.
@@ -227,6 +228,12 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
     next_close[n_beams + 1] = n_beams + 1
     for k in range(n_beams, -1, -1):
         next_close[k] = k if closes[k] else next_close[k + 1]
+    # the right flank of a run ending at k: the w beams from k as one point (``_group``)
+    flanks = np.empty((n_beams + 1, 4))
+    for k in range(n_beams - w + 1):
+        if closes[k]:
+            flanks[k, 0], flanks[k, 1], flanks[k, 2], flanks[k, 3] = _group(px, py, pr, k, k + w, noise_rel,
+                                                                            noise_floor_m)
     used = np.zeros(n_beams, np.bool_)
     widest = _SEARCH_EXTENT_FACTOR * max_extent_m
     for m in range(count):
@@ -244,6 +251,7 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
                     while stop < b and not used[stop]:
                         stop += 1
                 xi, yi = ranges_m[i] * cos_b[i], ranges_m[i] * sin_b[i]
+                left = _group(px, py, pr, i - w, i, noise_rel, noise_floor_m)
                 j = next_close[i + _FOREGROUND_MIN_BEAMS]
                 while j <= stop:
                     n = j - i
@@ -252,20 +260,19 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
                     if span * mean_range > widest:
                         break
                     if j + w <= n_beams and echoes[j + w] - echoes[j] == w:
-                        # cheap necessary conditions first: the line between the flanks lies nowhere
-                        # farther than the farther flank's mean range, and the run's centroid is
-                        # nearer than its mean range by less than the span allows
-                        farther = max(pr[i] - pr[i - w], pr[j + w] - pr[j]) / w
-                        sigma = max(noise_rel * mean_range, noise_floor_m)
-                        needed = best_z * sigma / math.sqrt(n) + margin_m
-                        if farther - mean_range * math.cos(0.5 * span) >= needed and \
-                                farther - math.hypot(px[j] - px[i], py[j] - py[i]) / n >= needed:
-                            depth, variance = _line_depth(px, py, pr, i - w, i, j, j + w, i, j, noise_rel,
-                                                          noise_floor_m)
-                            if variance > 0.0 and depth > margin_m:
+                        right = (flanks[j, 0], flanks[j, 1], flanks[j, 2], flanks[j, 3])
+                        run = _group(px, py, pr, i, j, noise_rel, noise_floor_m)
+                        behind, ux, uy, cross = _sight_line(left, right, run)
+                        depth = behind - run[2]
+                        if behind > 0.0 and depth > margin_m:  # the rest only here: most runs lie on the surface
+                            variance = _depth_variance(left, right, run, w, w, n, behind, ux, uy, cross)
+                            if variance > 0.0:
                                 z = (depth - margin_m) / math.sqrt(variance)
                                 last_x, last_y = ranges_m[j - 1] * cos_b[j - 1], ranges_m[j - 1] * sin_b[j - 1]
-                                if z > best_z and math.hypot(last_x - xi, last_y - yi) <= widest and \
+                                if z > best_z and \
+                                        _flank_bound(px, py, pr, i, j, w, mean_range, span, noise_rel, noise_floor_m,
+                                                     margin_m, best_z) and \
+                                        math.hypot(last_x - xi, last_y - yi) <= widest and \
                                         _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth, noise_rel,
                                                 noise_floor_m) >= edge_sigmas:
                                     best_z, best_i, best_j = z, i, j
@@ -330,38 +337,80 @@ def _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth_m, noise_rel, noise_floor
 
 
 @njit(cache=True)
+def _flank_bound(px, py, pr, i, j, w, mean_range, span, noise_rel, noise_floor_m, margin_m, best_z):
+    """Whether the run ``i <= k < j`` (``w`` beams in each flank; ``mean_range`` its mean range,
+    m; ``span`` its angular width, rad) passes the bound that ``split_foreground`` sets before
+    it may beat ``best_z`` (σ): its depth can exceed ``margin_m + best_z · σ/√n`` (σ the range
+    noise at its mean range, n its beams) only if the line between its flanks lies nowhere
+    farther than the farther flank's mean range and its centroid is nearer than its mean
+    range by less than the span allows. Exact arithmetic implies it from the depth; rounding
+    may not, so it stays, and the search finds the runs it always found, to the bit."""
+    farther = max(pr[i] - pr[i - w], pr[j + w] - pr[j]) / w
+    sigma = max(noise_rel * mean_range, noise_floor_m)
+    n = j - i
+    needed = best_z * sigma / math.sqrt(n) + margin_m
+    return farther - mean_range * math.cos(0.5 * span) >= needed and \
+        farther - math.hypot(px[j] - px[i], py[j] - py[i]) / n >= needed
+
+
+@njit(cache=True)
 def _line_depth(px, py, pr, a0, a1, b0, b1, q0, q1, noise_rel, noise_floor_m):
     """How much nearer than the line through the centroids of the beams ``[a0, a1)`` and
     ``[b0, b1)`` the centroid of the beams ``[q0, q1)`` lies, along its line of sight (m;
     prefix sums ``px, py, pr`` of the echo points and ranges), and the variance of that
-    depth (m²) from the range noise of the three groups, propagated through the geometry
-    to first order (each centroid moves along its own line of sight). Variance 0 where
-    the geometry gives no depth (the line of sight parallel to the line, or the line
-    behind the sensor)."""
-    na, nb, nq = a1 - a0, b1 - b0, q1 - q0
-    ax, ay = (px[a1] - px[a0]) / na, (py[a1] - py[a0]) / na
-    bx, by = (px[b1] - px[b0]) / nb, (py[b1] - py[b0]) / nb
-    qx, qy = (px[q1] - px[q0]) / nq, (py[q1] - py[q0]) / nq
-    distance, range_a, range_b = math.hypot(qx, qy), math.hypot(ax, ay), math.hypot(bx, by)
-    if distance <= 0.0 or range_a <= 0.0 or range_b <= 0.0:
-        return 0.0, 0.0
-    ux, uy = qx / distance, qy / distance
-    dx, dy = bx - ax, by - ay
-    cross = ux * dy - uy * dx  # the line of sight against the line
-    if abs(cross) < 1e-6 * (abs(dx) + abs(dy)):
-        return 0.0, 0.0
-    behind = (ax * dy - ay * dx) / cross  # where the line of sight meets the line (m)
+    depth (m²) from the range noise of the three groups (``_depth_variance``). Variance 0
+    where the geometry gives no depth (``_sight_line``)."""
+    a = _group(px, py, pr, a0, a1, noise_rel, noise_floor_m)
+    b = _group(px, py, pr, b0, b1, noise_rel, noise_floor_m)
+    q = _group(px, py, pr, q0, q1, noise_rel, noise_floor_m)
+    behind, ux, uy, cross = _sight_line(a, b, q)
     if behind <= 0.0:
         return 0.0, 0.0
+    return behind - q[2], _depth_variance(a, b, q, a1 - a0, b1 - b0, q1 - q0, behind, ux, uy, cross)
+
+
+@njit(cache=True)
+def _group(px, py, pr, k0, k1, noise_rel, noise_floor_m):
+    """The beams ``[k0, k1)`` as one point (prefix sums ``px, py, pr`` of the echo points and
+    ranges): the centroid ``x, y`` of their echo points (m), its range (m), and the range
+    noise σ at their mean range (m)."""
+    n = k1 - k0
+    x, y = (px[k1] - px[k0]) / n, (py[k1] - py[k0]) / n
+    return x, y, math.hypot(x, y), max(noise_rel * (pr[k1] - pr[k0]) / n, noise_floor_m)
+
+
+@njit(cache=True)
+def _sight_line(a, b, q):
+    """Where the line of sight to the point ``q`` meets the line through the points ``a`` and
+    ``b`` (each ``_group``'s ``x, y, range, σ``): its range there ``behind`` (m), the unit
+    line of sight ``ux, uy``, and its cross product with ``b − a``. ``behind`` is 0 where the
+    geometry gives none (a point at the sensor, the line of sight parallel to the line);
+    the line lies behind the sensor where it is negative."""
+    if q[2] <= 0.0 or a[2] <= 0.0 or b[2] <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    ux, uy = q[0] / q[2], q[1] / q[2]
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    cross = ux * dy - uy * dx  # the line of sight against the line
+    if abs(cross) < 1e-6 * (abs(dx) + abs(dy)):
+        return 0.0, 0.0, 0.0, 0.0
+    return (a[0] * dy - a[1] * dx) / cross, ux, uy, cross
+
+
+@njit(cache=True)
+def _depth_variance(a, b, q, na, nb, nq, behind, ux, uy, cross):
+    """The variance (m²) of ``_line_depth``'s depth of the group ``q`` (``nq`` beams) before
+    the line through the groups ``a`` and ``b`` (``na``, ``nb`` beams), given ``_sight_line``'s
+    outputs (``behind`` > 0): the range noise of the three groups, propagated through the
+    geometry to first order (each centroid moves along its own line of sight)."""
+    ax, ay, range_a, sigma_a = a
+    bx, by, range_b, sigma_b = b
+    sigma_q = q[3]
+    dx, dy = bx - ax, by - ay
     # first-order sensitivity of ``behind`` to each anchor moving along its own line of sight
     eax, eay, ebx, eby = ax / range_a, ay / range_a, bx / range_b, by / range_b
     gain_a = ((eax * dy - eay * dx) + behind * (ux * eay - uy * eax)) / cross
     gain_b = ((ax * eby - ay * ebx) - behind * (ux * eby - uy * ebx)) / cross
-    sigma_q = max(noise_rel * (pr[q1] - pr[q0]) / nq, noise_floor_m)
-    sigma_a = max(noise_rel * (pr[a1] - pr[a0]) / na, noise_floor_m)
-    sigma_b = max(noise_rel * (pr[b1] - pr[b0]) / nb, noise_floor_m)
-    variance = sigma_q * sigma_q / nq + (gain_a * sigma_a) ** 2 / na + (gain_b * sigma_b) ** 2 / nb
-    return behind - distance, variance
+    return sigma_q * sigma_q / nq + (gain_a * sigma_a) ** 2 / na + (gain_b * sigma_b) ** 2 / nb
 
 
 @njit(cache=True)
