@@ -3,6 +3,7 @@ variant) and, for a clutter sweep, final success against the number of distracto
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 from typing import Any, Mapping, Sequence
@@ -44,6 +45,10 @@ def curve_stats(rows: Sequence[Mapping[str, Any]], variant: str, metric: str) ->
     return np.array(steps), stats[:, 0], stats[:, 1], stats[:, 2]
 
 
+#: Up to this many variants, the legend sits inside the first panel; more go below the panels.
+_LEGEND_INSIDE = 4
+
+
 def plot_learning_curves(
     rows: Sequence[Mapping[str, Any]],
     path: str | os.PathLike,
@@ -70,9 +75,14 @@ def plot_learning_curves(
         ax.xaxis.set_major_formatter(FuncFormatter(steps_label))
         ax.set_ylabel(labels.get(metric, metric))
         ax.grid(alpha=0.3)
-    axes[0][0].legend(loc="best", fontsize=8)
     fig.suptitle(title or "mean over seeds, shaded: 95 % bootstrap CI", fontsize=10)
-    return _save(fig, path)
+    if len(variants) <= _LEGEND_INSIDE:
+        axes[0][0].legend(loc="best", fontsize=8)
+        return _save(fig, path)
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=min(len(variants), 4), fontsize=8,
+               frameon=False)
+    fig.tight_layout(rect=(0, 0.06 * math.ceil(len(variants) / 4), 1, 1))  # the legend's rows below the panels
+    return _save(fig, path, layout=False)
 
 
 def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str | os.PathLike) -> Path:
@@ -111,11 +121,13 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path: str | os.PathLike) -> Path:
-    """Save ``fig`` as a PNG atomically (temp file + rename) and close it."""
+def _save(fig, path: str | os.PathLike, layout: bool = True) -> Path:
+    """Save ``fig`` as a PNG atomically (temp file + rename) and close it; ``layout``: tighten
+    its layout first (False where the caller has laid it out)."""
     import matplotlib.pyplot as plt
 
-    fig.tight_layout()
+    if layout:
+        fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp.png")

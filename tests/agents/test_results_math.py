@@ -164,3 +164,21 @@ def test_distractor_counts_are_parsed_strictly(text, ok):
             parse_distractors(text)
     else:
         assert parse_distractors(text) == ok
+
+
+def test_a_crowded_learning_curve_legend_sits_below_the_panels(tmp_path, monkeypatch):
+    from attentive_gym.agents import plots
+
+    figures = []
+    monkeypatch.setattr(plots, "_save", lambda fig, path, layout=True: figures.append(fig) or path)
+    rows = [{"variant": f"v{k}", "seed": seed, "env_steps": step, "success_rate": 0.5, "mean_return": 1.0}
+            for k in range(6) for seed in (0, 1) for step in (0, 100)]
+    plots.plot_learning_curves(rows[:2 * 2 * 2], tmp_path / "few.png")
+    plots.plot_learning_curves(rows, tmp_path / "many.png")
+    few, many = figures
+    assert few.axes[0].get_legend() is not None and not few.legends
+    (legend,) = many.legends
+    many.canvas.draw()
+    renderer = many.canvas.get_renderer()  # below the panels' tick labels and axis titles too
+    assert len(legend.get_texts()) == 6
+    assert legend.get_window_extent().y1 < min(ax.get_tightbbox(renderer).y0 for ax in many.axes)
