@@ -58,7 +58,7 @@ def test_targets_compare_within_one_algorithm_and_scaling():
 
 def test_render_fills_the_readme_block_and_check_detects_a_stale_one(tmp_path):
     results = tmp_path / "results.csv"
-    write_csv_atomic(results, _rows({"raw": [0.4, 0.5, 0.45], "focus": [0.5, 0.6, 0.55], "oracle": [0.9, 0.8, 0.85]}),
+    write_csv_atomic(results, _rows({"oracle": [0.9, 0.8, 0.85], "focus": [0.5, 0.6, 0.55], "raw": [0.4, 0.5, 0.45]}),
                      EVAL_COLUMNS)
     comparison = tmp_path / "rl.csv"
     readme = tmp_path / "README.md"
@@ -73,6 +73,7 @@ def test_render_fills_the_readme_block_and_check_detects_a_stale_one(tmp_path):
     text = readme.read_text()
     assert text.startswith("# title") and text.endswith("after\n") and "\nold\n" not in text
     assert "| focus | 3 | 200 |" in text and "gap raw → oracle closed" in text and "After 200 env steps" in text
+    assert text.index("| raw |") < text.index("| focus |") < text.index("| oracle |")  # baseline, attended, bound
     assert (tmp_path / "fig" / "rl_learning_curves.png").is_file()
     assert main([*render, "--check"]) == 0
 
