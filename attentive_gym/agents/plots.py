@@ -45,8 +45,10 @@ def curve_stats(rows: Sequence[Mapping[str, Any]], variant: str, metric: str) ->
     return np.array(steps), stats[:, 0], stats[:, 1], stats[:, 2]
 
 
-#: Up to this many variants, the legend sits inside the first panel; more go below the panels.
+#: Up to this many variants, the legend sits inside the first panel; more go below the
+#: panels, in rows of ``_LEGEND_COLUMNS`` entries.
 _LEGEND_INSIDE = 4
+_LEGEND_COLUMNS = 4
 
 
 def plot_learning_curves(
@@ -79,9 +81,10 @@ def plot_learning_curves(
     if len(variants) <= _LEGEND_INSIDE:
         axes[0][0].legend(loc="best", fontsize=8)
         return _save(fig, path)
-    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=min(len(variants), 4), fontsize=8,
-               frameon=False)
-    fig.tight_layout(rect=(0, 0.06 * math.ceil(len(variants) / 4), 1, 1))  # the legend's rows below the panels
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=min(len(variants), _LEGEND_COLUMNS),
+               fontsize=8, frameon=False)
+    rows = math.ceil(len(variants) / _LEGEND_COLUMNS)
+    fig.tight_layout(rect=(0, 0.06 * rows, 1, 1))  # room for the legend's rows below the panels
     return _save(fig, path, layout=False)
 
 
