@@ -14,6 +14,12 @@ string entry points: ``attentive_gym.registration``), so
 ``import attentive_gym.attention`` loads neither pymunk, pygame nor torch.
 """
 
+from pathlib import Path as _Path
+
+from attentive_gym._kernel_cache import discard_stale_kernels as _discard_stale_kernels
+
+_discard_stale_kernels(_Path(__file__).parent)  # before any compiled kernel loads from the cache
+
 try:  # the attention library must stay usable without gymnasium installed
     import gymnasium as _gymnasium
 except ImportError:  # pragma: no cover - exercised by tests/attention/test_standalone.py

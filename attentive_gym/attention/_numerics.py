@@ -13,10 +13,10 @@ replace, so every reduction here follows the order of the routine numpy uses:
 - ``fma``: a fused multiply-add (one rounding), as the BLAS kernels use.
 
 Everything is non-recursive: numba's on-disk cache does not reload recursive functions
-reliably. Note that the cache (``cache=True``, in ``__pycache__``) keys a compiled function
-on its own source file only: a kernel elsewhere that calls a function of this module keeps
-its cached copy after this file changes. After editing a kernel's callee in another file,
-delete ``attentive_gym/attention/__pycache__/*.nbi`` and ``*.nbc``.
+reliably. The cache (``cache=True``, in ``__pycache__``) keys a compiled function on its own
+source file only, so a kernel elsewhere that calls a function of this module would keep its
+cached copy after this file changes; ``attentive_gym._kernel_cache`` discards the package's
+cached kernels at import whenever any of its source changed.
 """
 
 from __future__ import annotations
