@@ -6,10 +6,13 @@ another module keeps its cached copy, with the old callee compiled into it, afte
 other module changes. An editable install that pulls new code would then run old and new
 code mixed, silently.
 
-``discard_stale_kernels`` guards against that: it fingerprints every Python source of the
-package (their contents) and, when the fingerprint differs from the one stored beside the
-cache, deletes the package's cached kernels, so numba compiles them afresh from the
-current source. The package calls it once, at import, before any kernel runs.
+``discard_stale_kernels`` guards against that: it fingerprints the contents of the modules
+a kernel can depend on (``kernel_sources``: every module that defines a kernel, and every
+package module those import, transitively, since numba freezes the globals a kernel reads)
+and, when the fingerprint differs from the one stored beside the cache, deletes the
+package's cached kernels, so numba compiles them afresh from the current source. Edits
+elsewhere (the agents, the CLI) keep the cache. The package calls it once, at import,
+before any kernel runs.
 
 Only the caches inside the package are checked (numba writes there whenever the package
 folder is writable, as in an editable install); a cache that numba had to put elsewhere
@@ -20,10 +23,11 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import tempfile
 from pathlib import Path
 
-__all__ = ["source_fingerprint", "discard_stale_kernels", "FINGERPRINT_FILE"]
+__all__ = ["kernel_sources", "source_fingerprint", "discard_stale_kernels", "FINGERPRINT_FILE"]
 
 #: The file, in the package's top ``__pycache__``, that holds the fingerprint of the
 #: source the cached kernels were compiled from.
@@ -31,10 +35,50 @@ FINGERPRINT_FILE = "kernels.fingerprint"
 _KERNEL_SUFFIXES = (".nbi", ".nbc")
 
 
+#: A line that decorates a function as a compiled kernel (or a numba extension).
+_KERNEL_DECORATOR = re.compile(r"^\s*@(?:numba\.)?(?:njit|jit|intrinsic|overload|vectorize|guvectorize)\b", re.M)
+#: A module's absolute imports from its own package (``from pkg.x import y``, ``import pkg.x``).
+_IMPORT = re.compile(r"^[ \t]*(?:from[ \t]+([\w.]+)[ \t]+import[ \t]+(\([^)]*\)|[^\n]*)|import[ \t]+([\w.]+))", re.M)
+
+
+def kernel_sources(package_dir: Path) -> list[Path]:
+    """The ``*.py`` files under ``package_dir`` that a compiled kernel can depend on: those
+    that define one, and the package modules they import, transitively (sorted)."""
+    package = package_dir.name
+    texts = {path: path.read_text(encoding="utf-8") for path in package_dir.rglob("*.py")}
+    modules = {}
+    for path in texts:
+        parts = path.relative_to(package_dir).with_suffix("").parts
+        parts = parts[:-1] if parts[-1] == "__init__" else parts
+        modules[".".join((package, *parts))] = path
+    pending = [path for path, text in texts.items() if _KERNEL_DECORATOR.search(text)]
+    closure: set[Path] = set()
+    while pending:
+        path = pending.pop()
+        if path in closure:
+            continue
+        closure.add(path)
+        for source, names, plain in _IMPORT.findall(texts[path]):
+            if plain:
+                pending.extend(modules[m] for m in _prefixes(plain) if m in modules)
+                continue
+            pending.extend(modules[m] for m in _prefixes(source) if m in modules)
+            for name in re.findall(r"\w+", names):  # a name imported from a package may be a module
+                if f"{source}.{name}" in modules:
+                    pending.append(modules[f"{source}.{name}"])
+    return sorted(closure)
+
+
+def _prefixes(dotted: str) -> list[str]:
+    """``a.b.c`` → ``[a, a.b, a.b.c]``: importing a module runs its packages' ``__init__``."""
+    parts = dotted.split(".")
+    return [".".join(parts[: i + 1]) for i in range(len(parts))]
+
+
 def source_fingerprint(package_dir: Path) -> str:
-    """A hex digest of the paths and contents of every ``*.py`` file under ``package_dir``."""
+    """A hex digest of the paths and contents of ``kernel_sources(package_dir)``."""
     digest = hashlib.sha256()
-    for path in sorted(package_dir.rglob("*.py")):
+    for path in kernel_sources(package_dir):
         digest.update(path.relative_to(package_dir).as_posix().encode())
         digest.update(b"\0")
         digest.update(path.read_bytes())

@@ -8,7 +8,9 @@ import textwrap
 from pathlib import Path
 
 import attentive_gym
-from attentive_gym._kernel_cache import FINGERPRINT_FILE, discard_stale_kernels, source_fingerprint
+from attentive_gym._kernel_cache import FINGERPRINT_FILE, discard_stale_kernels, kernel_sources, source_fingerprint
+
+_KERNEL = "from numba import njit\nfrom pkg.constants import X\n\n@njit(cache=True)\ndef f():\n    return X\n"
 
 
 def _package(root: Path) -> Path:
@@ -17,7 +19,9 @@ def _package(root: Path) -> Path:
     (package / "__pycache__").mkdir()
     (package / "__init__.py").write_text("")
     (package / "sub" / "__init__.py").write_text("")
-    (package / "sub" / "kernels.py").write_text("X = 1\n")
+    (package / "sub" / "kernels.py").write_text(_KERNEL)
+    (package / "constants.py").write_text("X = 1\n")
+    (package / "cli.py").write_text("from pkg.sub import kernels\n")
     return package
 
 
@@ -41,15 +45,25 @@ def test_kernels_are_kept_while_the_source_is_unchanged_and_discarded_when_it_ch
     assert discard_stale_kernels(package) == 0
     assert len(_kernel_files(package)) == 2
 
-    (package / "sub" / "kernels.py").write_text("X = 2\n")  # a callee changes
+    (package / "cli.py").write_text("from pkg.sub import kernels  # no kernel depends on this module\n")
+    assert discard_stale_kernels(package) == 0
+    assert len(_kernel_files(package)) == 2
+
+    (package / "constants.py").write_text("X = 2\n")  # a global a kernel reads changes
     assert discard_stale_kernels(package) == 2
     assert _kernel_files(package) == []
+
+
+def test_kernel_sources_are_the_kernel_modules_and_what_they_import(tmp_path):
+    package = _package(tmp_path)
+    names = [p.relative_to(package).as_posix() for p in kernel_sources(package)]
+    assert names == ["__init__.py", "constants.py", "sub/kernels.py"]  # not cli.py: no kernel imports it
 
 
 def test_the_fingerprint_follows_contents_and_paths_only(tmp_path):
     package = _package(tmp_path)
     before = source_fingerprint(package)
-    (package / "sub" / "kernels.py").write_text("X = 1\n")  # rewritten, same content: a new mtime
+    (package / "sub" / "kernels.py").write_text(_KERNEL)  # rewritten, same content: a new mtime
     assert source_fingerprint(package) == before
     (package / "sub" / "kernels.py").rename(package / "sub" / "other.py")
     assert source_fingerprint(package) != before
