@@ -1,8 +1,9 @@
 """Perception benchmark: does the attentional model see motion and attend to the goal's target?
 
 Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [--episodes 24]
-[--seconds 20] [--control-episodes 40] [--sections speed,focus,control,cost] [--csv PATH]``
-(about 2 minutes on 2 quiet cores with the defaults).
+[--seconds 20] [--control-episodes 40] [--sections speed,focus,control,cost,clutter] [--csv PATH]``
+(about 2 minutes on 2 quiet cores for the first four sections, which are the default;
+``clutter`` adds about 5 minutes).
 
 For each kinematics mode (``AttentionConfig(kinematics=...)``, docs/model.md §3 and §10), the
 robot still or driving (a scripted wander, ``Wander``), and each sensor noise setting
@@ -27,6 +28,10 @@ markdown tables of:
 4. ``cost``: µs per ``AttentionModel.step`` on readings recorded from a driving episode at
    5 % noise, beside a raw ``AttentiveRescue-v0`` step with random actions, measured in
    alternating rounds of the same run (medians).
+5. ``clutter`` (only when asked for): in the RL comparison's arena (8 m, 3 rubble pieces
+   per 100 m², 5 % noise) with 1, 2, 3 and 5 distractors, the focus on target of the
+   driving robot and the success of the memory, true-bearing and random controllers: how
+   perception and the attended observation hold up as bodies are added.
 
 Every random draw is seeded: the same command prints the same numbers (the timings aside).
 A configuration the installed package does not accept yet (an unknown env keyword) is
@@ -57,7 +62,8 @@ from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
 
 MODES = ("tracker", "window", "literal")
-SECTIONS = ("speed", "focus", "control", "cost")
+SECTIONS = ("speed", "focus", "control", "cost", "clutter")
+DEFAULT_SECTIONS = ("speed", "focus", "control", "cost")
 ROBOT_MODES = ("still", "driving")
 
 # The attended variant the benchmark runs. The model and ``info["attention"]`` are the same
@@ -94,6 +100,9 @@ COST_NOISE = "gauss 0.05"
 
 PERCEPTION_ARENA = {"arena_size_m": 10.0, "num_distractors": 3}
 CONTROL_ARENA = {"arena_size_m": 8.0, "num_distractors": 2}
+CLUTTER_ARENA = {"arena_size_m": 8.0, "rubble_per_100m2": 3.0}  # the RL comparison's (README, "The measured answer")
+CLUTTER_DISTRACTORS = (1, 2, 3, 5)
+CLUTTER_NOISE = "gauss 0.05"
 
 # --- what counts as a (mover, step) pair -------------------------------------------------
 VIEW_RANGE_M = 5.0  # movers farther than this (centre to centre) are out of view
@@ -569,7 +578,8 @@ def _case_key(case: str) -> str:
 # ===================================================================== sections
 @dataclass
 class Results:
-    """Every figure of the run as tidy rows: section, mode, robot, noise, goal, metric, value."""
+    """Every figure of the run as tidy rows: section, mode, robot, noise, goal, metric, value
+    (and distractors, in the clutter section)."""
 
     rows: list[dict[str, Any]] = field(default_factory=list)
 
@@ -715,6 +725,41 @@ def control_success(env, make_policy: Callable[[Any, int], Policy], seeds: Itera
     return successes / len(seeds)
 
 
+def print_clutter(results: Results, modes, episodes: int, seconds: float, control_episodes: int) -> None:
+    """Section 5: focus on target (robot driving) and controller success per distractor count."""
+    goals = tuple(arena.DEFAULT_TASK_GOALS)
+    noise = _noise(CLUTTER_NOISE)
+    seeds = range(control_episodes)
+    rows = []
+    for distractors in CLUTTER_DISTRACTORS:
+        world = {**CLUTTER_ARENA, "num_distractors": distractors}
+        raw = make_raw_env(noise, **world)
+        oracle = control_success(raw, lambda env, seed: true_bearing_controller, seeds)
+        random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
+        for mode in modes:
+            env = make_attentive_env(mode, noise, **world)
+            records = [record_episode(env, seed, goals[seed % len(goals)], Wander(seed), seconds)
+                       for seed in range(episodes)]
+            per_goal = [(rate * n, n) for rate, n in focus_on_target(records).values() if n]  # both goals together
+            on, steps = sum(on for on, _ in per_goal), sum(n for _, n in per_goal)
+            focus = on / steps if steps else math.nan
+            memory = control_success(make_attentive_env(mode, noise, "focus", **world),
+                                     lambda env, seed: memory_controller, seeds)
+            memory_ratio = memory / oracle if oracle else math.nan
+            results.add("clutter", {"mode": mode, "robot": "driving", "noise": noise.name, "distractors": distractors},
+                        {"focus_on_target": focus, "target_in_view_steps": int(steps)})
+            results.add("clutter", {"mode": mode, "robot": "controller", "noise": noise.name,
+                                    "distractors": distractors},
+                        {"success_memory": memory, "success_true_bearing": oracle, "success_random": random,
+                         "memory_over_true_bearing": memory_ratio})
+            rows.append([str(distractors), mode, f"{_fmt(focus)} ({int(steps)})", _fmt(memory, 2), _fmt(oracle, 2),
+                         _fmt(random, 2), _fmt(memory_ratio, 2)])
+    print(f"\n### Clutter (8 m arena, 3 rubble pieces per 100 m², {noise.name} noise; focus on target: "
+          f"{episodes} episodes × {seconds:g} s, robot driving, both goals; controllers: {control_episodes} episodes)\n")
+    print(markdown_table(["distractors", "mode", "focus on target (steps)", "memory controller", "true bearing",
+                          "random", "memory / true bearing"], rows))
+
+
 def print_control(results: Results, modes, episodes: int) -> None:
     """Section 4: success of the focus and memory controllers, the true-bearing oracle and
     random actions."""
@@ -821,11 +866,11 @@ def print_cost(results: Results, modes, rounds: int) -> None:
 def write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
     """Write the tidy ``rows`` to ``path`` atomically (a temporary file, then ``os.replace``)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    fields = ["section", "mode", "robot", "noise", "goal", "metric", "value"]
+    fields = ["section", "mode", "robot", "noise", "goal", "metric", "value", "distractors"]
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(handle, "w", newline="") as file:
-            writer = csv.DictWriter(file, fieldnames=fields)
+            writer = csv.DictWriter(file, fieldnames=fields, restval="")
             writer.writeheader()
             writer.writerows(rows)
         os.replace(temporary, path)
@@ -850,7 +895,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seconds", type=float, default=20.0, help="length of those episodes (s)")
     parser.add_argument("--control-episodes", type=int, default=40, help="episodes per controller (seeds 0..N-1)")
     parser.add_argument("--rounds", type=int, default=5, help="timing rounds of the cost section")
-    parser.add_argument("--sections", type=lambda s: _choices(s, SECTIONS), default=list(SECTIONS))
+    parser.add_argument("--sections", type=lambda s: _choices(s, SECTIONS), default=list(DEFAULT_SECTIONS),
+                        help=f"comma-separated, of {', '.join(SECTIONS)} (default: {','.join(DEFAULT_SECTIONS)})")
     parser.add_argument("--csv", type=Path, default=None, help="also write the figures as a tidy CSV")
     args = parser.parse_args(argv)
     start = time.perf_counter()
@@ -861,6 +907,8 @@ def main(argv: list[str] | None = None) -> None:
         print_control(results, args.modes, args.control_episodes)
     if "cost" in args.sections:
         print_cost(results, args.modes, args.rounds)
+    if "clutter" in args.sections:
+        print_clutter(results, args.modes, args.episodes, args.seconds, args.control_episodes)
     if args.csv is not None:
         write_csv(args.csv, results.rows)
         print(f"\nwrote {len(results.rows)} rows to {args.csv}")

@@ -124,7 +124,7 @@ def test_controllers_and_csv(tmp_path):
     path = tmp_path / "out" / "figures.csv"
     bench.write_csv(path, [{"section": "speed", "mode": "window", "robot": "still", "noise": "gauss 0", "goal": "",
                             "metric": "region_median_mps", "value": 0.5}])
-    assert path.read_text().splitlines()[1] == "speed,window,still,gauss 0,,region_median_mps,0.5"
+    assert path.read_text().splitlines()[1] == "speed,window,still,gauss 0,,region_median_mps,0.5,"
     assert [p.name for p in path.parent.iterdir()] == ["figures.csv"]
 
 
@@ -197,3 +197,37 @@ def test_focus_after_turns_splits_the_steps_at_the_target_s_turns():
                                  np.zeros((steps, 8), bool))
     rates = bench.focus_after_turns([record])
     assert rates == {"focus_on_target_after_turn": 0.0, "focus_on_target_otherwise": 1.0}
+
+
+def test_clutter_section_reports_each_distractor_count(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(bench, "CLUTTER_ARENA", {**bench.CLUTTER_ARENA, "time_limit_s": 1.0})
+    monkeypatch.setattr(bench, "CLUTTER_DISTRACTORS", (1, 3))
+    built = []  # the distractor count of every env the section makes
+
+    def spy(make):
+        def wrapped(*args, **kwargs):
+            env = make(*args, **kwargs)
+            built.append(env.unwrapped.arena.num_distractors)
+            return env
+        return wrapped
+
+    monkeypatch.setattr(bench, "make_raw_env", spy(bench.make_raw_env))
+    monkeypatch.setattr(bench, "make_attentive_env", spy(bench.make_attentive_env))
+    results = bench.Results()
+    bench.print_clutter(results, ["tracker"], episodes=1, seconds=1.0, control_episodes=1)
+    assert built == [1, 1, 1, 3, 3, 3]  # raw, attended, focus per count
+    by_count = {}
+    for row in results.rows:
+        assert row["section"] == "clutter" and row["noise"] == bench.CLUTTER_NOISE
+        by_count.setdefault(row["distractors"], {})[row["metric"]] = row["value"]
+    assert sorted(by_count) == [1, 3]
+    for metrics in by_count.values():
+        for name in ("success_memory", "success_true_bearing", "success_random"):
+            assert metrics[name] in (0.0, 1.0)  # one episode each
+        assert metrics["target_in_view_steps"] >= 0
+        assert math.isnan(metrics["focus_on_target"]) or 0.0 <= metrics["focus_on_target"] <= 1.0
+    table = capsys.readouterr().out
+    assert "| 1 | tracker |" in table and "| 3 | tracker |" in table
+    path = tmp_path / "clutter.csv"
+    bench.write_csv(path, results.rows)
+    assert path.read_text().splitlines()[1].endswith(",1")  # the distractor count, last column
