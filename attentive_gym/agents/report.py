@@ -159,6 +159,46 @@ def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[s
     return "\n".join(lines) + "\n"
 
 
+def clutter_targets(summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """For every attended variant of a clutter sweep's ``summary`` and every distractor count,
+    its margin over ``raw`` of the same algorithm and scaling (final success minus raw's) and
+    the gap between raw and ``oracle`` it closes (NaN where raw or the oracle is missing,
+    or the oracle is not above raw), in ``summary``'s order."""
+    cell = {(row["variant"], row["num_distractors"]): row for row in summary}
+    out = []
+    for row in summary:
+        if row["variant"].split(" (")[0] in _NOT_ATTENDED:
+            continue
+        n, setting = row["num_distractors"], _setting(row["variant"])
+        raw, oracle = cell.get((BASELINE + setting, n)), cell.get((ORACLE + setting, n))
+        margin = gap = math.nan
+        if raw is not None:
+            margin = row["final_success_mean"] - raw["final_success_mean"]
+            if oracle is not None and oracle["final_success_mean"] > raw["final_success_mean"]:
+                gap = margin / (oracle["final_success_mean"] - raw["final_success_mean"])
+        out.append({"variant": row["variant"], "num_distractors": n, "margin": margin, "gap_closed": gap})
+    return out
+
+
+def _clutter_targets_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
+    """A row per attended variant, a column per count: "margin over raw (gap closed)"."""
+    counts = sorted({row["num_distractors"] for row in rows})
+    cell = {(row["variant"], row["num_distractors"]): row for row in rows}
+    lines = ["| attended variant | " + " | ".join(f"{n} distractor{'s' * (n != 1)}" for n in counts) + " |",
+             "|---|" + "---|" * len(counts)]
+    for variant in dict.fromkeys(row["variant"] for row in rows):
+        values = []
+        for n in counts:
+            row = cell.get((variant, n))
+            if row is None or math.isnan(row["margin"]):
+                values.append("—")
+            else:
+                gap = "" if math.isnan(row["gap_closed"]) else f" ({row['gap_closed']:.2f})"
+                values.append(f"{row['margin']:+.2f}{gap}")
+        lines.append(f"| {variant} | " + " | ".join(values) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapping[str, Any]], figures: Path,
                  sources: Sequence[Path], readme_dir: Path = Path("."), write_figures: bool = True) -> str:
     """The README block (markdown) of the results read from ``sources``, with paths relative
@@ -181,6 +221,9 @@ def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapp
         variants = list(dict.fromkeys(row["variant"] for row in clutter_rows))
         parts += ["Final success against clutter (mean [95 % bootstrap CI]):", "",
                   _clutter_markdown(clutter_summary, variants),
+                  "Final success over raw's at each count, and in brackets the gap raw → oracle it closes "
+                  "(where the oracle was run at that count):", "",
+                  _clutter_targets_markdown(clutter_targets(clutter_summary)),
                   f"![final success against distractors]({(link / 'rl_clutter.png').as_posix()})", ""]
         if write_figures:
             plot_success_vs_distractors(clutter_summary, figures / "rl_clutter.png")

@@ -2,7 +2,8 @@
 
 import pytest
 
-from attentive_gym.agents.report import END, START, budgets, labelled, main, merge_rows, targets
+from attentive_gym.agents.report import END, START, budgets, clutter_targets, labelled, main, merge_rows, targets
+from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, write_csv_atomic
 
 
@@ -124,3 +125,20 @@ def test_the_readme_block_is_what_the_committed_csvs_give():
             "--clutter-csv", str(root / "docs/results/rl_clutter.csv"), "--readme", str(root / "README.md"),
             "--figures", str(root / "docs/figures")]
     assert main(args) == 0
+
+
+def test_clutter_targets_give_the_margin_and_gap_per_count_within_one_setting():
+    rows = []
+    for n, levels in ((1, {"raw": [0.4, 0.4], "oracle": [0.9, 0.9], "focus": [0.8, 0.8]}),
+                      (3, {"raw": [0.5, 0.5], "focus": [0.6, 0.6]}),  # no oracle at 3
+                      (5, {"raw": [0.5, 0.5], "oracle": [0.5, 0.5], "focus": [0.4, 0.4]})):  # oracle not above raw
+        rows += [{"algo": "ppo", "obs_scaling": "running", "num_distractors": n, **r} for r in _rows(levels)]
+    rows += [{"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r}
+             for r in _rows({"raw": [0.2, 0.2], "oracle": [0.6, 0.6], "focus": [0.3, 0.3]})]
+    found = {(r["variant"], r["num_distractors"]): r for r in clutter_targets(sweep_tables(labelled(rows)))}
+    assert found.keys() == {("focus", 1), ("focus", 3), ("focus", 5), ("focus (unscaled)", 1)}
+    assert found["focus", 1]["margin"] == pytest.approx(0.4)
+    assert found["focus", 1]["gap_closed"] == pytest.approx(0.4 / 0.5)
+    assert found["focus", 3]["margin"] == pytest.approx(0.1) and found["focus", 3]["gap_closed"] != found["focus", 3]["gap_closed"]
+    assert found["focus", 5]["margin"] == pytest.approx(-0.1) and found["focus", 5]["gap_closed"] != found["focus", 5]["gap_closed"]
+    assert found["focus (unscaled)", 1]["gap_closed"] == pytest.approx(0.1 / 0.4)  # against the unscaled raw and oracle
