@@ -25,9 +25,9 @@ markdown tables of:
    (``memory_controller``: it reads nothing but the observation a policy gets), of the
    same controller steered by the true target bearing (a privileged oracle) and of random
    actions.
-4. ``cost``: µs per ``AttentionModel.step`` on readings recorded from a driving episode at
-   5 % noise, beside a raw ``AttentiveRescue-v0`` step with random actions, measured in
-   alternating rounds of the same run (medians).
+4. ``cost``: µs per ``AttentionModel.step`` (and of it, the tracker's step) on readings
+   recorded from a driving episode at 5 % noise, beside a raw ``AttentiveRescue-v0`` step
+   with random actions, measured in alternating rounds of the same run (medians).
 5. ``clutter`` (only when asked for): in the RL comparison's arena (8 m, 3 rubble pieces
    per 100 m², 5 % noise) with 1, 2, 3 and 5 distractors, the focus on target of the
    driving robot and the success of the memory, true-bearing and random controllers: how
@@ -812,13 +812,31 @@ def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:
     return readings, env.goal
 
 
-def time_model_us(model: AttentionModel, readings: list[tuple]) -> float:
-    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first)."""
+def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, float]:
+    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first), and the
+    part of it spent in the tracker's step (0 without a tracker)."""
     model.reset()
-    start = time.perf_counter()
-    for t, sonar, laser, odometry in readings:
-        model.step(t, sonar, laser, odometry)
-    return (time.perf_counter() - start) / len(readings) * 1e6
+    tracker = model._tracker  # timed from outside: the benchmark wraps its step for this run only
+    inside = [0.0]
+    if tracker is not None:
+        tracker_step = tracker.step
+
+        def timed_step(*args, **kwargs):
+            begin = time.perf_counter()
+            result = tracker_step(*args, **kwargs)
+            inside[0] += time.perf_counter() - begin
+            return result
+
+        tracker.step = timed_step
+    try:
+        start = time.perf_counter()
+        for t, sonar, laser, odometry in readings:
+            model.step(t, sonar, laser, odometry)
+        elapsed = time.perf_counter() - start
+    finally:
+        if tracker is not None:
+            del tracker.step  # back to the class's method
+    return elapsed / len(readings) * 1e6, inside[0] / len(readings) * 1e6
 
 
 def time_env_us(env, actions: list[np.ndarray]) -> float:
@@ -844,9 +862,11 @@ def print_cost(results: Results, modes, rounds: int) -> None:
     env = make_raw_env(_noise(COST_NOISE), **PERCEPTION_ARENA)
     env.action_space.seed(0)
     actions = [env.action_space.sample() for _ in readings]
-    times: dict[str, list[float]] = {name: [] for name in (*modes, "env")}
+    times: dict[str, list[float]] = {name: [] for name in (*modes, *(f"{m} tracker" for m in modes), "env")}
     for round_index in range(rounds + 1):  # round 0 warms up (numba compiles) and is dropped
-        figures = {mode: time_model_us(model, readings) for mode, model in models.items()}
+        figures = {}
+        for mode, model in models.items():
+            figures[mode], figures[f"{mode} tracker"] = time_model_us(model, readings)
         figures["env"] = time_env_us(env, actions)
         if round_index:
             for name, value in figures.items():
@@ -855,12 +875,19 @@ def print_cost(results: Results, modes, rounds: int) -> None:
     rows = []
     for mode in modes:
         model_us = statistics.median(times[mode])
-        results.add("cost", {"mode": mode, "robot": "driving", "noise": COST_NOISE},
-                    {"model_step_us": model_us, "env_step_us": env_us, "model_over_env": model_us / env_us})
-        rows.append([mode, f"{model_us:.1f}", f"{env_us:.1f}", f"{model_us / env_us:.2f}"])
+        metrics = {"model_step_us": model_us, "env_step_us": env_us, "model_over_env": model_us / env_us}
+        tracker_cells = ["—", "—"]
+        if models[mode]._tracker is not None:
+            tracker_us = statistics.median(times[f"{mode} tracker"])
+            metrics.update(tracker_step_us=tracker_us, tracker_over_env=tracker_us / env_us)
+            tracker_cells = [f"{tracker_us:.1f}", f"{tracker_us / env_us:.2f}"]
+        results.add("cost", {"mode": mode, "robot": "driving", "noise": COST_NOISE}, metrics)
+        rows.append([mode, f"{model_us:.1f}", tracker_cells[0], f"{env_us:.1f}", f"{model_us / env_us:.2f}",
+                     tracker_cells[1]])
     print(f"\n### Model step cost (readings of a {len(readings)}-step driving episode at 5 % noise; "
           f"medians of {rounds} alternating rounds)\n")
-    print(markdown_table(["mode", "model step µs", "raw env step µs", "model / env step"], rows))
+    print(markdown_table(["mode", "model step µs", "of which the tracker µs", "raw env step µs", "model / env step",
+                          "tracker / env step"], rows))
 
 
 def write_csv(path: Path, rows: list[dict[str, Any]]) -> None:

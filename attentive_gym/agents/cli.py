@@ -258,8 +258,8 @@ def _run_compare(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / ("compare-quick" if args.quick else "compare")
     if args.distractors:
         return _run_sweep(args, variants, seeds, base, out)
-    print(f"compare: {len(variants)} variants × {len(seeds)} seeds × {base.total_steps} env steps "
-          f"({args.backend}, {args.workers} workers) → {out}", flush=True)
+    print(f"compare: {_count(len(variants), 'variant')} × {_count(len(seeds), 'seed')} × {base.total_steps} env steps "
+          f"({args.backend}, {_count(args.workers, 'worker')}) → {out}", flush=True)
     result = compare(variants, seeds, base, out, backend=args.backend, workers=args.workers, threshold=args.threshold,
                      extend=args.extend, log=lambda line: print(line, flush=True))
     if result.summary_md is not None:
@@ -271,6 +271,11 @@ def _run_compare(args: argparse.Namespace) -> int:
     return 0
 
 
+def _count(n: int, noun: str) -> str:
+    """``n`` and ``noun``, in the plural unless ``n`` is 1: "1 seed", "3 seeds"."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def _run_sweep(args: argparse.Namespace, variants, seeds, base, out: Path) -> int:
     """``compare --distractors``: the comparison at each distractor count."""
     from attentive_gym.agents.sweep import clutter_sweep, parse_distractors
@@ -278,8 +283,9 @@ def _run_sweep(args: argparse.Namespace, variants, seeds, base, out: Path) -> in
     counts = parse_distractors(args.distractors)
     if "num_distractors" in base.env_kwargs and args.env_kwargs:
         raise ValueError("--distractors sets num_distractors; leave it out of --env-kwargs")
-    print(f"compare: clutter sweep over {len(counts)} distractor counts × {len(variants)} variants × {len(seeds)} seeds "
-          f"× {base.total_steps} env steps ({args.backend}, {args.workers} workers) → {out}", flush=True)
+    print(f"compare: clutter sweep over {_count(len(counts), 'distractor count')} × {_count(len(variants), 'variant')} "
+          f"× {_count(len(seeds), 'seed')} × {base.total_steps} env steps ({args.backend}, "
+          f"{_count(args.workers, 'worker')}) → {out}", flush=True)
     result = clutter_sweep(variants, seeds, base, counts, out, backend=args.backend, workers=args.workers,
                            threshold=args.threshold, extend=args.extend, log=lambda line: print(line, flush=True))
     if result.summary_csv is not None:
