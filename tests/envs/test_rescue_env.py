@@ -165,6 +165,7 @@ def test_out_of_range_actions_are_clipped():
         ({"speed": 2}, TypeError, "allowed: \\['scenario'"),
     ],
 )
+@pytest.mark.filterwarnings("ignore:.*render_mode='ascii'.*:UserWarning")  # gymnasium's own warning, before ours
 def test_bad_keywords_raise_errors_listing_what_is_allowed(kwargs, error, message):
     with pytest.raises(error, match=message):
         gym.make("AttentiveRescue-v0", **kwargs)
