@@ -76,16 +76,16 @@ def labelled(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-def budgets(rows: Sequence[Mapping[str, Any]]) -> list[tuple[int, list[Mapping[str, Any]]]]:
+def budgets(rows: Sequence[Mapping[str, Any]], keys: Sequence[str] = ("variant", "seed")
+            ) -> list[tuple[int, list[Mapping[str, Any]]]]:
     """``(budget, rows)`` for each distinct final env-step count of the runs in ``rows``
-    (a run: a ``(variant, seed)``), smallest first: the rows of every run trained at least
-    that far, up to that budget."""
-    finals: dict[tuple[Any, Any], int] = {}
+    (a run: the values of ``keys``; a sweep's runs also differ in ``num_distractors``),
+    smallest first: the rows of every run trained at least that far, up to that budget."""
+    run = lambda row: tuple(row[k] for k in keys)  # noqa: E731
+    finals: dict[tuple[Any, ...], int] = {}
     for row in rows:
-        run = (row["variant"], row["seed"])
-        finals[run] = max(finals.get(run, 0), row["env_steps"])
-    return [(budget, [row for row in rows if finals[(row["variant"], row["seed"])] >= budget
-                      and row["env_steps"] <= budget])
+        finals[run(row)] = max(finals.get(run(row), 0), row["env_steps"])
+    return [(budget, [row for row in rows if finals[run(row)] >= budget and row["env_steps"] <= budget])
             for budget in sorted(set(finals.values()))]
 
 
@@ -217,16 +217,21 @@ def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapp
         plot_learning_curves(scaled or rows, figures / "rl_learning_curves.png")
     if clutter:
         clutter_rows = labelled(_ordered(clutter))
-        clutter_summary = sweep_tables(clutter_rows)
         variants = list(dict.fromkeys(row["variant"] for row in clutter_rows))
-        parts += ["Final success against clutter (mean [95 % bootstrap CI]):", "",
-                  _clutter_markdown(clutter_summary, variants),
-                  "Final success over raw's at each count, and in brackets the gap raw → oracle it closes "
-                  "(where the oracle was run at that count):", "",
-                  _clutter_targets_markdown(clutter_targets(clutter_summary)),
-                  f"![final success against distractors]({(link / 'rl_clutter.png').as_posix()})", ""]
-        if write_figures:
-            plot_success_vs_distractors(clutter_summary, figures / "rl_clutter.png")
+        clutter_budgets = budgets(clutter_rows, ("variant", "num_distractors", "seed"))
+        for k, (budget, at_budget) in enumerate(clutter_budgets):
+            clutter_summary = sweep_tables(at_budget)
+            after = f" after {steps_label(budget)} env steps" if len(clutter_budgets) > 1 else ""
+            parts += [f"Final success against clutter{after} (mean [95 % bootstrap CI]):", "",
+                      _clutter_markdown(clutter_summary, [v for v in variants if any(
+                          row["variant"] == v for row in clutter_summary)]),
+                      "Final success over raw's at each count, and in brackets the gap raw → oracle it closes "
+                      "(where the oracle was run at that count):", "",
+                      _clutter_targets_markdown(clutter_targets(clutter_summary))]
+            if k == 0:  # the figure: the sweep at the budget every run reached
+                parts += [f"![final success against distractors]({(link / 'rl_clutter.png').as_posix()})", ""]
+                if write_figures:
+                    plot_success_vs_distractors(clutter_summary, figures / "rl_clutter.png")
     return "\n".join(parts).rstrip() + "\n"
 
 

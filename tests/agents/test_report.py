@@ -2,7 +2,8 @@
 
 import pytest
 
-from attentive_gym.agents.report import END, START, budgets, clutter_targets, labelled, main, merge_rows, targets
+from attentive_gym.agents.report import (END, START, budgets, clutter_targets, labelled, main, merge_rows, render_block,
+                                         targets)
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, write_csv_atomic
 
@@ -142,3 +143,20 @@ def test_clutter_targets_give_the_margin_and_gap_per_count_within_one_setting():
     assert found["focus", 3]["margin"] == pytest.approx(0.1) and found["focus", 3]["gap_closed"] != found["focus", 3]["gap_closed"]
     assert found["focus", 5]["margin"] == pytest.approx(-0.1) and found["focus", 5]["gap_closed"] != found["focus", 5]["gap_closed"]
     assert found["focus (unscaled)", 1]["gap_closed"] == pytest.approx(0.1 / 0.4)  # against the unscaled raw and oracle
+
+
+def test_a_clutter_point_trained_on_gets_a_table_of_its_own_budget(tmp_path):
+    def sweep(levels, n, steps):
+        return [{"algo": "ppo", "obs_scaling": "running", "num_distractors": n, **r} for r in _rows(levels, steps)]
+
+    clutter = (sweep({"raw": [0.5, 0.5], "focus": [0.7, 0.7]}, 1, (0, 100, 200))
+               + sweep({"raw": [0.4, 0.4], "focus": [0.5, 0.5]}, 5, (0, 100, 200, 300, 400)))  # trained on at 5
+    comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.5], "focus": [0.7]})]
+    block = render_block(comparison, clutter, tmp_path, [tmp_path / "a.csv"], tmp_path, write_figures=False)
+    first, second = block.split("Final success against clutter")[1:3]
+    assert first.startswith(" after 200 env steps") and second.startswith(" after 400 env steps")
+    assert "| 1 distractor | 5 distractors |" in first
+    assert "| 5 distractors |" in second and "1 distractor" not in second
+    assert "| focus | 0.50 [0.50, 0.50] (n=2) |" in second  # its final, not its value at 200 steps (0.30)
+    assert "| focus | 0.70 [0.70, 0.70] (n=2) | 0.30 [0.30, 0.30] (n=2) |" in first  # cut at 200 steps
+    assert block.count("rl_clutter.png") == 1
