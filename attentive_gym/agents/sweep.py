@@ -69,7 +69,8 @@ def clutter_sweep(
     log: Callable[[str], None] = print,
 ) -> SweepResult:
     """Compare ``variants`` over ``seeds`` at each count in ``distractors`` (the env keyword
-    ``num_distractors`` of ``base.env_kwargs`` replaced), then tabulate and plot.
+    ``num_distractors`` of ``base.env_kwargs`` replaced), then tabulate and plot every count
+    whose comparison ``out`` holds (those of earlier sweeps into ``out`` too).
 
     ``extend`` trains each count's comparison on to a larger budget, as in ``compare``.
     Raises what ``compare`` raises (invalid specs before anything trains, an interrupt).
@@ -85,10 +86,8 @@ def clutter_sweep(
                           threshold=threshold, extend=extend, log=log)
         result.failed.update({f"distractors-{n}/{name}": error for name, error in outcome.failed.items()})
     rows = []
-    for n in distractors:
-        path = out / f"distractors-{n}" / "results.csv"
-        if path.is_file():
-            rows.extend({"num_distractors": n, **row} for row in read_csv(path))
+    for n in _counts_in(out):  # every count in ``out``: a rerun at some counts keeps the others in the tables
+        rows.extend({"num_distractors": n, **row} for row in read_csv(out / f"distractors-{n}" / "results.csv"))
     if not rows:
         return result
     summary = sweep_tables(rows, threshold)
@@ -106,3 +105,13 @@ def sweep_tables(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5) -> l
         at_n = [r for r in rows if int(r["num_distractors"]) == n]
         summary.extend({"num_distractors": n, **row} for row in summarise(at_n, threshold=threshold))
     return summary
+
+
+def _counts_in(out: Path) -> list[int]:
+    """The distractor counts whose comparison in ``out`` has results (``distractors-N/results.csv``), ascending."""
+    counts = []
+    for folder in out.glob("distractors-*"):
+        suffix = folder.name.removeprefix("distractors-")
+        if suffix.isdigit() and (folder / "results.csv").is_file():
+            counts.append(int(suffix))
+    return sorted(counts)

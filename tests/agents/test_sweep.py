@@ -10,7 +10,8 @@ from attentive_gym.cli import main
 def test_compare_distractors_sweeps_the_clutter(tmp_path, tiny, capsys):
     out = tmp_path / "sweep"
     argv = ["compare", "--variants", "raw,focus", "--seeds", "1", "--steps", "128", "--n-envs", "2",
-            "--eval-every", "128", "--eval-episodes", "1", "--env-kwargs", json.dumps(tiny.env_kwargs),
+            "--eval-every", "128", "--checkpoint-every", "64", "--eval-episodes", "1",
+            "--env-kwargs", json.dumps(tiny.env_kwargs),
             "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--workers", "2", "--out", str(out), "--distractors", "1,3"]
     assert main(argv) == 0
     header = capsys.readouterr().out.splitlines()[0]
@@ -25,6 +26,14 @@ def test_compare_distractors_sweeps_the_clutter(tmp_path, tiny, capsys):
     summary = read_csv(out / "sweep_summary.csv")
     assert list(summary[0]) == list(SWEEP_SUMMARY_COLUMNS) and len(summary) == 4
     assert (out / "success_vs_distractors.png").read_bytes()[:4] == b"\x89PNG"
+
+    # a rerun at one count (here: trained on) keeps the other count in the sweep's tables
+    argv[argv.index("--steps") + 1] = "256"
+    assert main([*argv[:-1], "3", "--extend"]) == 0
+    rows = read_csv(out / "sweep.csv")
+    assert {r["num_distractors"] for r in rows} == {1, 3}
+    finals = {n: max(r["env_steps"] for r in rows if r["num_distractors"] == n) for n in (1, 3)}
+    assert finals[3] > finals[1]
 
 
 def test_a_bad_distractor_list_is_refused_before_anything_is_written(tmp_path, capsys):
