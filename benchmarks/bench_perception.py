@@ -730,7 +730,7 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
     goals = tuple(arena.DEFAULT_TASK_GOALS)
     noise = _noise(CLUTTER_NOISE)
     seeds = range(control_episodes)
-    rows = []
+    rows, case_rows = [], []
     for distractors in CLUTTER_DISTRACTORS:
         world = {**CLUTTER_ARENA, "num_distractors": distractors}
         raw = make_raw_env(noise, **world)
@@ -746,8 +746,11 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
             memory = control_success(make_attentive_env(mode, noise, "focus", **world),
                                      lambda env, seed: memory_controller, seeds)
             memory_ratio = memory / oracle if oracle else math.nan
+            cases = target_cases(records)
             results.add("clutter", {"mode": mode, "robot": "driving", "noise": noise.name, "distractors": distractors},
-                        {"focus_on_target": focus, "target_in_view_steps": int(steps)})
+                        {"focus_on_target": focus, "target_in_view_steps": int(steps), **cases})
+            if not math.isnan(cases[_case_key(TARGET_CASES[0])]):
+                case_rows.append([str(distractors), mode] + [_fmt(cases[_case_key(case)]) for case in TARGET_CASES])
             results.add("clutter", {"mode": mode, "robot": "controller", "noise": noise.name,
                                     "distractors": distractors},
                         {"success_memory": memory, "success_true_bearing": oracle, "success_random": random,
@@ -758,6 +761,9 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
           f"{episodes} episodes × {seconds:g} s, robot driving, both goals; controllers: {control_episodes} episodes)\n")
     print(markdown_table(["distractors", "mode", "focus on target (steps)", "memory controller", "true bearing",
                           "random", "memory / true bearing"], rows))
+    if case_rows:
+        print("\nWhy the focus is or is not on the target (`TARGET_CASES`, as in the focus section), robot driving:\n")
+        print(markdown_table(["distractors", "mode", *TARGET_CASES], case_rows))
 
 
 def print_control(results: Results, modes, episodes: int) -> None:
