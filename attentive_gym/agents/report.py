@@ -138,12 +138,17 @@ def _targets_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _count_header(first: str, counts: Sequence[int]) -> list[str]:
+    """The two header lines of a table with a ``first`` column and a column per distractor count."""
+    return ["| " + " | ".join([first, *(f"{n} distractor{'s' * (n != 1)}" for n in counts)]) + " |",
+            "|---|" + "---|" * len(counts)]
+
+
 def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[str]) -> str:
     """The clutter table: a row per variant (in the order of ``variants``), a column per count."""
     counts = sorted({row["num_distractors"] for row in summary})
     cell = {(row["variant"], row["num_distractors"]): row for row in summary}
-    lines = ["| variant | " + " | ".join(f"{n} distractor{'s' * (n != 1)}" for n in counts) + " |",
-             "|---|" + "---|" * len(counts)]
+    lines = _count_header("variant", counts)
     for variant in variants:
         values = []
         for n in counts:
@@ -184,8 +189,7 @@ def _clutter_targets_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """A row per attended variant, a column per count: "margin over raw (gap closed)"."""
     counts = sorted({row["num_distractors"] for row in rows})
     cell = {(row["variant"], row["num_distractors"]): row for row in rows}
-    lines = ["| attended variant | " + " | ".join(f"{n} distractor{'s' * (n != 1)}" for n in counts) + " |",
-             "|---|" + "---|" * len(counts)]
+    lines = _count_header("attended variant", counts)
     for variant in dict.fromkeys(row["variant"] for row in rows):
         values = []
         for n in counts:

@@ -16,7 +16,7 @@ Everything is non-recursive: numba's on-disk cache does not reload recursive fun
 reliably. The cache (``cache=True``, in ``__pycache__``) keys a compiled function on its own
 source file only, so a kernel elsewhere that calls a function of this module would keep its
 cached copy after this file changes; ``attentive_gym._kernel_cache`` discards the package's
-cached kernels at import whenever any of its source changed.
+cached kernels at import whenever the source they depend on changed.
 """
 
 from __future__ import annotations
