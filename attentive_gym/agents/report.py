@@ -232,10 +232,12 @@ def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapp
                       "Final success over raw's at each count, and in brackets the gap raw → oracle it closes "
                       "(where the oracle was run at that count):", "",
                       _clutter_targets_markdown(clutter_targets(clutter_summary))]
-            if k == 0:  # the figure: the sweep at the budget every run reached
+            if k == 0:  # the figure: the sweep at the budget every run reached, normalised runs where there are
                 parts += [f"![final success against distractors]({(link / 'rl_clutter.png').as_posix()})", ""]
                 if write_figures:
-                    plot_success_vs_distractors(clutter_summary, figures / "rl_clutter.png")
+                    scaled_variants = {row["variant"] for row in at_budget if row.get("obs_scaling") == SCALED}
+                    plot_success_vs_distractors([row for row in clutter_summary if row["variant"] in scaled_variants]
+                                                or clutter_summary, figures / "rl_clutter.png")
     return "\n".join(parts).rstrip() + "\n"
 
 

@@ -162,3 +162,21 @@ def test_a_clutter_point_trained_on_gets_a_table_of_its_own_budget(tmp_path):
     assert "| focus | 0.50 [0.50, 0.50] (n=2) |" in second  # its final, not its value at 200 steps (0.30)
     assert "| focus | 0.70 [0.70, 0.70] (n=2) | 0.30 [0.30, 0.30] (n=2) |" in first  # cut at 200 steps
     assert block.count("rl_clutter.png") == 1
+
+
+def test_the_clutter_figure_draws_the_normalised_runs_when_there_are_some(tmp_path, monkeypatch):
+    import attentive_gym.agents.report as report
+
+    drawn = []
+    monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path: drawn.append(summary))
+    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path: None)
+    rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
+    clutter = ([{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in rows]
+               + [{"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r} for r in rows])
+    comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in rows]
+    block = render_block(comparison, clutter, tmp_path, [tmp_path / "a.csv"], tmp_path)
+    assert {row["variant"] for row in drawn[0]} == {"raw", "focus"}
+    assert "| focus (unscaled) |" in block  # the tables keep every run
+    unscaled_only = [row for row in clutter if row["obs_scaling"] == "none"]
+    render_block(comparison, unscaled_only, tmp_path, [tmp_path / "a.csv"], tmp_path)
+    assert {row["variant"] for row in drawn[1]} == {"raw (unscaled)", "focus (unscaled)"}
