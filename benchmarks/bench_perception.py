@@ -736,6 +736,7 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
         raw = make_raw_env(noise, **world)
         oracle = control_success(raw, lambda env, seed: true_bearing_controller, seeds)
         random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
+        raw.close()
         for mode in modes:
             env = make_attentive_env(mode, noise, **world)
             records = [record_episode(env, seed, goals[seed % len(goals)], Wander(seed), seconds)
@@ -743,8 +744,10 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
             per_goal = [(rate * n, n) for rate, n in focus_on_target(records).values() if n]  # both goals together
             on, steps = sum(on for on, _ in per_goal), sum(n for _, n in per_goal)
             focus = on / steps if steps else math.nan
-            memory = control_success(make_attentive_env(mode, noise, "focus", **world),
-                                     lambda env, seed: memory_controller, seeds)
+            env.close()
+            focus_env = make_attentive_env(mode, noise, "focus", **world)
+            memory = control_success(focus_env, lambda env, seed: memory_controller, seeds)
+            focus_env.close()
             memory_ratio = memory / oracle if oracle else math.nan
             cases = target_cases(records)
             results.add("clutter", {"mode": mode, "robot": "driving", "noise": noise.name, "distractors": distractors},
