@@ -44,6 +44,11 @@ _IMPORT = re.compile(r"^[ \t]*(?:from[ \t]+([\w.]+)[ \t]+import[ \t]+(\([^)]*\)|
 def kernel_sources(package_dir: Path) -> list[Path]:
     """The ``*.py`` files under ``package_dir`` that a compiled kernel can depend on: those
     that define one, and the package modules they import, transitively (sorted)."""
+    return sorted(_kernel_texts(package_dir))
+
+
+def _kernel_texts(package_dir: Path) -> dict[Path, str]:
+    """``kernel_sources``' files and their texts, each file read once."""
     package = package_dir.name
     texts = {path: path.read_text(encoding="utf-8") for path in package_dir.rglob("*.py")}
     modules = {}
@@ -66,7 +71,7 @@ def kernel_sources(package_dir: Path) -> list[Path]:
             for name in re.findall(r"\w+", names):  # a name imported from a package may be a module
                 if f"{source}.{name}" in modules:
                     pending.append(modules[f"{source}.{name}"])
-    return sorted(closure)
+    return {path: texts[path] for path in closure}
 
 
 def _prefixes(dotted: str) -> list[str]:
@@ -78,10 +83,11 @@ def _prefixes(dotted: str) -> list[str]:
 def source_fingerprint(package_dir: Path) -> str:
     """A hex digest of the paths and contents of ``kernel_sources(package_dir)``."""
     digest = hashlib.sha256()
-    for path in kernel_sources(package_dir):
+    texts = _kernel_texts(package_dir)
+    for path in sorted(texts):
         digest.update(path.relative_to(package_dir).as_posix().encode())
         digest.update(b"\0")
-        digest.update(path.read_bytes())
+        digest.update(texts[path].encode("utf-8"))
         digest.update(b"\0")
     return digest.hexdigest()
 
