@@ -32,16 +32,7 @@ from typing import Iterable, Mapping
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention._numerics import interp, pairwise_sum, vecmat
-from attentive_gym.attention.attentional_map import (
-    CourseBook,
-    add_course,
-    bottom_up_running,
-    course_gains,
-    lateral_spread,
-    release_courses,
-    top_down_holding,
-)
+from attentive_gym.attention.attentional_map import CourseBook, lateral_spread
 from attentive_gym.attention.config import (
     BOTTOM_UP_MAPS,
     MAP_ALIASES,
@@ -53,15 +44,26 @@ from attentive_gym.attention.config import (
 from attentive_gym.attention.features import (
     Spaces,
     distance_map,
-    goal_knots,
     label_columns,
     motion_map,
     rarity_map,
 )
-from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
+from attentive_gym.attention.goals import Direction, Feature, Goal
 from attentive_gym.attention.kinematics import ego_range_change, planar_displacement, scan_points
-from attentive_gym.attention.memory import SensorMemory, push_sample, slope_rates
+from attentive_gym.attention.memory import SensorMemory
 from attentive_gym.attention.tracker import TRACK_TABLE_FIELDS, Tracker, TrackTable, table_from_rows
+from attentive_gym.attention.step_kernels import (
+    PLAN_COLUMNS,
+    attend_one,
+    fulfilling_range,
+    goal_maps,
+    goal_plan_row,
+    load_row,
+    new_output_arrays,
+    select,
+    sense,
+    window_kinematics,
+)
 from attentive_gym.attention.regions import (
     FRONT_SONARS,
     LASER_BEAMS,
@@ -340,10 +342,11 @@ class AttentionModel:
         # (the tracker estimates motion)
         self._slope_samples = {"window": config.slope_samples, "literal": 2, "tracker": 0}[config.kinematics]
         self._tracker = Tracker(config) if config.kinematics == "tracker" else None
+        self._gather_kernel_arrays()
         self._sonar_time: float | None = None  # times (s) of the latest sonar and laser scans
         self._laser_time: float | None = None
         self._goals: dict[Feature, Goal] = {}
-        self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), _PLAN_COLUMNS))
+        self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), PLAN_COLUMNS))
         self._weights = np.asarray(config.weights, dtype=float)
         self._gain = config.gain
         self._active = np.zeros(len(MAP_NAMES))
@@ -458,16 +461,16 @@ class AttentionModel:
                 active[row] = 0.0
         self._active = active
         maxima = {Feature.SPEED: self.config.max_speed_mps, Feature.DISTANCE: self.config.max_distance_m}
-        # one row per top-down map (F4..F6) for the compiled goal maps, see _PLAN_COLUMNS
-        plan = np.zeros((len(TOP_DOWN_MAPS), _PLAN_COLUMNS))
+        # one row per top-down map (F4..F6) for the compiled goal maps, see PLAN_COLUMNS
+        plan = np.zeros((len(TOP_DOWN_MAPS), PLAN_COLUMNS))
         for feature, row in GOAL_MAP_OF_FEATURE.items():
             if active[row] > 0.0:
-                plan[row - TOP_DOWN_MAPS[0]] = _goal_plan_row(self._goals[feature], maxima.get(feature))
+                plan[row - TOP_DOWN_MAPS[0]] = goal_plan_row(self._goals[feature], maxima.get(feature))
         self._goal_plan = plan
         # the speeds [lo, hi] (m/s) an active speed goal asks for: the tracker's top-down
         # choice of a region's track
         speed_goal = self._goals.get(Feature.SPEED) if active[GOAL_MAP_OF_FEATURE[Feature.SPEED]] > 0.0 else None
-        self._wanted_speed = np.full(2, np.inf) if speed_goal is None else np.array(_fulfilling_range(speed_goal))
+        self._wanted_speed = np.full(2, np.inf) if speed_goal is None else np.array(fulfilling_range(speed_goal))
         combined = active.copy()  # the weights C uses
         bottom_up, top_down = list(BOTTOM_UP_MAPS), list(TOP_DOWN_MAPS)
         bottom_up_total, top_down_total = float(active[bottom_up].sum()), float(active[top_down].sum())
@@ -519,10 +522,20 @@ class AttentionModel:
                 a scan time after ``t`` or before the previous scan's. The model's state
                 is unchanged then.
         """
-        cfg = self.config
-        grid = self.grid
+        inputs = self._checked(t, sonar, laser, odometry, sonar_time_s, laser_time_s)
+        step = self._advance(*inputs)
+        arrays = new_output_arrays(self.grid.n_regions)
+        if self.grid.is_laser:
+            return self._step_laser_grid(step, arrays)
+        winner, fired, n_tracks = attend_one(*self._kernel_inputs(step), *arrays)
+        return self._output(step[0], arrays, winner, fired, n_tracks)
+
+    def _checked(self, t, sonar, laser, odometry, sonar_time_s, laser_time_s) -> tuple:
+        """``step``'s arguments checked (``ValueError`` as ``step`` says), before anything
+        changes: ``(t, motion or None, sonar_new, laser_new, sonar_time_s, laser_time_s)``;
+        the readings are in the input row."""
         t = self._check_time(t)
-        row = self._check_readings(sonar, laser)
+        self._check_readings(sonar, laser)
         motion = self._check_odometry(odometry)
         if motion is not None and self._last_t is not None:
             dt = t - self._last_t
@@ -530,6 +543,12 @@ class AttentionModel:
                 raise ValueError(f"odometry {odometry!r} over the {dt:g} s since the last reading is not a finite "
                                  "displacement; call reset() after a gap this long")
         sonar_new, laser_new = self._check_scan_times(t, sonar_time_s, laser_time_s)
+        return t, motion, sonar_new, laser_new, sonar_time_s, laser_time_s
+
+    def _advance(self, t, motion, sonar_new, laser_new, sonar_time_s, laser_time_s) -> tuple:
+        """Take a checked reading's times (and, in the window modes, its ego-motion change);
+        returns the step's ``(t, dt, moved, push, linear, angular, laser_new, sonar_new)``
+        as ``attend_one`` takes them."""
         push = sonar_new or laser_new
         # the window's ego-motion compensation (the tracker compensates in its own frame)
         moved = push and motion is not None and self._tracker is None and self._ego_change(t, motion)
@@ -539,91 +558,116 @@ class AttentionModel:
             self._sonar_time = sonar_time_s
         if laser_new:
             self._laser_time = laser_time_s
+        linear, angular = (0.0, 0.0) if motion is None or self.config.ego_motion is None else motion
+        return t, dt, moved, push, linear, angular, laser_new, sonar_new
 
-        # fresh arrays for the output (users keep them), filled by the compiled kernels
-        J = grid.n_regions
-        empty = np.empty
-        F = np.zeros((len(MAP_NAMES), J))
-        C_BU, C_TD, C, M, L = empty(J), empty(J), empty(J), empty(J), empty(J)
-        region_speed, distances, nearest = empty(J), empty(J), empty(J)
-        readings, rates, valid = empty(_N_CHANNELS), empty(_N_CHANNELS), empty(_N_CHANNELS, np.bool_)
-        speeds, moving = empty(_N_CHANNELS), empty(_N_CHANNELS, np.bool_)
-        origins, directions, fulfilled = empty(J, np.int8), empty(J, np.int8), empty(J, np.bool_)
-        memory = self._memory.buffers
-        # --- sensorial memory and kinematics (§2, §3, §10) ------------------------------------
-        _sense(row, self._limits, *memory, t, self._slope_samples, self._ego, moved, push, readings, valid, rates)
+    def _kernel_inputs(self, step: tuple) -> tuple:
+        """``attend_one``'s arguments before its outputs, for the step ``_advance`` returned
+        (``batch.ModelBatch`` passes the same ones, stacked)."""
+        cfg = self.config
+        t, dt, moved, push, linear, angular, laser_new, sonar_new = step
+        self._courses.reserve()
+        return (self._row[:_N_CHANNELS], *self._sensing_arrays, t, dt, self._slope_samples, self._ego, moved, push, self._tracker is not None,
+                linear, angular, laser_new, sonar_new, self._wanted_speed, *self._tracker_constants,
+                *self._tracker_state, self._max_ranges, cfg.max_distance_m, cfg.laser_only, cfg.laser_max_range_m,
+                self._active, self._goal_plan, cfg.td_require_target, self._combine, self._gain, cfg.threshold,
+                self._spread, *self._courses.arrays)
+
+    def _gather_kernel_arrays(self) -> None:
+        """Gather the arrays ``_kernel_inputs`` passes every step: the limits and the memory's
+        buffers; the tracker's constants and state (an idle tracker's in the window modes).
+        Called again by whoever replaces those arrays. (No views: a copy or a pickle would
+        part them from their arrays.)"""
+        self._sensing_arrays = (self._limits, *self._memory.buffers)
+        tracker = self._tracker or _idle_tracker(self.config)
+        self._tracker_constants, self._tracker_state = tracker.constants, tracker.state
+
+    def _output(self, t: float, arrays: tuple, winner: int, fired: bool, n_tracks: int) -> "AttentionOutput":
+        """The ``AttentionOutput`` of a step from ``attend_one``'s outputs ``arrays``
+        (``new_output_arrays``) and results (``batch.ModelBatch`` calls it too)."""
+        (readings, valid, rates, _, _, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest, origins,
+         directions, fulfilled, M, L) = arrays
         if self._tracker is None:
-            _window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
-            region_slot, track_rows = _NO_REGION_TRACKS, _NO_TRACK_ROWS
+            track_rows = _NO_TRACK_ROWS
         else:
-            # §10: the tracker takes the new scans and fills the channels' kinematics
-            region_slot, track_rows = self._tracker.step(t, dt, None if cfg.ego_motion is None else motion, laser_new,
-                                                         sonar_new, readings, valid, rates, speeds, moving,
-                                                         self._wanted_speed)
-        if not grid.is_laser:  # the sonar grid: §4–§6 in one compiled call
-            _sonar_grid_maps(
-                readings, valid, rates, speeds, moving, self._max_ranges, cfg.max_speed_mps, cfg.direction_epsilon_mps,
-                cfg.max_distance_m, cfg.laser_only, cfg.laser_max_range_m, grid.beam_region, self._active,
-                self._goal_plan, cfg.td_require_target, self._combine,
-                F, C_BU, C_TD, C, region_speed, distances, nearest, origins, directions, fulfilled,
-            )
-        else:
-            active = self._active
-            labels = np.sign(rates) * (np.abs(rates) > cfg.direction_epsilon_mps)
-            columns = label_columns(labels)
-            o2 = readings[_LASER]
-            sonar_speed, sonar_labels8 = speeds[_SONAR], labels[_SONAR]
-
-            # --- bottom-up maps (§4) ----------------------------------------------------------
-            if active[0] > 0.0:
-                F[0] = grid.sonar_to_regions(motion_map(sonar_speed, cfg.max_speed_mps))
-            if active[1] > 0.0:
-                rarity = rarity_map(labels, columns, self._spaces)
-                F[1] = np.maximum(grid.sonar_to_regions(rarity[_SONAR]), grid.reduce_beams(np.maximum, rarity[_LASER]))
-            if active[2] > 0.0:
-                if cfg.laser_only:
-                    F[2] = grid.reduce_beams(np.maximum, distance_map(o2, cfg.laser_max_range_m))
-                else:
-                    contrast = distance_map(readings, self._max_ranges, self._spaces)
-                    F[2] = np.maximum(grid.reduce_beams(np.maximum, contrast[_LASER]),
-                                      grid.sonar_to_regions(contrast[_SONAR]))
-
-            # --- region quantities --------------------------------------------------------------
-            sonar_labels = grid.sonar_to_regions(sonar_labels8)
-            region_labels = np.where(sonar_labels != 0.0, sonar_labels, labels[_LASER])
-            directions[:] = region_labels
-            nearest_all = np.where(valid, readings, np.inf)
-            nearest[:] = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
-                                    grid.sonar_to_regions(nearest_all[_SONAR]))
-            echo = nearest < np.inf
-            np.minimum(nearest, cfg.max_distance_m, out=distances)
-            region_speed[:] = grid.sonar_to_regions(sonar_speed)
-            speed_target = grid.sonar_to_regions(moving[_SONAR])
-
-            # --- top-down maps, goal masks (§5), combined map and origins (§6) -----------------
-            _goal_maps(F, region_speed, speed_target, region_labels, distances, echo, self._goal_plan,
-                       cfg.td_require_target, self._combine, C_BU, C_TD, C, origins, fulfilled)
-
-        # --- attentional map, saliency, winner (§7, §8) -----------------------------------
-        courses = self._courses
-        courses.reserve()
-        winner, fired = _select(t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread, *courses.arrays, M,
-                                L)
+            track_rows = (self._tracker._rows[:n_tracks].copy(), self._tracker._covariance[:n_tracks].copy())
         saliency = float(L[winner])
         focus = origin = None
-        if saliency >= cfg.threshold:
-            focus = winner
+        if saliency >= self.config.threshold:
+            focus = int(winner)
             origin = ORIGIN_TOP_DOWN if origins[winner] else ORIGIN_BOTTOM_UP
         # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
         # them, in order) directly
         output = object.__new__(AttentionOutput)
         vars(output).update(
-            t=t, focus=focus, fired=fired, origin=origin, saliency=saliency,
+            t=t, focus=focus, fired=bool(fired), origin=origin, saliency=saliency,
             F=F, C=C, C_BU=C_BU, C_TD=C_TD, origins=origins, M=M, L=L, gain=self._gain,
             goal_fulfilled=fulfilled, directions=directions, speeds_mps=region_speed,
-            distances_m=distances, _sources=(grid, readings, valid, rates, nearest, region_slot, *track_rows),
+            distances_m=distances, _sources=(self.grid, readings, valid, rates, nearest, region_slot, *track_rows),
         )
         return output
+
+    def _step_laser_grid(self, step: tuple, arrays: tuple) -> "AttentionOutput":
+        """``step`` on the laser grid: the kernels one by one, F1–F3 and the region
+        quantities in numpy."""
+        cfg = self.config
+        grid = self.grid
+        t, dt, moved, push, linear, angular, laser_new, sonar_new = step
+        (readings, valid, rates, speeds, moving, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest,
+         origins, directions, fulfilled, M, L) = arrays
+        # --- sensorial memory and kinematics (§2, §3, §10) ------------------------------------
+        sense(self._row[:_N_CHANNELS], self._limits, *self._memory.buffers, t, self._slope_samples, self._ego, moved,
+              push, readings, valid, rates)
+        n_tracks = 0
+        if self._tracker is None:
+            window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
+            region_slot[:] = -1
+        else:
+            # §10: the tracker takes the new scans and fills the channels' kinematics
+            region_slot[:], (rows, _) = self._tracker.step(t, dt, (linear, angular), laser_new, sonar_new, readings,
+                                                           valid, rates, speeds, moving, self._wanted_speed)
+            n_tracks = rows.shape[0]
+        active = self._active
+        labels = np.sign(rates) * (np.abs(rates) > cfg.direction_epsilon_mps)
+        columns = label_columns(labels)
+        o2 = readings[_LASER]
+        sonar_speed, sonar_labels8 = speeds[_SONAR], labels[_SONAR]
+
+        # --- bottom-up maps (§4) ----------------------------------------------------------
+        if active[0] > 0.0:
+            F[0] = grid.sonar_to_regions(motion_map(sonar_speed, cfg.max_speed_mps))
+        if active[1] > 0.0:
+            rarity = rarity_map(labels, columns, self._spaces)
+            F[1] = np.maximum(grid.sonar_to_regions(rarity[_SONAR]), grid.reduce_beams(np.maximum, rarity[_LASER]))
+        if active[2] > 0.0:
+            if cfg.laser_only:
+                F[2] = grid.reduce_beams(np.maximum, distance_map(o2, cfg.laser_max_range_m))
+            else:
+                contrast = distance_map(readings, self._max_ranges, self._spaces)
+                F[2] = np.maximum(grid.reduce_beams(np.maximum, contrast[_LASER]),
+                                  grid.sonar_to_regions(contrast[_SONAR]))
+
+        # --- region quantities --------------------------------------------------------------
+        sonar_labels = grid.sonar_to_regions(sonar_labels8)
+        region_labels = np.where(sonar_labels != 0.0, sonar_labels, labels[_LASER])
+        directions[:] = region_labels
+        nearest_all = np.where(valid, readings, np.inf)
+        nearest[:] = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
+                                grid.sonar_to_regions(nearest_all[_SONAR]))
+        echo = nearest < np.inf
+        np.minimum(nearest, cfg.max_distance_m, out=distances)
+        region_speed[:] = grid.sonar_to_regions(sonar_speed)
+        speed_target = grid.sonar_to_regions(moving[_SONAR])
+
+        # --- top-down maps, goal masks (§5), combined map and origins (§6) -----------------
+        goal_maps(F, region_speed, speed_target, region_labels, distances, echo, self._goal_plan,
+                  cfg.td_require_target, self._combine, C_BU, C_TD, C, origins, fulfilled)
+
+        # --- attentional map, saliency, winner (§7, §8) -----------------------------------
+        self._courses.reserve()
+        winner, fired = select(t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread,
+                               *self._courses.arrays, M, L)
+        return self._output(t, arrays, winner, fired, n_tracks)
 
     # --- input checks and ego-motion -----------------------------------------------------
     def _check_time(self, t) -> float:
@@ -649,7 +693,7 @@ class AttentionModel:
             )
         if laser.shape != (LASER_BEAMS,):
             raise ValueError(f"laser must hold {LASER_BEAMS} ranges (m), got shape {laser.shape}")
-        if not _load_row(sonar, laser, self._row):
+        if not load_row(sonar, laser, self._row):
             for name, values in (("sonar", sonar), ("laser", laser)):
                 bad = np.flatnonzero(~np.isfinite(values) | (values < 0.0))
                 if bad.size:
@@ -701,9 +745,15 @@ class AttentionModel:
                          self.config.sonar_ego_model == "point", self._ego)
         return True
 
-#: The track slots behind the sonar channels, and the tracks, in the modes without a tracker.
-_NO_REGION_TRACKS = np.full(FRONT_SONARS, -1, np.int64)
+#: The tracks in the modes without a tracker.
 _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
+@functools.lru_cache(maxsize=8)
+def _idle_tracker(config: AttentionConfig) -> Tracker:
+    """A tracker that never steps: its arrays fill ``attend_one``'s tracker arguments in the
+    modes without one (one per configuration, shared)."""
+    return Tracker(config)
+
+
 #: The column of the track rows (``Tracker.step``) that holds a track's slot.
 _SLOT = TRACK_TABLE_FIELDS.index("slot")
 _ID, _X, _VX, _SPEED, _AGE = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed", "age"))
@@ -762,348 +812,3 @@ def _as_float_array(values, name: str) -> np.ndarray:
         return np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be an array of ranges in metres, got {type(values).__name__}") from None
-
-
-# --- compiled kernels ----------------------------------------------------------------------
-# A step is: ``_load_row`` (input check), ``_ego_change`` (kinematics.scan_points, numpy's
-# arctan2, kinematics.ego_range_change) when the robot moved, ``_sense``, the tracker's
-# ``track_step`` (tracker mode), ``_sonar_grid_maps`` (§4–§6; on the laser grid numpy F1–F3
-# and ``_goal_maps``), then ``_select`` (the courses of ``attentional_map`` and
-# ``_saliency``). The kernels repeat the arithmetic of the numpy expressions they replace
-# (features.py, kinematics.py, memory.py) operation for operation, with sums in numpy's
-# pairwise order and matrix products in BLAS's order (see ``_numerics``), so a step gives
-# the same floats. Outputs are arrays allocated per step by the caller (users keep them).
-# After editing a callee in another file, clear the numba cache (see ``_numerics``).
-
-#: Columns of the goal plan, one row per top-down map (F4, F5, F6): the goal's kind
-#: (``_INACTIVE`` for an inactive map), its bounds and tolerance, and the knots of its
-#: graded table (``features.goal_knots``, at most 4).
-_KIND, _LO, _HI, _TOLERANCE, _N_KNOTS, _XP, _FP, _PLAN_COLUMNS = 0, 1, 2, 3, 4, 5, 9, 13
-_INACTIVE, _EQUAL, _BETWEEN, _GREATER, _SMALLER, _DIRECTION = 0, 1, 2, 3, 4, 5
-_KIND_OF_RELATION = {Relation.EQUAL: _EQUAL, Relation.BETWEEN: _BETWEEN, Relation.GREATER: _GREATER,
-                     Relation.SMALLER: _SMALLER}
-
-
-def _fulfilling_range(goal: Goal) -> tuple[float, float]:
-    """The values ``[lo, hi]`` that fulfil a speed or distance goal (``Goal.is_fulfilled``)."""
-    if goal.relation is Relation.EQUAL:
-        return goal.lo - goal.tolerance, goal.lo + goal.tolerance
-    if goal.relation is Relation.BETWEEN:
-        return goal.lo, goal.hi
-    if goal.relation is Relation.GREATER:
-        return goal.lo, math.inf
-    return -math.inf, goal.lo  # SMALLER
-
-
-def _goal_plan_row(goal: Goal, max_value: float | None) -> np.ndarray:
-    """The goal plan row of an active top-down map (see ``_PLAN_COLUMNS``)."""
-    row = np.zeros(_PLAN_COLUMNS)
-    if goal.feature is Feature.DIRECTION:
-        row[_KIND], row[_LO] = _DIRECTION, float(goal.direction)
-        return row
-    row[_KIND] = _KIND_OF_RELATION[goal.relation]
-    row[_LO], row[_HI], row[_TOLERANCE] = goal.lo, goal.hi, goal.tolerance
-    xp, fp = goal_knots(goal, max_value)
-    row[_N_KNOTS] = len(xp)
-    row[_XP:_XP + len(xp)] = xp
-    row[_FP:_FP + len(fp)] = fp
-    return row
-
-
-@njit(cache=True)
-def _load_row(sonar, laser, row):
-    """Copy front sonars ``sonar[:8]``, the laser ``(180,)`` and rear sonars (``sonar[8:]``,
-    or 0 for 8 sonars) into ``row`` ``(196,)``; False if any reading is NaN, ±inf or < 0."""
-    n_front = 8
-    n_laser = laser.shape[0]
-    ok = True
-    for i in range(row.shape[0]):
-        if i < n_front:
-            value = sonar[i]
-        elif i < n_front + n_laser:
-            value = laser[i - n_front]
-        elif sonar.shape[0] > n_front:
-            value = sonar[i - n_laser]
-        else:
-            value = 0.0
-        row[i] = value
-        if not (value >= 0.0 and value < np.inf):
-            ok = False
-    return ok
-
-
-@njit(cache=True)
-def _sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, push, readings, valid,
-           rates):
-    """§2–§3: clip the new readings to each sensor's maximum, store them in the memory
-    (``SensorMemory.buffers``) and take the range rates.
-
-    Args:
-        row: ``(188,)`` new readings (m), sonars then beams.
-        limits: ``(2, 188)`` per channel: the maximum range, and the reading from which
-            on it means no echo (m).
-        t: time (s); slope_samples: K of the slope, 0 to leave ``rates`` alone (the
-            tracker fills them).
-        ego_change: ``(188,)`` the ego-motion range change (m), used only when ``moved``.
-        push: store the readings (False when no sensor has scanned since the last step).
-        readings, valid, rates: ``(188,)`` outputs: clipped readings (m), echo flags, range
-            rates (m/s).
-    """
-    n = row.shape[0]
-    invalid_now = np.empty(n, np.bool_)
-    for c in range(n):
-        reading = min(row[c], limits[0, c])
-        readings[c] = reading
-        invalid_now[c] = reading >= limits[1, c]
-        valid[c] = not invalid_now[c]
-    if push:
-        push_sample(state, times, samples, ego_offset, t, readings, invalid_now, ego_change, moved)
-    if slope_samples > 0:
-        slope_rates(state, times, samples, slope_samples, rates)
-
-
-@njit(cache=True)
-def _window_kinematics(rates, valid, max_speed, epsilon, speeds, moving):
-    """§3 from the window's range rates ``(188,)`` (m/s): speeds ``min(|v|, MAX_SPEED)``
-    and moving flags (an echo whose ``|v| > ε``), into ``speeds``, ``moving`` ``(188,)``."""
-    for c in range(rates.shape[0]):
-        a = abs(rates[c])
-        speeds[c] = min(a, max_speed)
-        moving[c] = valid[c] and a > epsilon
-
-
-@njit(cache=True)
-def _sonar_grid_maps(readings, valid, rates, speeds, moving, max_ranges, max_speed, epsilon, max_distance, laser_only,
-                     laser_max, beam_region, active, goal_plan, require_target, combine, F, C_BU, C_TD, C,
-                     region_speed, distances, nearest, origins, directions, fulfilled):
-    """§4–§6 of a step on the sonar grid (J = 8): F1–F3 with the region quantities, then
-    ``_goal_maps``. Every array after ``combine`` is an output."""
-    labels = _sonar_grid_features(
-        rates, speeds, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region, active[0] > 0.0,
-        active[1] > 0.0, active[2] > 0.0, laser_only, laser_max, F, region_speed, nearest, distances,
-    )
-    echo = nearest < np.inf
-    for j in range(labels.shape[0]):
-        directions[j] = np.int8(labels[j])
-    _goal_maps(F, region_speed, moving[:labels.shape[0]], labels, distances, echo, goal_plan, require_target,
-               combine, C_BU, C_TD, C, origins, fulfilled)
-
-
-@njit(cache=True)
-def _sonar_grid_features(rates, speeds, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region,
-                         do_f1, do_f2, do_f3, laser_only, laser_max, F, region_speed, nearest, distances):
-    """§3's labels, F1–F3 (active rows of ``F`` only) and the region quantities on the
-    sonar grid (8 front sonars then 180 beams in the channel vectors ``rates`` and
-    ``speeds``, m/s).
-
-    Writes ``F[0:3]`` and the ``(8,)`` region speeds (m/s), nearest valid readings (m, inf
-    where none) and distances (m); returns the region direction labels ``(8,)`` (−1, 0, +1
-    as floats).
-    """
-    n_sonar = 8
-    n = rates.shape[0]
-    n_laser = n - n_sonar
-    labels = np.empty(n)
-    columns = np.empty(n, np.int64)
-    counts = np.zeros(6, np.int64)  # label counts per (space, column)
-    for k in range(n):
-        r = rates[k]
-        a = abs(r)
-        label = 0.0
-        column = 2
-        if a > epsilon:
-            if r > 0.0:
-                label, column = 1.0, 1
-            elif r < 0.0:
-                label, column = -1.0, 0
-        labels[k] = label
-        columns[k] = column
-        counts[(0 if k < n_sonar else 3) + column] += 1
-    for j in range(n_sonar):
-        region_speed[j] = speeds[j]
-    if do_f1:
-        mean = pairwise_sum(region_speed, 0, n_sonar) / n_sonar
-        for j in range(n_sonar):
-            F[0, j] = abs(region_speed[j] - mean) / max_speed
-    if do_f2:
-        # rarity (N/count − 1)/(N − 1) as features.Spaces computes it, per (space, column)
-        rarity = np.empty(6)
-        for space, size in ((0, n_sonar), (1, n_laser)):
-            size_f = float(size)
-            scale, shift = size_f / (size_f - 1.0), 1.0 / (size_f - 1.0)
-            for column in range(3):
-                if counts[3 * space + column] > 0:
-                    rarity[3 * space + column] = scale / counts[3 * space + column] - shift
-        for j in range(n_sonar):
-            F[1, j] = rarity[columns[j]]
-        for i in range(n_laser):
-            value = rarity[3 + columns[n_sonar + i]]
-            j = beam_region[i]
-            if value > F[1, j]:
-                F[1, j] = value
-    if do_f3:
-        if laser_only:
-            mean = pairwise_sum(readings, n_sonar, n_laser) / n_laser
-            first = np.full(n_sonar, -np.inf)
-            for i in range(n_laser):
-                value = abs(readings[n_sonar + i] - mean) / laser_max
-                j = beam_region[i]
-                if value > first[j]:
-                    first[j] = value
-            for j in range(n_sonar):
-                F[2, j] = first[j]
-        else:
-            # add.reduceat: the first element, then the pairwise sum of the rest
-            sonar_mean = (readings[0] + pairwise_sum(readings, 1, n_sonar - 1)) / n_sonar
-            laser_mean = (readings[n_sonar] + pairwise_sum(readings, n_sonar + 1, n_laser - 1)) / n_laser
-            laser_part = np.full(n_sonar, -np.inf)
-            for i in range(n_laser):
-                k = n_sonar + i
-                value = abs(readings[k] - laser_mean) / max_ranges[k]
-                j = beam_region[i]
-                if value > laser_part[j]:
-                    laser_part[j] = value
-            for j in range(n_sonar):
-                F[2, j] = max(laser_part[j], abs(readings[j] - sonar_mean) / max_ranges[j])
-    # region quantities: majority label of the beams where the sonar is static, nearest echo
-    label_counts = np.zeros((n_sonar, 3), np.int64)
-    for j in range(n_sonar):
-        nearest[j] = np.inf
-    for i in range(n_laser):
-        k = n_sonar + i
-        j = beam_region[i]
-        label_counts[j, columns[k]] += 1
-        if valid[k] and readings[k] < nearest[j]:
-            nearest[j] = readings[k]
-    directions = np.empty(n_sonar)
-    for j in range(n_sonar):
-        if labels[j] != 0.0:
-            directions[j] = labels[j]
-        else:
-            best = 0
-            for c in range(1, 3):
-                if label_counts[j, c] > label_counts[j, best]:
-                    best = c
-            directions[j] = -1.0 if best == 0 else (1.0 if best == 1 else 0.0)
-        if valid[j] and readings[j] < nearest[j]:
-            nearest[j] = readings[j]
-        distances[j] = min(nearest[j], max_distance)
-    return directions
-
-
-@njit(cache=True)
-def _goal_holds(kind, lo, hi, tolerance, x):
-    """``Goal.is_fulfilled`` for one value, the goal given by its plan row's columns."""
-    if kind == _EQUAL:
-        return abs(x - lo) <= tolerance
-    if kind == _BETWEEN:
-        return x >= lo and x <= hi
-    if kind == _GREATER:
-        return x >= lo
-    if kind == _SMALLER:
-        return x <= lo
-    return x == lo  # _DIRECTION: the label equals the wanted direction
-
-
-@njit(cache=True)
-def _goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan, require_target, combine,
-               C_BU, C_TD, C, origins, fulfilled):
-    """§5–§6 on any grid: the active top-down maps ``F[3:6]`` and the goal mask, then C.
-
-    Args:
-        F: ``(6, J)``; rows 3..5 of active maps are written (inactive ones stay 0).
-        region_speed: ``(J,)`` m/s; speed_target: ``(J,)`` bool, regions a speed goal may
-            hold at; labels: ``(J,)`` direction labels as floats; distances: ``(J,)`` m;
-            echo: ``(J,)`` bool, a valid reading in the region (the target of F5, F6).
-        goal_plan: ``(3, _PLAN_COLUMNS)``; require_target: ``td_require_target``.
-        combine: ``(2, 3)`` the weights of C_BU (row 0) and C_TD (row 1), normaliser included.
-        C_BU, C_TD, C: ``(J,)`` outputs; origins: ``(J,)`` int8, 1 where C_TD > C_BU;
-        fulfilled: ``(J,)`` bool, every active goal holds (False without goals).
-    """
-    n_regions = F.shape[1]
-    any_goal = False
-    for j in range(n_regions):
-        fulfilled[j] = True
-    for r in range(3):
-        kind = goal_plan[r, _KIND]
-        if kind == _INACTIVE:
-            continue
-        any_goal = True
-        lo, hi, tolerance = goal_plan[r, _LO], goal_plan[r, _HI], goal_plan[r, _TOLERANCE]
-        n_knots = int(goal_plan[r, _N_KNOTS])
-        xp, fp = goal_plan[r, _XP:_XP + n_knots], goal_plan[r, _FP:_FP + n_knots]
-        for j in range(n_regions):
-            if r == 0:
-                x, target = region_speed[j], speed_target[j]
-            elif r == 1:
-                x, target = labels[j], echo[j]
-            else:
-                x, target = distances[j], echo[j]
-            ok = _goal_holds(kind, lo, hi, tolerance, x)
-            if kind == _DIRECTION:
-                value = 1.0 if ok else 0.0
-            else:  # the graded table; 1 where the goal holds
-                value = max(interp(x, xp, fp), 1.0 if ok else 0.0)
-            if require_target:
-                value *= 1.0 if target else 0.0
-                ok = ok and target
-            F[3 + r, j] = value
-            fulfilled[j] = fulfilled[j] and ok
-    if not any_goal:
-        fulfilled[:] = False
-    vecmat(combine[0], F[:3], C_BU)
-    vecmat(combine[1], F[3:], C_TD)
-    for j in range(n_regions):
-        C[j] = C_BU[j] + C_TD[j]
-        origins[j] = 1 if C_TD[j] > C_BU[j] else 0
-
-
-@njit(cache=True)
-def _select(t, fulfilled, origins, C, gain, threshold, spread, params, bu_regions, bu_starts, td_regions, td_times,
-            counts, M, L):
-    """§7–§8 with the courses (the arrays of ``CourseBook``, with room for one more of each
-    kind): update the top-down holds at ``t`` (s), evaluate the courses' centre gains,
-    ``_saliency`` into ``M`` and ``L`` ``(J,)``, then start a course at the winner if it
-    fires. Returns the winner ``argmax L`` and whether a course started.
-
-    The winner is the focus when ``L[winner] >= threshold``; a top-down winner (``origins``)
-    starts a held course where its goal is fulfilled and none is held there, a bottom-up
-    one a course where none is running.
-    """
-    release_courses(t, fulfilled, params, bu_regions, bu_starts, td_regions, td_times, counts)
-    gains = np.zeros(C.shape[0])
-    if not course_gains(t, params, bu_regions, bu_starts, td_regions, td_times, counts, gains):
-        gains = gains[:0]
-    winner = _saliency(gains, spread, C, gain, M, L)
-    fired = False
-    if L[winner] >= threshold:
-        if origins[winner]:
-            # a course is held while the goal holds, so one starts only where it holds
-            fired = fulfilled[winner] and not top_down_holding(winner, params, bu_regions, bu_starts, td_regions,
-                                                               td_times, counts)
-        else:
-            fired = not bottom_up_running(winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
-        if fired:
-            add_course(origins[winner] != 0, winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
-    return winner, fired
-
-
-@njit(cache=True)
-def _saliency(gains, spread, C, gain, M, L):
-    """§7–§8: ``M = max(0, 1 + gains @ G)`` (1 without courses: ``gains`` empty), then
-    ``L = M · C · g``, into ``M`` and ``L`` ``(J,)``; returns the winner ``argmax L`` (ties
-    to the lowest index)."""
-    if gains.shape[0] == 0:
-        M[:] = 1.0
-    else:
-        vecmat(gains, spread, M)
-        for j in range(M.shape[0]):
-            M[j] = max(1.0 + M[j], 0.0)
-    winner = 0
-    for j in range(M.shape[0]):
-        L[j] = M[j] * C[j]
-        if gain != 1.0:
-            L[j] *= gain
-        if L[j] > L[winner]:
-            winner = j
-    return winner

@@ -61,7 +61,7 @@ from attentive_gym.attention.segmentation import (
 from attentive_gym.attention.track_regions import track_channels, track_table
 
 __all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "track_step", "advance_pose", "table_from_rows",
-           "TRACK_TABLE_FIELDS"]
+           "TRACK_TABLE_FIELDS", "STATE_FIELDS"]
 
 #: The probability that a new track moves, before any evidence.
 _MOTION_PRIOR = 0.5
@@ -146,6 +146,11 @@ def table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
     return table
 
 
+#: The ``Tracker`` arrays ``track_step`` updates in place, in its argument order.
+STATE_FIELDS = ("pose", "odometry", "sonar_pose", "bounds", "segments", "cv_x", "cv_P", "static_x", "static_P",
+                "p_moving", "alive", "ids", "hits", "misses", "born_s", "filter_t", "seen_s", "extent_m", "segment_of",
+                "counters", "sonar_x", "sonar_P", "sonar_hits", "sonar_t", "_rows", "_covariance")
+
 #: The table of a step without tracks (every mode but "tracker").
 EMPTY_TRACKS = table_from_rows(np.zeros((0, _N_TABLE)), np.zeros((0, 4, 4)))
 
@@ -224,6 +229,26 @@ class Tracker:
         self.sonar_pose[:] = 0.0
         self.odometry[:] = 0.0
 
+    @property
+    def constants(self) -> tuple:
+        """The kernels' fixed inputs, in ``track_step``'s order: beam and front-sonar
+        cosines and sines, the beam step (rad), the parameter vector, the confirmation
+        hits, the maximum speed and direction ε (m/s), the sonar grid's region of each
+        beam, the sonar cones' beam bounds, and the sonar-to-laser match distance (m),
+        jump σs and range noise (relative, floor m)."""
+        cfg = self.config
+        return (self.beam_cos, self.beam_sin, self._sonar_cos, self._sonar_sin, self.beam_step_rad, self.params,
+                cfg.track_confirm_hits, cfg.max_speed_mps, cfg.direction_epsilon_mps, self._beam_region,
+                self._cone_bounds, cfg.sonar_ego_match_m, cfg.segment_jump_sigmas, cfg.range_noise_rel,
+                cfg.range_noise_floor_m)
+
+    @property
+    def state(self) -> tuple[np.ndarray, ...]:
+        """The arrays ``track_step`` updates in place, in its order (``STATE_FIELDS``):
+        poses, the last scan's segments, the tracks, the sonar filters, and the table's
+        scratch rows."""
+        return tuple(getattr(self, name) for name in STATE_FIELDS)
+
     def step(self, t_s: float, dt_s: float, odometry: tuple[float, float] | None, laser_new: bool, sonar_new: bool,
              readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray,
              wanted_speed: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
@@ -251,18 +276,10 @@ class Tracker:
             ``TRACK_TABLE_FIELDS``, slot order) and covariances ``(n, 4, 4)``, new arrays
             (``table_from_rows`` makes them a ``TrackTable``).
         """
-        cfg = self.config
         linear, angular = (0.0, 0.0) if odometry is None else odometry
         region_slot = np.empty(FRONT_SONARS, np.int64)
-        n = track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, self.pose,
-                       self.odometry, self.sonar_pose, self.beam_cos, self.beam_sin, self._sonar_cos, self._sonar_sin,
-                       self.beam_step_rad, self.params, cfg.track_confirm_hits, cfg.max_speed_mps,
-                       cfg.direction_epsilon_mps, self._beam_region, self._cone_bounds, cfg.sonar_ego_match_m,
-                       cfg.segment_jump_sigmas, cfg.range_noise_rel, cfg.range_noise_floor_m, self.bounds,
-                       self.segments, self.cv_x, self.cv_P, self.static_x, self.static_P, self.p_moving, self.alive,
-                       self.ids, self.hits, self.misses, self.born_s, self.filter_t, self.seen_s, self.extent_m,
-                       self.segment_of, self.counters, self.sonar_x, self.sonar_P, self.sonar_hits, self.sonar_t,
-                       rates, speeds, moving, region_slot, self._rows, self._covariance)
+        n = track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, *self.constants,
+                       *self.state, rates, speeds, moving, region_slot)
         return region_slot, (self._rows[:n].copy(), self._covariance[:n].copy())
 
 
@@ -291,15 +308,17 @@ def advance_pose(dt_s, linear, angular, pose, odometry):
 
 
 @njit(cache=True)
-def track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, pose, odometry,
-               sonar_pose, beam_cos, beam_sin, sonar_cos, sonar_sin, beam_step_rad, params, confirm_hits, max_speed,
-               epsilon, beam_region, cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, bounds, segments,
-               cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m,
-               segment_of, counters, sonar_x, sonar_P, sonar_hits, sonar_t, rates, speeds, moving, region_slot, rows,
-               covariance):
+def track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, beam_cos, beam_sin,
+               sonar_cos, sonar_sin, beam_step_rad, params, confirm_hits, max_speed, epsilon, beam_region, cone_bounds,
+               match_m, match_sigmas, noise_rel, noise_floor_m, pose, odometry, sonar_pose, bounds, segments, cv_x, cv_P,
+               static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
+               counters, sonar_x, sonar_P, sonar_hits, sonar_t, rows, covariance, rates, speeds, moving, region_slot):
     """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``,
     ``sonar_filters`` of ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
-    ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows."""
+    ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows.
+
+    The arguments are the step's inputs (``Tracker.step``'s), ``Tracker.constants``,
+    ``Tracker.state`` and the outputs ``rates``, ``speeds``, ``moving``, ``region_slot``."""
     advance_pose(dt_s, linear, angular, pose, odometry)
     n_sonar = region_slot.shape[0]
     if laser_new:

@@ -14,7 +14,10 @@ its members stepped one by one, bit for bit:
 3. each member completes its step (``AttentiveRescueEnv._complete_step``: reward,
    termination, info) and its observation goes up its wrappers' hooks
    (``ObservationWrapper.observation``, or ``_observe_step`` for the attention, oracle
-   wrappers: the attentional model runs there).
+   wrappers: the attentional model runs there). When every member's innermost hook is
+   an ``AttentionWrapper``'s and their models can form an ``attention.batch.ModelBatch``
+   (one configuration, the sonar grid), the models of the stepped members run in one
+   compiled, parallel call first, and each wrapper encodes its model's output.
 
 A wrapper is allowed when it is a ``gymnasium.ActionWrapper`` or
 ``gymnasium.ObservationWrapper`` that keeps their ``step``, or defines
@@ -30,6 +33,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from attentive_gym.attention.batch import ModelBatch
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 
 __all__ = ["Fleet", "stack_observations"]
@@ -73,6 +77,8 @@ class Fleet:
             if self.envs[i].action_space != self.envs[0].action_space:
                 raise ValueError(f"env {i}'s action space {self.envs[i].action_space} differs from env 0's "
                                  f"{self.envs[0].action_space}")
+        self._attention = _attention_wrappers(self._observation_hooks)
+        self._models = None if self._attention is None else ModelBatch([w.model for w in self._attention])
         self.action_space: gym.spaces.Box = self.envs[0].action_space
         self.observation_space: gym.Space = self.envs[0].observation_space
 
@@ -114,10 +120,20 @@ class Fleet:
                 action = hook(action)
             collided.append(self.bases[i]._act(action))
         readings = self.bases[0].sensors.read_many([self.bases[i]._sensing_request() for i in indices])
+        steps = [self.bases[i]._complete_step(hit, reading) for i, hit, reading in zip(indices, collided, readings)]
+        hooks = [self._observation_hooks[i] for i in indices]
+        if self._models is not None:  # every member's innermost hook: its attention wrapper, models batched
+            readings = [self._attention[i]._model_reading(observation, info)
+                        for i, (observation, _, _, _, info) in zip(indices, steps)]
+            outputs = self._models.step(readings, list(indices))
+            attended = []
+            for i, output, (observation, _, _, _, info) in zip(indices, outputs, steps):
+                attended.append(self._attention[i]._observe_output(observation, info, output))
+            steps = [(observation, *rest) for observation, (_, *rest) in zip(attended, steps)]
+            hooks = [member_hooks[1:] for member_hooks in hooks]
         results = []
-        for i, hit, reading in zip(indices, collided, readings):
-            observation, reward, terminated, truncated, info = self.bases[i]._complete_step(hit, reading)
-            for hook in self._observation_hooks[i]:
+        for member_hooks, (observation, reward, terminated, truncated, info) in zip(hooks, steps):
+            for hook in member_hooks:
                 observation = hook(observation, info)
             results.append((observation, reward, terminated, truncated, info))
         return results
@@ -136,6 +152,19 @@ def stack_observations(space: gym.Space, observations: Sequence[Any]) -> Any | N
         return {key: np.stack([o[key] for o in observations]).astype(s.dtype, copy=False)
                 for key, s in space.spaces.items()}
     return None
+
+
+def _attention_wrappers(observation_hooks: list[list]) -> list | None:
+    """The members' attention wrappers when every member's innermost observation hook is
+    one's (``_observe_step`` of a wrapper with ``_observe_output`` and a ``model``) and
+    their models can be batched (one configuration, the sonar grid); else None."""
+    wrappers = [getattr(hooks[0], "__self__", None) if hooks else None for hooks in observation_hooks]
+    if not all(hasattr(w, "_observe_output") and hasattr(w, "model") for w in wrappers):
+        return None
+    config = wrappers[0].model.config
+    if wrappers[0].model.grid.is_laser or any(w.model.config != config for w in wrappers):
+        return None
+    return wrappers
 
 
 def _hooks(env: gym.Env, index: int) -> tuple[list, list]:

@@ -138,15 +138,34 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         return self._observe_step(raw, info), reward, terminated, truncated, info
 
     def _observe_step(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        """The attended observation of a step's ``raw`` one (``envs.fleet`` calls it for batched steps)."""
-        observation = self._attend(raw, info)
+        """The attended observation of a step's ``raw`` one."""
+        return self._observe_output(raw, info, self._step_model(raw, info))
+
+    def _observe_output(self, raw: dict[str, np.ndarray], info: dict[str, Any],
+                        output: AttentionOutput) -> dict[str, np.ndarray]:
+        """The attended observation of a step's ``raw`` one, given the model's ``output`` on
+        it (``envs.fleet`` steps its members' models together, then calls this)."""
+        observation = self._use(raw, info, output)
         if self.render_mode == "human":
             self.env.render()  # again, now with this step's focus
         return observation
 
+    @staticmethod
+    def _model_reading(raw: dict[str, np.ndarray], info: dict[str, Any]) -> tuple:
+        """``AttentionModel.step``'s arguments for a raw observation and its ``info``:
+        ``(t, sonar, laser, odometry, sonar_time_s, laser_time_s)``."""
+        return (info["time_s"], raw["sonar"], raw["laser"], raw["odometry"], info.get("sonar_time_s"),
+                info.get("laser_time_s"))
+
+    def _step_model(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> AttentionOutput:
+        t, sonar, laser, odometry, sonar_time_s, laser_time_s = self._model_reading(raw, info)
+        return self.model.step(t, sonar, laser, odometry, sonar_time_s=sonar_time_s, laser_time_s=laser_time_s)
+
     def _attend(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        output = self.model.step(info["time_s"], raw["sonar"], raw["laser"], raw["odometry"],
-                                 sonar_time_s=info.get("sonar_time_s"), laser_time_s=info.get("laser_time_s"))
+        return self._use(raw, info, self._step_model(raw, info))
+
+    def _use(self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput) -> dict[str, np.ndarray]:
+        """Keep ``output`` (``last_output``, ``info["attention"]``) and encode the observation."""
         self.last_output = output
         info["attention"] = output
         if self.mode != "focus":
