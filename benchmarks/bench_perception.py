@@ -57,6 +57,7 @@ import numpy as np
 from attentive_gym.attention import ORIGIN_TOP_DOWN, AttentionConfig, AttentionModel, Goal, Grid
 from attentive_gym.attention.goals import Feature
 from attentive_gym.attention.regions import nearest_sonar
+from attentive_gym.attention.tracker import Tracker
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
 from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
@@ -822,30 +823,29 @@ def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:
 
 
 def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, float]:
-    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first), and the
-    part of it spent in the tracker's step (0 without a tracker)."""
+    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first), and per
+    step of a separate ``Tracker`` of the same configuration fed the same readings (the
+    model's tracker runs inside its one compiled step; 0 without a tracker)."""
     model.reset()
-    tracker = model._tracker  # timed from outside: the benchmark wraps its step for this run only
-    inside = [0.0]
-    if tracker is not None:
-        tracker_step = tracker.step
-
-        def timed_step(*args, **kwargs):
-            begin = time.perf_counter()
-            result = tracker_step(*args, **kwargs)
-            inside[0] += time.perf_counter() - begin
-            return result
-
-        tracker.step = timed_step
-    try:
-        start = time.perf_counter()
-        for t, sonar, laser, odometry in readings:
-            model.step(t, sonar, laser, odometry)
-        elapsed = time.perf_counter() - start
-    finally:
-        if tracker is not None:
-            del tracker.step  # back to the class's method
-    return elapsed / len(readings) * 1e6, inside[0] / len(readings) * 1e6
+    start = time.perf_counter()
+    outputs = [model.step(t, sonar, laser, odometry) for t, sonar, laser, odometry in readings]
+    elapsed = time.perf_counter() - start
+    if model.config.kinematics != "tracker":
+        return elapsed / len(readings) * 1e6, 0.0
+    tracker = Tracker(model.config)
+    wanted_speed = model._wanted_speed
+    channels = outputs[0]._sources[1].shape[0]
+    rates, speeds, moving = np.empty(channels), np.empty(channels), np.empty(channels, np.bool_)
+    inside, previous_t = 0.0, None
+    for (t, _, _, odometry), output in zip(readings, outputs):
+        clipped, valid = output._sources[1], output._sources[2]  # the readings the model's tracker took
+        dt = 0.0 if previous_t is None else t - previous_t
+        previous_t = t
+        begin = time.perf_counter()
+        tracker.step(t, dt, (float(odometry[0]), float(odometry[1])), True, True, clipped, valid, rates, speeds,
+                     moving, wanted_speed)
+        inside += time.perf_counter() - begin
+    return elapsed / len(readings) * 1e6, inside / len(readings) * 1e6
 
 
 def time_env_us(env, actions: list[np.ndarray]) -> float:

@@ -3,6 +3,8 @@ no gymnasium, no pymunk.
 
 - ``AttentionModel`` / ``AttentionConfig`` / ``AttentionOutput`` / ``FocusView``: the
   model of docs/model.md, stepped with timestamped (seconds) sonar and laser readings (metres).
+- ``ModelBatch``: many models of one configuration stepped in one parallel compiled call
+  (what the vector envs use), with the numbers each model's own ``step`` gives.
 - ``Goal`` and friends: top-down goals over speed, direction and distance.
 - ``TraceRecorder`` / ``load_trace`` / ``Trace``: record a run to ``.npz`` and read it back.
 - ``load_log`` / ``replay_log`` / ``SensorLog``: replay readings logged from a robot.
@@ -34,6 +36,7 @@ from attentive_gym.attention.model import (
     AttentionOutput,
     FocusView,
 )
+from attentive_gym.attention.batch import ModelBatch
 from attentive_gym.attention.regions import Grid
 from attentive_gym.attention.replay import SensorLog, load_log, parse_goal, parse_maps, replay_log
 from attentive_gym.attention.trace import Trace, TraceRecorder, load_trace
@@ -50,6 +53,7 @@ __all__ = [
     "FocusView",
     "Goal",
     "Grid",
+    "ModelBatch",
     "ORIGIN_BOTTOM_UP",
     "ORIGIN_CODES",
     "ORIGIN_TOP_DOWN",
