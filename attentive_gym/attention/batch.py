@@ -25,7 +25,7 @@ from attentive_gym.attention.model import AttentionModel, AttentionOutput
 from attentive_gym.attention.step_kernels import attend_one, new_output_arrays
 from attentive_gym.attention.tracker import STATE_FIELDS
 
-__all__ = ["ModelBatch", "attend_many"]
+__all__ = ["ModelBatch", "attend_many", "batching_problem"]
 
 #: The state arrays of a model that a batch holds, by owner: the model itself (its input
 #: row and ego-motion change), its sensorial memory, its course book and its tracker.
@@ -48,18 +48,10 @@ class ModelBatch:
 
     def __init__(self, models: Sequence[AttentionModel]) -> None:
         models = list(models)
-        if not models:
-            raise ValueError("a model batch needs at least one model")
-        if len({id(m) for m in models}) != len(models):
-            raise ValueError("a model batch takes each model once")
+        problem = batching_problem(models)
+        if problem is not None:
+            raise ValueError(problem)
         config = models[0].config
-        for i, model in enumerate(models):
-            if not isinstance(model, AttentionModel):
-                raise ValueError(f"model {i} is a {type(model).__name__}, not an AttentionModel")
-            if model.config != config:
-                raise ValueError(f"model {i}'s configuration differs from model 0's; a batch shares one configuration")
-        if models[0].grid.is_laser:
-            raise ValueError("only models on the sonar grid can be batched (AttentionConfig(grid='sonar'))")
         self.models = models
         self.config = config
         self._tracked = models[0]._tracker is not None
@@ -174,6 +166,23 @@ class ModelBatch:
         )
         return [model._output(step[0], tuple(array[j] for array in outputs), winners[j], fired[j], n_tracks[j])
                 for j, (model, step) in enumerate(zip(models, steps))]
+
+
+def batching_problem(models: Sequence[AttentionModel]) -> str | None:
+    """Why ``models`` cannot form a ``ModelBatch`` (the message of its ``ValueError``), None
+    when they can."""
+    if not models:
+        return "a model batch needs at least one model"
+    if len({id(m) for m in models}) != len(models):
+        return "a model batch takes each model once"
+    for i, model in enumerate(models):
+        if not isinstance(model, AttentionModel):
+            return f"model {i} is a {type(model).__name__}, not an AttentionModel"
+        if model.config != models[0].config:
+            return f"model {i}'s configuration differs from model 0's; a batch shares one configuration"
+    if models[0].grid.is_laser:
+        return "only models on the sonar grid can be batched (AttentionConfig(grid='sonar'))"
+    return None
 
 
 @njit(cache=True, parallel=True)

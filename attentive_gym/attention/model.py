@@ -51,7 +51,15 @@ from attentive_gym.attention.features import (
 from attentive_gym.attention.goals import Direction, Feature, Goal
 from attentive_gym.attention.kinematics import ego_range_change, planar_displacement, scan_points
 from attentive_gym.attention.memory import SensorMemory
-from attentive_gym.attention.tracker import TRACK_TABLE_FIELDS, Tracker, TrackTable, table_from_rows
+from attentive_gym.attention.regions import (
+    FRONT_SONARS,
+    LASER_BEAMS,
+    SONAR_RING,
+    Grid,
+    front_sonar_bearings_rad,
+    laser_bearings_rad,
+    sonar_cone_bounds,
+)
 from attentive_gym.attention.step_kernels import (
     PLAN_COLUMNS,
     attend_one,
@@ -64,14 +72,12 @@ from attentive_gym.attention.step_kernels import (
     sense,
     window_kinematics,
 )
-from attentive_gym.attention.regions import (
-    FRONT_SONARS,
-    LASER_BEAMS,
-    SONAR_RING,
-    Grid,
-    front_sonar_bearings_rad,
-    laser_bearings_rad,
-    sonar_cone_bounds,
+from attentive_gym.attention.tracker import (
+    TRACK_TABLE_FIELDS,
+    Tracker,
+    TrackTable,
+    table_from_rows,
+    track_step,
 )
 
 __all__ = [
@@ -525,6 +531,7 @@ class AttentionModel:
         inputs = self._checked(t, sonar, laser, odometry, sonar_time_s, laser_time_s)
         step = self._advance(*inputs)
         arrays = new_output_arrays(self.grid.n_regions)
+        self._courses.reserve()  # room for one more course of each kind: the kernels cannot grow arrays
         if self.grid.is_laser:
             return self._step_laser_grid(step, arrays)
         winner, fired, n_tracks = attend_one(*self._kernel_inputs(step), *arrays)
@@ -566,12 +573,11 @@ class AttentionModel:
         (``batch.ModelBatch`` passes the same ones, stacked)."""
         cfg = self.config
         t, dt, moved, push, linear, angular, laser_new, sonar_new = step
-        self._courses.reserve()
-        return (self._row[:_N_CHANNELS], *self._sensing_arrays, t, dt, self._slope_samples, self._ego, moved, push, self._tracker is not None,
-                linear, angular, laser_new, sonar_new, self._wanted_speed, *self._tracker_constants,
-                *self._tracker_state, self._max_ranges, cfg.max_distance_m, cfg.laser_only, cfg.laser_max_range_m,
-                self._active, self._goal_plan, cfg.td_require_target, self._combine, self._gain, cfg.threshold,
-                self._spread, *self._courses.arrays)
+        return (self._row[:_N_CHANNELS], *self._sensing_arrays, t, dt, self._slope_samples, self._ego, moved, push,
+                self._tracker is not None, linear, angular, laser_new, sonar_new, self._wanted_speed,
+                *self._tracker_constants, *self._tracker_state, self._max_ranges, cfg.max_distance_m, cfg.laser_only,
+                cfg.laser_max_range_m, self._active, self._goal_plan, cfg.td_require_target, self._combine, self._gain,
+                cfg.threshold, self._spread, *self._courses.arrays)
 
     def _gather_kernel_arrays(self) -> None:
         """Gather the arrays ``_kernel_inputs`` passes every step: the limits and the memory's
@@ -624,9 +630,8 @@ class AttentionModel:
             region_slot[:] = -1
         else:
             # §10: the tracker takes the new scans and fills the channels' kinematics
-            region_slot[:], (rows, _) = self._tracker.step(t, dt, (linear, angular), laser_new, sonar_new, readings,
-                                                           valid, rates, speeds, moving, self._wanted_speed)
-            n_tracks = rows.shape[0]
+            n_tracks = track_step(t, dt, linear, angular, laser_new, sonar_new, readings, valid, self._wanted_speed,
+                                  *self._tracker_constants, *self._tracker_state, rates, speeds, moving, region_slot)
         active = self._active
         labels = np.sign(rates) * (np.abs(rates) > cfg.direction_epsilon_mps)
         columns = label_columns(labels)
@@ -664,7 +669,6 @@ class AttentionModel:
                   cfg.td_require_target, self._combine, C_BU, C_TD, C, origins, fulfilled)
 
         # --- attentional map, saliency, winner (§7, §8) -----------------------------------
-        self._courses.reserve()
         winner, fired = select(t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread,
                                *self._courses.arrays, M, L)
         return self._output(t, arrays, winner, fired, n_tracks)

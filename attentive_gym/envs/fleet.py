@@ -33,7 +33,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from attentive_gym.attention.batch import ModelBatch
+from attentive_gym.attention.batch import ModelBatch, batching_problem
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 
 __all__ = ["Fleet", "stack_observations"]
@@ -123,13 +123,11 @@ class Fleet:
         steps = [self.bases[i]._complete_step(hit, reading) for i, hit, reading in zip(indices, collided, readings)]
         hooks = [self._observation_hooks[i] for i in indices]
         if self._models is not None:  # every member's innermost hook: its attention wrapper, models batched
-            readings = [self._attention[i]._model_reading(observation, info)
-                        for i, (observation, _, _, _, info) in zip(indices, steps)]
-            outputs = self._models.step(readings, list(indices))
-            attended = []
-            for i, output, (observation, _, _, _, info) in zip(indices, outputs, steps):
-                attended.append(self._attention[i]._observe_output(observation, info, output))
-            steps = [(observation, *rest) for observation, (_, *rest) in zip(attended, steps)]
+            model_readings = [self._attention[i]._model_reading(observation, info)
+                              for i, (observation, _, _, _, info) in zip(indices, steps)]
+            outputs = self._models.step(model_readings, list(indices))
+            steps = [(self._attention[i]._observe_output(raw, info, output), reward, terminated, truncated, info)
+                     for i, output, (raw, reward, terminated, truncated, info) in zip(indices, outputs, steps)]
             hooks = [member_hooks[1:] for member_hooks in hooks]
         results = []
         for member_hooks, (observation, reward, terminated, truncated, info) in zip(hooks, steps):
@@ -157,14 +155,11 @@ def stack_observations(space: gym.Space, observations: Sequence[Any]) -> Any | N
 def _attention_wrappers(observation_hooks: list[list]) -> list | None:
     """The members' attention wrappers when every member's innermost observation hook is
     one's (``_observe_step`` of a wrapper with ``_observe_output`` and a ``model``) and
-    their models can be batched (one configuration, the sonar grid); else None."""
+    their models can form a ``ModelBatch``; else None."""
     wrappers = [getattr(hooks[0], "__self__", None) if hooks else None for hooks in observation_hooks]
     if not all(hasattr(w, "_observe_output") and hasattr(w, "model") for w in wrappers):
         return None
-    config = wrappers[0].model.config
-    if wrappers[0].model.grid.is_laser or any(w.model.config != config for w in wrappers):
-        return None
-    return wrappers
+    return wrappers if batching_problem([w.model for w in wrappers]) is None else None
 
 
 def _hooks(env: gym.Env, index: int) -> tuple[list, list]:

@@ -128,10 +128,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if not self._goal_chosen:
             task_goal = Goal.decode(raw["goal"])
             self.model.set_goals() if task_goal is None else self.model.set_goals(task_goal)
-        observation = self._attend(raw, info)
-        if self.render_mode == "human":
-            self.env.render()  # again, now with this step's focus
-        return observation, info
+        return self._observe_step(raw, info), info
 
     def step(self, action):
         raw, reward, terminated, truncated, info = self.env.step(action)
@@ -160,9 +157,6 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def _step_model(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> AttentionOutput:
         t, sonar, laser, odometry, sonar_time_s, laser_time_s = self._model_reading(raw, info)
         return self.model.step(t, sonar, laser, odometry, sonar_time_s=sonar_time_s, laser_time_s=laser_time_s)
-
-    def _attend(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        return self._use(raw, info, self._step_model(raw, info))
 
     def _use(self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput) -> dict[str, np.ndarray]:
         """Keep ``output`` (``last_output``, ``info["attention"]``) and encode the observation."""
