@@ -187,47 +187,65 @@ def batch_infos(infos: Sequence[tuple[int, dict[str, Any]]], num_envs: int) -> d
     maps to an array over the ``num_envs`` members (numbers → a 1-D array of the first
     value's type, arrays → stacked with a leading axis, anything else → an object array;
     a dict → batched recursively; ``"final_obs"`` → an object array), and ``"_key"`` is
-    the bool mask of the members that had it (read-only). One pass per key, not per member and key.
+    the bool mask of the members that had it (read-only). One pass per key, not per member
+    and key; when every member comes once, in order, with the same keys (a step without
+    resets), the keys' values are gathered without sorting them by key first.
     """
-    by_key: dict[str, list[tuple[int, Any]]] = {}
-    for i, info in infos:
-        for key, value in info.items():
-            by_key.setdefault(key, []).append((i, value))
-    every = list(range(num_envs))
     everyone = np.ones(num_envs, np.bool_)  # the mask of the keys every member has, shared read-only
     everyone.flags.writeable = False
-    batched: dict[str, Any] = {}
-    for key, items in by_key.items():
-        indices = [i for i, _ in items]
+    every = list(range(num_envs))
+    if [i for i, _ in infos] == every and all(info.keys() == infos[0][1].keys() for _, info in infos):
+        dicts = [info for _, info in infos]
+        batched: dict[str, Any] = {}
+        for key in dicts[0]:
+            batched[key] = _batch_values(key, [info[key] for info in dicts], every, num_envs, True)
+            batched[f"_{key}"] = everyone
+        return batched
+    by_key: dict[str, tuple[list[int], list[Any]]] = {}
+    for i, info in infos:
+        for key, value in info.items():
+            indices, values = by_key.setdefault(key, ([], []))
+            indices.append(i)
+            values.append(value)
+    batched = {}
+    for key, (indices, values) in by_key.items():
         full = indices == every  # every member has it, in order: build each array in one go
-        first = items[0][1]
-        if key != "final_obs" and isinstance(first, dict):
-            array = batch_infos(items, num_envs)
-        elif key != "final_obs" and (type(first) in (int, float, bool) or isinstance(first, np.number)):
-            values = [value for _, value in items]
-            if full:
-                array = np.array(values, dtype=type(first))
-            else:
-                array = np.zeros(num_envs, dtype=type(first))
-                array[indices] = values
-        elif key != "final_obs" and isinstance(first, np.ndarray) and full and \
-                all(value.shape == first.shape for _, value in items):
-            array = np.stack([value for _, value in items]).astype(first.dtype, copy=False)
-        elif key != "final_obs" and isinstance(first, np.ndarray):
-            array = np.zeros((num_envs, *first.shape), dtype=first.dtype)
-            for i, value in items:
-                array[i] = value
-        else:
-            array = np.full(num_envs, None, dtype=object)
-            for i, value in items:
-                array[i] = value
+        batched[key] = _batch_values(key, values, indices, num_envs, full)
         if full:
-            mask = everyone
+            batched[f"_{key}"] = everyone
         else:
             mask = np.zeros(num_envs, np.bool_)
             mask[indices] = True
-        batched[key], batched[f"_{key}"] = array, mask
+            batched[f"_{key}"] = mask
     return batched
+
+
+def _batch_values(key: str, values: list[Any], indices: list[int], num_envs: int, full: bool) -> Any:
+    """One key's values (of the members ``indices``; ``full``: of every member, in order) as
+    ``batch_infos`` batches them."""
+    first = values[0]
+    if key != "final_obs" and isinstance(first, dict):
+        return batch_infos(list(zip(indices, values)), num_envs)
+    if key != "final_obs" and (type(first) in (int, float, bool) or isinstance(first, np.number)):
+        if full:
+            return np.array(values, dtype=type(first))
+        array = np.zeros(num_envs, dtype=type(first))
+        array[indices] = values
+        return array
+    if key != "final_obs" and isinstance(first, np.ndarray):
+        if full and first.dtype != object:  # np.stack's result at 3x its speed; numpy refuses values of different shapes
+            try:
+                return np.array(values).astype(first.dtype, copy=False)
+            except ValueError:
+                pass
+        array = np.zeros((num_envs, *first.shape), dtype=first.dtype)
+        for i, value in zip(indices, values):
+            array[i] = value
+        return array
+    array = np.full(num_envs, None, dtype=object)
+    for i, value in zip(indices, values):
+        array[i] = value
+    return array
 
 
 def _seeds(seed, num_envs: int) -> list[int | None]:

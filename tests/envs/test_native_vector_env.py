@@ -211,6 +211,14 @@ def test_batch_infos_equals_gymnasium_add_info():
     for i, info in entries:
         expected = reference._add_info(expected, info, i)
     _assert_same_tree(batch_infos(entries, 3), expected)
+    # every member once, in order, with the same keys (a step without resets): the fast path
+    full = [(i, {"a": float(i), "n": i, "flag": i == 1, "v": rng.normal(size=(2, 2)).astype(np.float32 if i else np.float64),
+                 "obj": ("x",) * i, "d": {"inner": np.arange(i, i + 3)}}) for i in range(3)]
+    expected = {}
+    for i, info in full:
+        expected = reference._add_info(expected, info, i)
+    _assert_same_tree(batch_infos(full, 3), expected)
+    assert batch_infos(full, 3)["v"].dtype == np.float64 and batch_infos(full, 3)["d"]["inner"].shape == (3, 3)
 
 
 # --- SB3 ----------------------------------------------------------------------------------
