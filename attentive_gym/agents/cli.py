@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from attentive_gym.agents.backends import BACKENDS, Interrupted, raise_on_stop_signals
-from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, QUICK, VEC_ENVS, RunSpec
+from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS, VEC_ENVS, RunSpec
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_env_kwargs"]
@@ -101,7 +101,9 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
                         help='make_env keyword arguments, e.g. \'{"arena_size_m": 8, "num_distractors": 2}\' '
                              f"{_with_quick('none', 'env_kwargs', quick)}")
     parser.add_argument("--algo-kwargs", metavar="JSON",
-                        help='SB3 keyword arguments over the run\'s defaults, e.g. \'{"n_steps": 128}\' (defaults: '
+                        help='SB3 keyword arguments over the run\'s defaults, e.g. \'{"n_steps": 128}\'; '
+                             f'{", ".join(SCHEDULE_KEYS)} also take "lin_<number>", a linear decay to 0 over the '
+                             'budget (defaults: '
                              f"ppo {json.dumps(RunSpec().default_algo_kwargs())}, recurrent-ppo the same with "
                              f"{json.dumps({'policy_kwargs': RunSpec(algo='recurrent-ppo').default_algo_kwargs()['policy_kwargs']})}, "
                              f"sac {json.dumps(RunSpec(algo='sac').default_algo_kwargs())})")

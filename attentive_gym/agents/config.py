@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "QUICK", "RunSpec", "parse_variants", "parse_seeds"]
+__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule", "parse_variants",
+           "parse_seeds"]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
@@ -30,6 +32,11 @@ VEC_ENVS = ("native", "dummy", "subproc")
 #: units (metres, seconds, flags), as runs did before normalisation existed (their
 #: ``spec.json`` has no ``obs_scaling`` and reads as ``"none"``).
 OBS_SCALINGS = ("running", "none")
+
+#: ``algo_kwargs`` that take a schedule: a number, or ``"lin_<number>"`` (as in rl-zoo's
+#: hyper-parameter files), a linear decay from that number to 0 over the run's budget.
+SCHEDULE_KEYS = ("learning_rate", "clip_range", "clip_range_vf")
+_LINEAR_PREFIX = "lin_"
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 150 000 PPO steps, 10 eval episodes every 30 000 steps, in the main
@@ -110,6 +117,9 @@ class RunSpec:
             if not isinstance(value, Mapping):
                 raise ValueError(f"{name} must be a mapping, got {type(value).__name__}")
             object.__setattr__(self, name, dict(value))
+        for key in SCHEDULE_KEYS:
+            if isinstance(self.algo_kwargs.get(key), str):
+                parse_schedule(key, self.algo_kwargs[key])
 
     @property
     def run_name(self) -> str:
@@ -133,8 +143,12 @@ class RunSpec:
 
     def merged_algo_kwargs(self) -> dict[str, Any]:
         """``default_algo_kwargs`` updated with ``algo_kwargs``; ``policy_kwargs`` are merged
-        key by key (``{"policy_kwargs": {"net_arch": [32]}}`` keeps the LSTM's size)."""
+        key by key (``{"policy_kwargs": {"net_arch": [32]}}`` keeps the LSTM's size), and
+        ``"lin_<number>"`` schedules (``SCHEDULE_KEYS``) become SB3 ``LinearSchedule``s."""
         merged = {**self.default_algo_kwargs(), **self.algo_kwargs}
+        for key in SCHEDULE_KEYS:
+            if isinstance(merged.get(key), str):
+                merged[key] = parse_schedule(key, merged[key])
         default_policy = self.default_algo_kwargs().get("policy_kwargs")
         if default_policy is not None and isinstance(self.algo_kwargs.get("policy_kwargs"), Mapping):
             merged["policy_kwargs"] = {**default_policy, **self.algo_kwargs["policy_kwargs"]}
@@ -160,6 +174,25 @@ class RunSpec:
     def replace(self, **changes: Any) -> "RunSpec":
         """A copy with ``changes`` applied (validated again)."""
         return dataclasses.replace(self, **changes)
+
+
+def parse_schedule(key: str, text: str):
+    """``"lin_<number>"`` (``algo_kwargs[key]``) as SB3's ``LinearSchedule`` from that number
+    (> 0, finite) down to 0 at the end of the run's budget: SB3 passes it the fraction of
+    the budget that remains, so a run resumed from a checkpoint continues the same decay,
+    and ``--extend`` stretches it over the new budget (the value rises again where the
+    extension starts). ``ValueError`` for any other string."""
+    number = text[len(_LINEAR_PREFIX):] if text.startswith(_LINEAR_PREFIX) else ""
+    try:
+        start = float(number)
+    except ValueError:
+        start = math.nan
+    if not (math.isfinite(start) and start > 0.0):
+        raise ValueError(f"algo_kwargs[{key!r}] = {text!r}: a schedule is a number or "
+                         f"'{_LINEAR_PREFIX}<number > 0>' (a linear decay to 0 over the budget), e.g. 'lin_3e-4'")
+    from stable_baselines3.common.utils import LinearSchedule
+
+    return LinearSchedule(start, 0.0, 1.0)
 
 
 def _split_list(text: str, what: str) -> list[str]:

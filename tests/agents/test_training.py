@@ -72,6 +72,27 @@ def test_resume_continues_the_step_count(tmp_path, tiny):
     assert result.n_episodes == 2
 
 
+def test_a_linear_learning_rate_decays_over_the_budget_and_resumes_where_it_was(tmp_path, tiny):
+    spec = tiny(total_steps=640, checkpoint_every=256, eval_every=256,
+                algo_kwargs={**tiny.ppo_kwargs, "learning_rate": "lin_1e-3"})
+    straight = train(spec, tmp_path / "straight")
+    with pytest.raises(KeyboardInterrupt):
+        train(spec, tmp_path / "resumed", callbacks=[Interrupt(at=400)])
+    checkpoint, _ = load_model(tmp_path / "resumed" / "checkpoint" / "model.zip")
+    # SB3 updates after each rollout at the budget's fraction left: 1 - 256/640 at the checkpoint
+    assert checkpoint.policy.optimizer.param_groups[0]["lr"] == pytest.approx(1e-3 * (1 - 256 / 640))
+    assert train(spec, tmp_path / "resumed")["resumed_from"] == 256
+    assert straight["env_steps"] == 640
+    model, loaded_spec = load_model(tmp_path / "straight")
+    assert loaded_spec.algo_kwargs["learning_rate"] == "lin_1e-3"
+    assert model.policy.optimizer.param_groups[0]["lr"] == 0.0  # the end of the budget
+    resumed, _ = load_model(tmp_path / "resumed")  # the decay goes on over the same budget
+    assert resumed.lr_schedule(0.5) == model.lr_schedule(0.5) == pytest.approx(5e-4)
+    assert resumed.policy.optimizer.param_groups[0]["lr"] == 0.0
+    with pytest.raises(ValueError, match="lin_<number > 0>"):
+        tiny(algo_kwargs={"learning_rate": "linear"})
+
+
 def test_extend_trains_a_finished_run_on_to_a_larger_budget(tmp_path, tiny):
     spec = tiny()
     run_dir = tmp_path / "run"
