@@ -100,6 +100,13 @@ def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bo
     return (vx != 0.0 or vy != 0.0) and vx * towards_robot[0] + vy * towards_robot[1] >= 0.0
 
 
+def _note_robot_contact(arbiter: pymunk.Arbiter, space: pymunk.Space, touched: list[bool]) -> None:
+    """pre_solve of every contact of the robot: Chipmunk calls it in each physics sub-step in
+    which the robot touches a shape (an arbiter with contact points), the same contacts
+    ``Robot.in_contact`` counts after the sub-step; an untouched robot pays nothing."""
+    touched[0] = True
+
+
 def _stop_mover_at_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, movers: dict) -> None:
     """pre_solve of robot-mover contacts: a mover not moving away from the robot stops at once.
 
@@ -155,6 +162,8 @@ class World:
                 ROBOT_COLLISION_TYPE, MOVER_COLLISION_TYPE, pre_solve=_stop_mover_at_robot,
                 data={m.shape: m for m in self.movers},
             )
+        self._robot_touched = [False]  # set by _note_robot_contact while the robot touches anything
+        self.space.on_collision(ROBOT_COLLISION_TYPE, None, pre_solve=_note_robot_contact, data=self._robot_touched)
         self.static: list[tuple[Entity, pymunk.Shape]] = []  # walls and rubble
         for i, wall in enumerate(self._enclosure() + list(scenario.walls)):
             self._add_static(self._new_entity("wall", f"wall {i}"), _wall_shape(self.space.static_body, wall))
@@ -215,15 +224,15 @@ class World:
             t_s = self.time_s
             for mover in self.movers:
                 mover.drive(t_s, dt_s, robot_xy)
-        collided = False
+        touched = self._robot_touched
+        touched[0] = False
         space = self.space
         for _ in range(substeps):
             robot.drive(h)
             space.step(h)
-            collided = collided or robot.in_contact()
         self._steps_taken += 1
         self.time_s = self._steps_taken * dt_s
-        return collided
+        return touched[0]
 
     def geometry(self) -> SceneGeometry:
         """The scene's world-frame geometry now, with owners = entity ids."""

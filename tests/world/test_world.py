@@ -174,6 +174,20 @@ def test_a_pickled_world_keeps_stopping_movers_at_the_robot():
     assert copy.movers[0].script_delay_s > 1.0 and np.hypot(*copy.robot.pose[:2]) < 0.02
 
 
+def test_a_pickled_world_reports_contact_and_the_step_agrees_with_in_contact():
+    wall = WallSpec((1.5, -3.0), (1.5, 3.0), thickness_m=0.1)
+    world = open_world(walls=(wall,))
+    run(world, 0.5, 0.7, 0.0)  # not yet touching
+    copy = pickle.loads(pickle.dumps(world))
+    reports = []
+    for _ in range(160):  # one physics sub-step per env step: in_contact sees what the step saw
+        collided = copy.step(copy.physics_dt_s, 0.7, 0.0)
+        assert collided == copy.robot.in_contact()
+        reports.append(collided)
+        assert world.step(world.physics_dt_s, 0.7, 0.0) == collided
+    assert not reports[0] and all(reports[-10:])
+
+
 def test_overlapping_start_is_refused_with_names():
     with pytest.raises(ValueError, match="attentive robot starts overlapping rubble 0"):
         open_world(rubble=(BoxRubble(0.2, 0.0, 0.5, 0.5),))
