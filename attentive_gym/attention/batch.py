@@ -97,10 +97,17 @@ class ModelBatch:
         self._arrays = arrays
 
     def _detached(self) -> list[int]:
-        """The models whose arrays are no longer views of the batch."""
+        """The models whose arrays are no longer views of the batch (each owner's first array
+        tells: an owner's arrays are taken in and replaced together). Written out rather than
+        looped over ``_owners``: it runs every step, for every model."""
         arrays = self._arrays
+        row, memory, courses = arrays[_MODEL_FIELDS[0]], arrays[_MEMORY_FIELDS[0]], arrays[_COURSE_FIELDS[0]]
+        tracker = arrays[STATE_FIELDS[0]] if self._tracked else None
         return [i for i, model in enumerate(self.models)
-                if any(getattr(owner, names[0]).base is not arrays[names[0]] for owner, names in self._owners(model))]
+                if getattr(model, _MODEL_FIELDS[0]).base is not row
+                or getattr(model._memory, _MEMORY_FIELDS[0]).base is not memory
+                or getattr(model._courses, _COURSE_FIELDS[0]).base is not courses
+                or (tracker is not None and getattr(model._tracker, STATE_FIELDS[0]).base is not tracker)]
 
     def _make_course_room(self) -> None:
         """Room for one more course of each kind in every model (the kernel cannot grow arrays)."""
@@ -157,10 +164,10 @@ class ModelBatch:
         attend_many(
             np.asarray(members, np.int64), arrays["_row"], first._limits, arrays["_state"], arrays["_times"],
             arrays["_samples"], arrays["_ego_offset"], t, dt, first._slope_samples, arrays["_ego"], moved, push,
-            self._tracked, linear, angular, laser_new, sonar_new, np.stack([m._wanted_speed for m in models]),
+            self._tracked, linear, angular, laser_new, sonar_new, np.array([m._wanted_speed for m in models]),
             *first._tracker_constants, *state, first._max_ranges, cfg.max_distance_m, cfg.laser_only,
-            cfg.laser_max_range_m, np.stack([m._active for m in models]), np.stack([m._goal_plan for m in models]),
-            cfg.td_require_target, np.stack([m._combine for m in models]), np.array([m._gain for m in models]),
+            cfg.laser_max_range_m, np.array([m._active for m in models]), np.array([m._goal_plan for m in models]),
+            cfg.td_require_target, np.array([m._combine for m in models]), np.array([m._gain for m in models]),
             cfg.threshold, first._spread, first._courses.params, arrays["_bu_regions"], arrays["_bu_starts"],
             arrays["_td_regions"], arrays["_td_times"], arrays["_counts"], *outputs, winners, fired, n_tracks,
         )
