@@ -12,7 +12,8 @@ import numpy as np
 
 from attentive_gym.agents.statistics import bootstrap_ci
 
-__all__ = ["curve_stats", "plot_learning_curves", "plot_success_vs_distractors", "steps_label", "METRIC_BOUNDS"]
+__all__ = ["curve_stats", "plot_learning_curves", "plot_success_vs_distractors", "split_label", "steps_label",
+           "METRIC_BOUNDS"]
 
 #: The range of each bounded metric; confidence bands are clipped to it.
 METRIC_BOUNDS = {"success_rate": (0.0, 1.0), "mean_collision_steps": (0.0, float("inf")),
@@ -49,6 +50,26 @@ def curve_stats(rows: Sequence[Mapping[str, Any]], variant: str, metric: str) ->
 #: panels, in rows of ``_LEGEND_COLUMNS`` entries.
 _LEGEND_INSIDE = 4
 _LEGEND_COLUMNS = 4
+#: Line styles of a label's settings (``split_label``), in order of appearance; a
+#: variant keeps one colour across settings.
+_SETTING_STYLES = ("-", "--", ":", "-.")
+
+
+def split_label(label: str) -> tuple[str, str]:
+    """A variant label as ``(variant, setting)``: ``"focus (recurrent-ppo)"`` →
+    ``("focus", " (recurrent-ppo)")``; ``"raw"`` → ``("raw", "")``."""
+    variant, bracket, notes = label.partition(" (")
+    return variant, bracket + notes
+
+
+def _line_styles(labels: Sequence[str]) -> dict[str, dict[str, str]]:
+    """matplotlib ``color`` and ``linestyle`` of each label: one colour per variant, one line
+    style per setting (both cycling when there are more than they have)."""
+    variants = list(dict.fromkeys(split_label(label)[0] for label in labels))
+    settings = list(dict.fromkeys(split_label(label)[1] for label in labels))
+    return {label: {"color": f"C{variants.index(split_label(label)[0]) % 10}",
+                    "linestyle": _SETTING_STYLES[settings.index(split_label(label)[1]) % len(_SETTING_STYLES)]}
+            for label in labels}
 
 
 def plot_learning_curves(
@@ -57,7 +78,8 @@ def plot_learning_curves(
     metrics: Sequence[str] = ("success_rate", "mean_return"),
     title: str | None = None,
 ) -> Path:
-    """Write a PNG with one panel per metric: per-variant mean curve and 95 % CI band vs env steps."""
+    """Write a PNG with one panel per metric: per-variant mean curve and 95 % CI band vs env
+    steps; a variant has one colour, its settings (``split_label``) different line styles."""
     from matplotlib.ticker import FuncFormatter
 
     plt = _pyplot()
@@ -67,11 +89,12 @@ def plot_learning_curves(
     labels = {"success_rate": "success rate", "mean_return": "mean return",
               "mean_collision_steps": "collision steps / episode", "mean_episode_length": "episode length (steps)"}
     fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 3.8), squeeze=False)
+    styles = _line_styles(variants)
     for ax, metric in zip(axes[0], metrics):
         for variant in variants:
             steps, mean, low, high = curve_stats(rows, variant, metric)
             n = len({r["seed"] for r in rows if r["variant"] == variant})
-            (line,) = ax.plot(steps, mean, marker=".", label=f"{variant} (n={n})")
+            (line,) = ax.plot(steps, mean, marker=".", label=f"{variant} (n={n})", **styles[variant])
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
         ax.set_xlabel("environment steps")
         ax.xaxis.set_major_formatter(FuncFormatter(steps_label))

@@ -33,7 +33,8 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 from attentive_gym.agents.config import OBS_SCALINGS
-from attentive_gym.agents.plots import curve_stats, plot_learning_curves, plot_success_vs_distractors, steps_label
+from attentive_gym.agents.plots import (curve_stats, plot_learning_curves, plot_success_vs_distractors, split_label,
+                                        steps_label)
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown, write_csv_atomic, write_text_atomic
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.wrappers.variants import VARIANTS
@@ -89,12 +90,6 @@ def budgets(rows: Sequence[Mapping[str, Any]], keys: Sequence[str] = ("variant",
             for budget in sorted(set(finals.values()))]
 
 
-def _setting(label: str) -> str:
-    """The part of a ``labelled`` variant name after the variant: ``" (recurrent-ppo)"`` or ``""``."""
-    _, bracket, notes = label.partition(" (")
-    return bracket + notes
-
-
 def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """For every attended variant, the figures of the comparison's targets against ``raw``
     and ``oracle`` of the same algorithm and scaling (NaN where they are missing):
@@ -107,9 +102,9 @@ def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, An
     by_variant = {row["variant"]: row for row in summary}
     out = []
     for row in summary:
-        if row["variant"].split(" (")[0] in _NOT_ATTENDED:
+        if split_label(row["variant"])[0] in _NOT_ATTENDED:
             continue
-        setting = _setting(row["variant"])
+        setting = split_label(row["variant"])[1]
         raw, oracle = by_variant.get(BASELINE + setting), by_variant.get(ORACLE + setting)
         steps_fraction = gap = math.nan
         above = False
@@ -172,9 +167,9 @@ def clutter_targets(summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]
     cell = {(row["variant"], row["num_distractors"]): row for row in summary}
     out = []
     for row in summary:
-        if row["variant"].split(" (")[0] in _NOT_ATTENDED:
+        if split_label(row["variant"])[0] in _NOT_ATTENDED:
             continue
-        n, setting = row["num_distractors"], _setting(row["variant"])
+        n, setting = row["num_distractors"], split_label(row["variant"])[1]
         raw, oracle = cell.get((BASELINE + setting, n)), cell.get((ORACLE + setting, n))
         margin = gap = math.nan
         if raw is not None:

@@ -182,3 +182,21 @@ def test_a_crowded_learning_curve_legend_sits_below_the_panels(tmp_path, monkeyp
     renderer = many.canvas.get_renderer()  # below the panels' tick labels and axis titles too
     assert len(legend.get_texts()) == 6
     assert legend.get_window_extent().y1 < min(ax.get_tightbbox(renderer).y0 for ax in many.axes)
+
+
+def test_a_variant_keeps_its_colour_across_settings_which_differ_in_line_style(tmp_path, monkeypatch):
+    from attentive_gym.agents import plots
+
+    figures = []
+    monkeypatch.setattr(plots, "_save", lambda fig, path, layout=True: figures.append(fig) or path)
+    labels = ["raw", "focus", "raw (recurrent-ppo)", "focus (recurrent-ppo)", "focus (ppo, lr lin_3e-4)"]
+    rows = [{"variant": label, "seed": seed, "env_steps": step, "success_rate": 0.5, "mean_return": 1.0}
+            for label in labels for seed in (0, 1) for step in (0, 100)]
+    plots.plot_learning_curves(rows, tmp_path / "curves.png")
+    lines = {line.get_label().rsplit(" (n=", 1)[0]: line for line in figures[0].axes[0].get_lines()}
+    colour = {label: lines[label].get_color() for label in labels}
+    style = {label: lines[label].get_linestyle() for label in labels}
+    assert colour["raw"] == colour["raw (recurrent-ppo)"] != colour["focus"] == colour["focus (recurrent-ppo)"]
+    assert style["raw"] == style["focus"] == "-" and style["raw (recurrent-ppo)"] == style["focus (recurrent-ppo)"]
+    assert len({style["focus"], style["focus (recurrent-ppo)"], style["focus (ppo, lr lin_3e-4)"]}) == 3
+    assert plots.split_label("focus (ppo, lr lin_3e-4)") == ("focus", " (ppo, lr lin_3e-4)")
