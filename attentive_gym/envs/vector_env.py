@@ -194,20 +194,16 @@ def batch_infos(infos: Sequence[tuple[int, dict[str, Any]]], num_envs: int) -> d
     everyone = np.ones(num_envs, np.bool_)  # the mask of the keys every member has, shared read-only
     everyone.flags.writeable = False
     every = list(range(num_envs))
+    by_key: dict[str, tuple[list[int], list[Any]]] = {}  # key → (members, values)
     if [i for i, _ in infos] == every and all(info.keys() == infos[0][1].keys() for _, info in infos):
-        dicts = [info for _, info in infos]
-        batched: dict[str, Any] = {}
-        for key in dicts[0]:
-            batched[key] = _batch_values(key, [info[key] for info in dicts], every, num_envs, True)
-            batched[f"_{key}"] = everyone
-        return batched
-    by_key: dict[str, tuple[list[int], list[Any]]] = {}
-    for i, info in infos:
-        for key, value in info.items():
-            indices, values = by_key.setdefault(key, ([], []))
-            indices.append(i)
-            values.append(value)
-    batched = {}
+        by_key = {key: (every, [info[key] for _, info in infos]) for key in infos[0][1]}
+    else:
+        for i, info in infos:
+            for key, value in info.items():
+                indices, values = by_key.setdefault(key, ([], []))
+                indices.append(i)
+                values.append(value)
+    batched: dict[str, Any] = {}
     for key, (indices, values) in by_key.items():
         full = indices == every  # every member has it, in order: build each array in one go
         batched[key] = _batch_values(key, values, indices, num_envs, full)
