@@ -65,11 +65,12 @@ def split_label(label: str) -> tuple[str, str]:
 def _line_styles(labels: Sequence[str]) -> dict[str, dict[str, str]]:
     """matplotlib ``color`` and ``linestyle`` of each label: one colour per variant, one line
     style per setting (both cycling when there are more than they have)."""
-    variants = list(dict.fromkeys(split_label(label)[0] for label in labels))
-    settings = list(dict.fromkeys(split_label(label)[1] for label in labels))
-    return {label: {"color": f"C{variants.index(split_label(label)[0]) % 10}",
-                    "linestyle": _SETTING_STYLES[settings.index(split_label(label)[1]) % len(_SETTING_STYLES)]}
-            for label in labels}
+    parts = {label: split_label(label) for label in labels}
+    variants = list(dict.fromkeys(variant for variant, _ in parts.values()))
+    settings = list(dict.fromkeys(setting for _, setting in parts.values()))
+    return {label: {"color": f"C{variants.index(variant) % 10}",
+                    "linestyle": _SETTING_STYLES[settings.index(setting) % len(_SETTING_STYLES)]}
+            for label, (variant, setting) in parts.items()}
 
 
 def plot_learning_curves(
