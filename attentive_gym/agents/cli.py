@@ -21,22 +21,36 @@ from attentive_gym.wrappers.variants import VARIANTS
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_env_kwargs"]
 
 
-def parse_env_kwargs(text: str | None) -> dict[str, Any]:
-    """``--env-kwargs``: a JSON object (or the path of a .json file holding one) → dict."""
-    if not text:
+def parse_env_kwargs(text: str | None, flag: str = "--env-kwargs") -> dict[str, Any]:
+    """``flag``'s value (``--env-kwargs`` or ``--algo-kwargs``): a JSON object, or the path of a
+    .json file holding one → dict. None (the flag not given) → {}; an empty value, invalid
+    JSON, NaN or Infinity, or anything but an object raises ``ValueError`` naming ``flag``."""
+    if text is None:
         return {}
+    if not text.strip():
+        raise ValueError(f"{flag} is empty; give a JSON object such as '{{}}' or leave the flag out")
     if not text.lstrip().startswith("{"):
         path = Path(text)
         if not path.is_file():
-            raise ValueError(f"--env-kwargs must be a JSON object or a .json file, got {text!r}")
+            raise ValueError(f"{flag} must be a JSON object or a .json file, got {text!r}")
         text = path.read_text()
     try:
-        value = json.loads(text)
+        value = json.loads(text, parse_constant=_reject_constant)
     except json.JSONDecodeError as err:
-        raise ValueError(f"--env-kwargs is not valid JSON: {err}") from None
+        raise ValueError(f"{flag} is not valid JSON: {err}") from None
+    except _NonFiniteJSON as err:
+        raise ValueError(f"{flag} holds {err}, which is not a finite number; numbers must be finite") from None
     if not isinstance(value, dict):
-        raise ValueError(f"--env-kwargs must be a JSON object, got {type(value).__name__}")
+        raise ValueError(f"{flag} must be a JSON object, got {type(value).__name__}")
     return value
+
+
+class _NonFiniteJSON(ValueError):
+    """JSON's NaN, Infinity or -Infinity, which Python's ``json`` would otherwise accept."""
+
+
+def _reject_constant(name: str):
+    raise _NonFiniteJSON(name)
 
 
 def _int_at_least(low: int) -> Callable[[str], int]:
@@ -66,7 +80,8 @@ _COMPARE_SEEDS = 5
 
 #: ``--extend``'s help; ``what`` names the existing runs.
 _EXTEND_HELP = ("train {what}, trained with a smaller --steps and otherwise the same options, on to --steps from "
-                "its latest checkpoint (its evaluations so far are kept; the final model is replaced)")
+                "its latest checkpoint (its evaluations so far are kept; the final model is replaced; without "
+                "--eval-every and --checkpoint-every it keeps their values from the existing runs)")
 
 
 def _with_quick(text: str, key: str, quick: bool) -> str:
@@ -110,20 +125,43 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
 
 
 def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
-                    defaults: dict[str, Any] | None = None) -> RunSpec:
-    """The ``RunSpec`` of the parsed options; ``defaults`` (``QUICK``) fill what was not given."""
-    defaults = defaults or {}
+                    defaults: dict[str, Any] | None = None, stored: dict[str, Any] | None = None) -> RunSpec:
+    """The ``RunSpec`` of the parsed options; ``defaults`` (``QUICK``) fill what was not given.
+
+    ``stored``: the settings of the trained run (or comparison) in the output folder. When
+    ``--steps`` asks for at least what it has, their evaluation and checkpoint cadence stands
+    in for the defaults that depend on ``--steps`` (steps/10, steps/5): resuming a run needs
+    none of those flags, and extending it only ``--extend`` and the new ``--steps``.
+    """
+    defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
-    algo_kwargs = parse_env_kwargs(args.algo_kwargs) if args.algo_kwargs else {}
+    if stored is not None and steps >= stored.get("total_steps", steps):
+        defaults.update({key: stored[key] for key in ("eval_every", "checkpoint_every") if key in stored})
     return RunSpec(
         variant=variant, algo=args.algo, total_steps=steps, seed=seed, n_envs=args.n_envs, vec_env=args.vec_env,
         eval_every=args.eval_every or defaults.get("eval_every", max(1, steps // 10)),
         eval_episodes=args.eval_episodes or defaults.get("eval_episodes", RunSpec.eval_episodes),
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
-        env_kwargs=parse_env_kwargs(args.env_kwargs) if args.env_kwargs else dict(defaults.get("env_kwargs", {})),
-        algo_kwargs=algo_kwargs,
+        env_kwargs=(parse_env_kwargs(args.env_kwargs) if args.env_kwargs is not None
+                    else dict(defaults.get("env_kwargs", {}))),
+        algo_kwargs=parse_env_kwargs(args.algo_kwargs, "--algo-kwargs"),
         torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads), obs_scaling=args.obs_scaling,
     )
+
+
+def _trained_settings(path: Path, trained: bool, *keys: str) -> dict[str, Any] | None:
+    """The JSON object at ``path`` (``spec.json`` or ``compare.json``), descended into by
+    ``keys``, when ``trained`` (its runs hold a checkpoint or are done); None otherwise or
+    when the file is absent or unreadable (the binding step reports those)."""
+    if not trained:
+        return None
+    try:
+        value = json.loads(path.read_text())
+        for key in keys:
+            value = value[key]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return value if isinstance(value, dict) else None
 
 
 # --- train ------------------------------------------------------------------------------
@@ -149,10 +187,11 @@ def add_train(subparsers) -> None:
 
 
 def _run_train(args: argparse.Namespace) -> int:
-    from attentive_gym.agents.training import train
+    from attentive_gym.agents.training import holds_progress, train
 
-    spec = _spec_from_args(args, args.variant, args.seed)
-    out = args.out or Path("runs") / f"train-{spec.run_name}"
+    out = args.out or Path("runs") / f"train-{RunSpec(variant=args.variant, seed=args.seed).run_name}"
+    spec = _spec_from_args(args, args.variant, args.seed,
+                           stored=_trained_settings(out / "spec.json", holds_progress(out)))
     with raise_on_stop_signals():
         try:
             metrics = train(spec, out, progress_bar=not args.no_progress, extend=args.extend)
@@ -193,9 +232,11 @@ def add_evaluate(subparsers) -> None:
 
 
 def _run_evaluate(args: argparse.Namespace) -> int:
-    from attentive_gym.agents.evaluation import evaluate_policy, record_videos
+    from attentive_gym.agents.evaluation import check_video_dir, evaluate_policy, record_videos
     from attentive_gym.agents.training import env_factory, eval_seed, load_policy
 
+    if args.video:
+        check_video_dir(args.video)
     model, spec = load_policy(args.model)
     seed = eval_seed(spec) if args.seed is None else args.seed
     result = evaluate_policy(model, env_factory(spec), args.episodes, seed)
@@ -248,17 +289,25 @@ def add_compare(subparsers) -> None:
 
 
 def _run_compare(args: argparse.Namespace) -> int:
-    from attentive_gym.agents.compare import compare
+    from attentive_gym.agents.compare import compare, runs_hold_progress
     from attentive_gym.agents.config import parse_seeds, parse_variants
 
     defaults = dict(QUICK) if args.quick else {}  # _spec_from_args holds the plain defaults
-    variants = parse_variants(args.variants) if args.variants else tuple(defaults.get("variants", _COMPARE_VARIANTS))
-    seeds = parse_seeds(args.seeds) if args.seeds else tuple(defaults.get("seeds", range(_COMPARE_SEEDS)))
+    variants = (parse_variants(args.variants) if args.variants is not None
+                else tuple(defaults.get("variants", _COMPARE_VARIANTS)))
+    seeds = parse_seeds(args.seeds) if args.seeds is not None else tuple(defaults.get("seeds", range(_COMPARE_SEEDS)))
     if not 0.0 <= args.threshold <= 1.0:
         raise ValueError(f"--threshold must be a success rate in [0, 1], got {args.threshold}")
-    base = _spec_from_args(args, variants[0], seeds[0], defaults)
     out = args.out or Path("runs") / ("compare-quick" if args.quick else "compare")
-    if args.distractors:
+    stored = _trained_settings(out / "compare.json", runs_hold_progress(out), "run")
+    if args.distractors is not None:  # a sweep: the settings of the comparisons at its counts
+        from attentive_gym.agents.sweep import parse_distractors
+
+        points = [out / f"distractors-{n}" for n in parse_distractors(args.distractors)]
+        stored = next(filter(None, (_trained_settings(point / "compare.json", runs_hold_progress(point), "run")
+                                    for point in points)), None)
+    base = _spec_from_args(args, variants[0], seeds[0], defaults, stored)
+    if args.distractors is not None:
         return _run_sweep(args, variants, seeds, base, out)
     print(f"compare: {_count(len(variants), 'variant')} × {_count(len(seeds), 'seed')} × {base.total_steps} env steps "
           f"({args.backend}, {_count(args.workers, 'worker')}) → {out}", flush=True)
@@ -283,7 +332,7 @@ def _run_sweep(args: argparse.Namespace, variants, seeds, base, out: Path) -> in
     from attentive_gym.agents.sweep import clutter_sweep, parse_distractors
 
     counts = parse_distractors(args.distractors)
-    if "num_distractors" in base.env_kwargs and args.env_kwargs:
+    if "num_distractors" in base.env_kwargs and args.env_kwargs is not None:
         raise ValueError("--distractors sets num_distractors; leave it out of --env-kwargs")
     print(f"compare: clutter sweep over {_count(len(counts), 'distractor count')} × {_count(len(variants), 'variant')} "
           f"× {_count(len(seeds), 'seed')} × {base.total_steps} env steps ({args.backend}, "

@@ -41,10 +41,10 @@ from attentive_gym.agents.results import (
     write_json_atomic,
     write_text_atomic,
 )
-from attentive_gym.agents.training import budget_grows, is_done, validate_spec
+from attentive_gym.agents.training import budget_grows, holds_progress, is_done, validate_spec
 from attentive_gym.progress import Progress, format_duration
 
-__all__ = ["QUICK", "CompareResult", "compare", "collect", "run_dir_of"]
+__all__ = ["QUICK", "CompareResult", "compare", "collect", "run_dir_of", "runs_hold_progress"]
 
 
 @dataclass
@@ -135,21 +135,36 @@ def compare(
 
 
 def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: bool) -> None:
-    """Write ``out/compare.json``, or check that the comparison already there has ``settings``
-    (or, with ``extend``, the same with a smaller ``total_steps``: then it is rewritten)."""
+    """Write ``out/compare.json``, or check that the comparison already there has ``settings``.
+
+    Over a comparison whose runs hold progress (a checkpoint or a finished run), allowed are:
+    the same runs with another vectorisation or threshold (neither changes a trained number:
+    the file is rewritten) and, with ``extend``, the same with a larger ``total_steps``.
+    Anything else raises ``ValueError`` naming what differs. Before any run made progress
+    (a start that failed, on a typo in ``algo_kwargs`` say), the folder is taken over.
+    """
     path = out / "compare.json"
-    if path.is_file():
+    if path.is_file() and runs_hold_progress(out):
         old, new = json.loads(path.read_text()), json.loads(json.dumps(settings))
-        if old == new:
-            return
-        old_base = RunSpec.from_dict({"variant": base.variant, "seed": base.seed, **old["run"]})
-        same_runs = {k: v for k, v in old.items() if k != "run"} == {k: v for k, v in new.items() if k != "run"}
-        if not (same_runs and budget_grows(old_base, base)):
-            raise ValueError(f"{out} holds a comparison with other settings ({path}); use another --out folder")
-        if not extend:
-            raise ValueError(f"{out} holds this comparison with {old_base.total_steps} env steps per run; extend it to "
-                             f"{base.total_steps} (--extend) or use another --out folder")
+        old_base = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed,
+                                      "vec_env": base.vec_env})  # the vectorisation changes no number
+        lists = [f"{key} {old[key]} → {new[key]}" for key in ("variants", "seeds") if old[key] != new[key]]
+        if not lists and old_base == base:
+            pass  # the same runs: only the vectorisation or the threshold may differ
+        elif not lists and budget_grows(old_base, base):
+            if not extend:
+                raise ValueError(f"{out} holds this comparison with {old_base.total_steps} env steps per run; "
+                                 f"extend it to {base.total_steps} (--extend) or use another --out folder")
+        else:
+            differences = ", ".join(filter(None, [*lists, old_base.differences(base)]))
+            raise ValueError(f"{out} holds a comparison with other settings ({path}: {differences}); "
+                             "use another --out folder")
     write_json_atomic(path, settings)
+
+
+def runs_hold_progress(out: Path) -> bool:
+    """Whether any run folder of the comparison in ``out`` holds a checkpoint or a finished run."""
+    return any(holds_progress(run_dir) for run_dir in (out / "runs").glob("*") if run_dir.is_dir())
 
 
 def _outcome_text(name: str, outcome: JobOutcome) -> str:

@@ -117,6 +117,7 @@ class RunSpec:
             if not isinstance(value, Mapping):
                 raise ValueError(f"{name} must be a mapping, got {type(value).__name__}")
             object.__setattr__(self, name, dict(value))
+        _check_finite("algo_kwargs", self.algo_kwargs)
         for key in SCHEDULE_KEYS:
             if isinstance(self.algo_kwargs.get(key), str):
                 parse_schedule(key, self.algo_kwargs[key])
@@ -174,6 +175,22 @@ class RunSpec:
     def replace(self, **changes: Any) -> "RunSpec":
         """A copy with ``changes`` applied (validated again)."""
         return dataclasses.replace(self, **changes)
+
+    def differences(self, other: "RunSpec") -> str:
+        """The fields where ``other`` differs, as ``"eval_every 25 → 51, total_steps 256 → 512"``."""
+        mine, theirs = self.to_dict(), other.to_dict()
+        return ", ".join(f"{key} {json.dumps(mine[key])} → {json.dumps(theirs[key])}"
+                         for key in mine if mine[key] != theirs[key])
+
+
+def _check_finite(name: str, value: Any) -> None:
+    """``ValueError`` naming the entry when a float in ``value`` (nested mappings and lists
+    included) is NaN or infinite: SB3 would take it and train on NaN."""
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError(f"{name} must hold finite numbers, got {value}")
+    items = value.items() if isinstance(value, Mapping) else enumerate(value) if isinstance(value, (list, tuple)) else ()
+    for key, item in items:
+        _check_finite(f"{name}[{key!r}]", item)
 
 
 def parse_schedule(key: str, text: str):

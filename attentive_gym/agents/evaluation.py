@@ -18,7 +18,7 @@ from typing import Any, Callable, NamedTuple
 import gymnasium as gym
 import numpy as np
 
-__all__ = ["EvalResult", "evaluate_policy", "record_videos", "PolicyMemory", "predict_batch", "EVAL_SEED_OFFSET"]
+__all__ = ["EvalResult", "evaluate_policy", "record_videos", "check_video_dir", "PolicyMemory", "predict_batch", "EVAL_SEED_OFFSET"]
 
 #: Evaluation episodes use seeds ``run seed + EVAL_SEED_OFFSET + i`` (disjoint from training's).
 EVAL_SEED_OFFSET = 10_000
@@ -176,11 +176,31 @@ def evaluate_policy(
     )
 
 
+#: ``RecordVideo``'s file name prefix for the evaluation videos.
+VIDEO_PREFIX = "eval"
+
+
+def check_video_dir(video_dir) -> None:
+    """``ValueError`` when ``video_dir`` already holds evaluation videos (``record_videos``
+    would overwrite them) or is a file; call it before any work."""
+    from pathlib import Path
+
+    video_dir = Path(video_dir)
+    if video_dir.exists() and not video_dir.is_dir():
+        raise ValueError(f"--video {video_dir} is a file; give a folder")
+    existing = sorted(video_dir.glob(f"{VIDEO_PREFIX}-episode-*.mp4")) if video_dir.is_dir() else []
+    if existing:
+        raise ValueError(f"--video {video_dir} already holds {len(existing)} video(s) ({existing[0].name}, ...) that "
+                         "would be overwritten; give another folder")
+
+
 def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, episodes: int, seed: int) -> list[str]:
-    """Record ``episodes`` episodes as MP4 files in ``video_dir`` with gymnasium's ``RecordVideo``.
+    """Record ``episodes`` episodes as MP4 files in ``video_dir`` with gymnasium's ``RecordVideo``;
+    returns the files written.
 
     ``make_env_fn(render_mode="rgb_array")`` must build the environment. Needs ``moviepy``
-    (``pip install moviepy``); raises ``ValueError`` saying so when it is missing.
+    (``pip install moviepy``); raises ``ValueError`` saying so when it is missing, and when
+    ``video_dir`` already holds videos (``check_video_dir``).
     """
     try:
         import moviepy  # noqa: F401
@@ -188,8 +208,9 @@ def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, ep
         raise ValueError("--video needs moviepy (gymnasium's RecordVideo writes MP4 with it): pip install moviepy") from None
     from pathlib import Path
 
+    check_video_dir(video_dir)
     env = gym.wrappers.RecordVideo(make_env_fn(render_mode="rgb_array"), str(video_dir),
-                                   episode_trigger=lambda _: True, name_prefix="eval", disable_logger=True)
+                                   episode_trigger=lambda _: True, name_prefix=VIDEO_PREFIX, disable_logger=True)
     memory = PolicyMemory(1)
     try:
         for i in range(episodes):
@@ -201,4 +222,4 @@ def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, ep
                 done, start = terminated or truncated, False
     finally:
         env.close()
-    return sorted(str(p) for p in Path(video_dir).glob("*.mp4"))
+    return sorted(str(p) for p in Path(video_dir).glob(f"{VIDEO_PREFIX}-episode-*.mp4"))

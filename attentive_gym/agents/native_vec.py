@@ -5,8 +5,8 @@ members as one ``Fleet`` (all sensors in one compiled call) and gives what
 ``DummyVecEnv`` over ``Monitor``-wrapped members gives, bit for bit in observations,
 rewards and dones: automatic reset on the step an episode ends, with
 ``info["terminal_observation"]`` and ``info["TimeLimit.truncated"]``, and the
-``Monitor`` episode record ``info["episode"]`` = ``{"r", "l", "t"}`` plus the
-``info_keywords`` when an episode ends.
+``Monitor`` episode record ``info["episode"]`` = ``{"r", "l", "t"}`` (``t``: seconds since
+the env was built, as ``Monitor``'s) plus the ``info_keywords`` when an episode ends.
 """
 
 from __future__ import annotations
@@ -42,13 +42,13 @@ class NativeVecEnv(VecEnv):
         self._actions: np.ndarray | None = None
         self._observations: list[Any] = [None] * self.num_envs
         self._episode_rewards: list[list[float]] = [[] for _ in self._all]
-        self._episode_start = [time.time()] * self.num_envs
+        self._t_start = time.time()  # Monitor's clock: an episode record's "t" counts from here
 
     def reset(self):
         for i, env in enumerate(self.envs):
             options = {"options": self._options[i]} if self._options[i] else {}
             self._observations[i], self.reset_infos[i] = env.reset(seed=self._seeds[i], **options)
-            self._start_episode(i)
+            self._episode_rewards[i] = []
         self._reset_seeds()
         self._reset_options()
         return self._stacked()
@@ -70,19 +70,15 @@ class NativeVecEnv(VecEnv):
                 info["episode"] = self._episode_record(i, info)
                 info["terminal_observation"] = observation
                 observation, self.reset_infos[i] = self.envs[i].reset()
-                self._start_episode(i)
+                self._episode_rewards[i] = []
             self._observations[i] = observation
             infos.append(info)
         return self._stacked(), rewards, dones, infos
 
-    def _start_episode(self, i: int) -> None:
-        self._episode_rewards[i] = []
-        self._episode_start[i] = time.time()
-
     def _episode_record(self, i: int, info: dict[str, Any]) -> dict[str, Any]:
         """``Monitor``'s record of member ``i``'s episode that has just ended."""
         rewards = self._episode_rewards[i]
-        record = {"r": round(sum(rewards), 6), "l": len(rewards), "t": round(time.time() - self._episode_start[i], 6)}
+        record = {"r": round(sum(rewards), 6), "l": len(rewards), "t": round(time.time() - self._t_start, 6)}
         for key in self.info_keywords:
             record[key] = info[key]
         return record

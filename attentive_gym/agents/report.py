@@ -26,13 +26,14 @@ shows the runs with normalised observations (all runs when there are none).
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from attentive_gym.agents.config import OBS_SCALINGS
+from attentive_gym.agents.config import ALGOS, OBS_SCALINGS
 from attentive_gym.agents.plots import (curve_stats, plot_learning_curves, plot_success_vs_distractors, split_label,
                                         steps_label)
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown, write_csv_atomic, write_text_atomic
@@ -258,14 +259,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     commands = parser.add_subparsers(dest="command", required=True)
     add = commands.add_parser("add", help="merge a comparison's results.csv (or a sweep's sweep.csv) into docs/results")
     add.add_argument("csv", type=Path)
-    add.add_argument("--algo", default="ppo", help="the algorithm the runs trained with (default: ppo)")
+    add.add_argument("--algo", metavar="TAG",
+                     help="the rows' algorithm tag: the algorithm the runs trained with (one of "
+                          f"{', '.join(ALGOS)}), optionally followed by ', <note>' (e.g. 'ppo, lr lin_3e-4') "
+                          "(default: the algorithm in the comparison's compare.json beside the file, else ppo)")
     add.add_argument("--clutter", action="store_true", help="the file is a sweep's sweep.csv (or, with "
                      "--num-distractors, a comparison's results.csv)")
     add.add_argument("--num-distractors", type=int, metavar="N",
                      help="with --clutter: the file is a comparison's results.csv, trained with N distractors; "
                           "its runs become the sweep's point N")
-    add.add_argument("--obs-scaling", choices=OBS_SCALINGS, default=SCALED,
-                     help=f"the runs' --obs-scaling (default: {SCALED})")
+    add.add_argument("--obs-scaling", choices=OBS_SCALINGS,
+                     help=f"the runs' --obs-scaling (default: the comparison's compare.json beside the file, else "
+                          f"{SCALED})")
     render = commands.add_parser("render", help="write the figures and the README's results block")
     render.add_argument("--check", action="store_true", help="write nothing; exit 1 if the README is out of date")
     for sub in (add, render):
@@ -281,10 +286,37 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
 
 
+def _trained_with(csv: Path) -> dict[str, Any]:
+    """The run settings of the comparison that wrote ``csv`` (its ``compare.json``, or the
+    first point's of a sweep); {} when there is none."""
+    for settings in [csv.parent / "compare.json", *sorted(csv.parent.glob("distractors-*/compare.json"))]:
+        if settings.is_file():
+            return json.loads(settings.read_text()).get("run", {})
+    return {}
+
+
+def _tags(args) -> tuple[str, str]:
+    """``(algo tag, obs_scaling)`` of ``report add``'s rows: the flags, checked against the
+    comparison's own settings where they are beside the file; ``ValueError`` for a tag
+    that does not start with a known algorithm or contradicts them."""
+    run = _trained_with(args.csv)
+    algo = args.algo if args.algo is not None else run.get("algo", "ppo")
+    name = algo.split(",", 1)[0].strip()
+    if name not in ALGOS:
+        raise ValueError(f"--algo {algo!r} must start with one of {', '.join(ALGOS)} (e.g. 'ppo' or 'ppo, lr lin_3e-4')")
+    scaling = args.obs_scaling if args.obs_scaling is not None else run.get("obs_scaling", SCALED)
+    for flag, given, trained in (("--algo", name, run.get("algo")), ("--obs-scaling", scaling, run.get("obs_scaling"))):
+        if trained is not None and given != trained:
+            raise ValueError(f"{flag} {given!r} contradicts the comparison's settings beside {args.csv} "
+                             f"({trained!r}); leave the flag out")
+    return algo, scaling
+
+
 def _add(args) -> int:
     new = read_csv(args.csv)
     if not new:
         raise ValueError(f"{args.csv} holds no rows")
+    algo, scaling = _tags(args)
     if args.num_distractors is not None:
         if not args.clutter or args.num_distractors < 0 or "num_distractors" in new[0]:
             raise ValueError(f"--num-distractors {args.num_distractors} needs --clutter, a count >= 0 and a "
@@ -296,7 +328,7 @@ def _add(args) -> int:
     if missing:
         raise ValueError(f"{args.csv} lacks the columns {missing} (a {'sweep.csv' if args.clutter else 'results.csv'} has them)")
     keys = ("variant", "seed", *(("num_distractors",) if args.clutter else ()))
-    rows = merge_rows(read_csv(target) if target.is_file() else [], new, args.algo, keys, args.obs_scaling)
+    rows = merge_rows(read_csv(target) if target.is_file() else [], new, algo, keys, scaling)
     write_csv_atomic(target, rows, columns)
     print(f"{target}: {len(rows)} rows ({len(new)} from {args.csv})")
     return 0
@@ -306,8 +338,9 @@ def _render(args) -> int:
     comparison = read_csv(args.comparison)
     clutter = read_csv(args.clutter_csv) if args.clutter_csv.is_file() else []
     sources = [args.comparison, *([args.clutter_csv] if clutter else [])]
+    text = args.readme.read_text()  # before any figure is written: a missing README fails first
+    _replace_block(text, "", args.readme)
     block = render_block(comparison, clutter, args.figures, sources, args.readme.parent, write_figures=not args.check)
-    text = args.readme.read_text()
     updated = _replace_block(text, block, args.readme)
     if args.check:
         if updated != text:

@@ -16,6 +16,7 @@ clutter: the figure shows whether it does.
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -87,6 +88,10 @@ def clutter_sweep(
         result.failed.update({f"distractors-{n}/{name}": error for name, error in outcome.failed.items()})
     rows = []
     for n in _counts_in(out):  # every count in ``out``: a rerun at some counts keeps the others in the tables
+        differences = _differences(out / f"distractors-{n}" / "compare.json", variants, seeds, base)
+        if differences:
+            log(f"sweep: note: distractors-{n} was trained with other settings than this command's ({differences}); "
+                "its rows enter the tables as they are")
         rows.extend({"num_distractors": n, **row} for row in read_csv(out / f"distractors-{n}" / "results.csv"))
     if not rows:
         return result
@@ -105,6 +110,22 @@ def sweep_tables(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5) -> l
         at_n = [r for r in rows if int(r["num_distractors"]) == n]
         summary.extend({"num_distractors": n, **row} for row in summarise(at_n, threshold=threshold))
     return summary
+
+
+def _differences(settings_path: Path, variants: Sequence[str], seeds: Sequence[int], base: RunSpec) -> str:
+    """How the comparison whose ``compare.json`` is ``settings_path`` differs from this sweep's
+    ``variants``, ``seeds`` and ``base`` run (its distractor count and vectorisation aside);
+    "" when it does not, or when the file is missing."""
+    if not settings_path.is_file():
+        return ""
+    old = json.loads(settings_path.read_text())
+    without_count = lambda kwargs: {k: v for k, v in kwargs.items() if k != "num_distractors"}  # noqa: E731
+    this = base.replace(env_kwargs=without_count(base.env_kwargs))
+    other = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env,
+                               "env_kwargs": without_count(old["run"]["env_kwargs"])})
+    lists = [f"{key} {old[key]} → {list(new)}" for key, new in (("variants", variants), ("seeds", seeds))
+             if old[key] != list(new)]
+    return ", ".join(filter(None, [*lists, other.differences(this)]))
 
 
 def _counts_in(out: Path) -> list[int]:

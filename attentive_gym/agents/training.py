@@ -42,6 +42,7 @@ import os
 import signal
 import sys
 import time
+import warnings
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -55,7 +56,7 @@ from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, loa
 from attentive_gym.wrappers.variants import make_env
 
 __all__ = ["train", "validate_spec", "load_model", "load_policy", "env_factory", "eval_seed", "is_done", "budget_grows",
-           "checkpoint_steps", "DONE_MARKER", "RunResult"]
+           "holds_progress", "checkpoint_steps", "DONE_MARKER", "RunResult"]
 
 DONE_MARKER = "done"
 _CHECKPOINT = "checkpoint"
@@ -121,24 +122,39 @@ def _check_algo_kwargs(spec: RunSpec) -> None:
                          f"allowed: {', '.join(allowed)}")
 
 
-def _check_env(spec: RunSpec) -> None:
-    """Build one environment of ``spec`` and close it; a bad keyword or value raises ``ValueError``."""
+def _check_env_and_algo_values(spec: RunSpec) -> None:
+    """Build one environment of ``spec`` and the algorithm on it, then close it: a bad
+    ``env_kwargs`` keyword or value, or an ``algo_kwargs`` value the algorithm refuses (a
+    string for ``n_steps``, say), raises ``ValueError`` naming which."""
     try:
         env = env_factory(spec)()
     except TypeError as err:  # an unknown env keyword: the user's input
         raise ValueError(f"env_kwargs: {err}") from None
-    env.close()
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    vec = DummyVecEnv([lambda: env])
+    try:
+        with warnings.catch_warnings():  # one env, not n_envs: no warning about the rollout's size
+            warnings.simplefilter("ignore")
+            _algo_class(spec.algo)(_policy_name(spec.algo, env.observation_space), vec, device="cpu", verbose=0,
+                                   **spec.merged_algo_kwargs())
+    except (TypeError, ValueError, AssertionError) as err:
+        raise ValueError(f"algo_kwargs {json.dumps(spec.algo_kwargs, default=str)} are refused by "
+                         f"{spec.algo}: {err}") from None
+    finally:
+        vec.close()
 
 
 def validate_spec(spec: RunSpec) -> None:
     """Raise ``ValueError`` (one line, naming what is allowed) if ``spec`` cannot start; writes nothing.
 
     Checks that ``algo_kwargs`` are keywords of the algorithm (and sb3-contrib is installed for
-    recurrent-ppo) and builds one environment with ``env_kwargs`` (a missing scenario, an
-    unknown keyword or a bad value fail here), then closes it.
+    recurrent-ppo), then builds one environment with ``env_kwargs`` (a missing scenario, an
+    unknown keyword or a bad value fail here) and the algorithm on it with ``algo_kwargs``
+    (a value it refuses fails here), then closes them.
     """
     _check_algo_kwargs(spec)
-    _check_env(spec)
+    _check_env_and_algo_values(spec)
 
 
 def _make_vec_env(spec: RunSpec):
@@ -249,7 +265,7 @@ def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: f
     return RunCallback()
 
 
-def _holds_progress(run_dir: Path) -> bool:
+def holds_progress(run_dir: Path) -> bool:
     """Whether ``run_dir`` holds training worth keeping: a checkpoint or the done marker."""
     return (run_dir / _CHECKPOINT / "model.zip").is_file() or is_done(run_dir)
 
@@ -264,19 +280,20 @@ def budget_grows(old: RunSpec, new: RunSpec) -> bool:
 def _bind_spec(spec: RunSpec, run_dir: Path, extend: bool) -> None:
     """Write ``run_dir/spec.json``, or check that the run already there has ``spec``.
 
-    A different spec is refused once the folder holds progress (``_holds_progress``), except,
+    A different spec is refused once the folder holds progress (``holds_progress``), except,
     with ``extend``, a larger budget (``budget_grows``): the finished run's ``done`` marker
     is removed, then the new spec written, so that an interruption from here on leaves an
     unfinished run that resumes from its checkpoint. Before any progress, as after a start
     that failed, the folder is simply taken over.
     """
     path = run_dir / "spec.json"
-    if path.is_file() and _holds_progress(run_dir):
+    if path.is_file() and holds_progress(run_dir):
         old = RunSpec.from_dict(json.loads(path.read_text()))
         if dataclasses.replace(old, vec_env=spec.vec_env) == spec:  # the vectorisation changes no number
             return
         if not budget_grows(old, spec):
-            raise ValueError(f"{run_dir} holds a run with a different spec ({path}); use another --out folder")
+            raise ValueError(f"{run_dir} holds a run with a different spec ({path}: {old.differences(spec)}); "
+                             "use another --out folder")
         if not extend:
             raise ValueError(f"{run_dir} holds a run of {old.total_steps} env steps with otherwise the same spec; "
                              f"extend it to {spec.total_steps} (--extend) or use another --out folder")

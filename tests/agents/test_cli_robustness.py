@@ -163,6 +163,12 @@ def test_a_stop_signal_dropped_by_a_finalizer_is_raised_at_the_next_check(monkey
     (["--algo-kwargs", '{"n_step": 64}'], "algo_kwargs: PPO takes no 'n_step'; allowed: batch_size, "),
     (["--algo-kwargs", '{"seed": 3}'], "algo_kwargs: 'seed' cannot be given"),
     (["--algo", "sac", "--algo-kwargs", '{"n_epochs": 3}'], "algo_kwargs: SAC takes no 'n_epochs'"),
+    (["--algo-kwargs", '{"n_steps": "abc"}'], 'algo_kwargs {"n_steps": "abc"} are refused by ppo: '),
+    (["--algo-kwargs", '{"ent_coef": NaN}'], "--algo-kwargs holds NaN, which is not a finite number"),
+    (["--algo-kwargs", '{"policy_kwargs": {"net_arch": [Infinity]}}'], "--algo-kwargs holds Infinity"),
+    (["--algo-kwargs", "{bad"], "--algo-kwargs is not valid JSON"),
+    (["--algo-kwargs", "[1]"], "--algo-kwargs must be a JSON object or a .json file"),
+    (["--env-kwargs", ""], "--env-kwargs is empty"),
 ])
 def test_train_refuses_a_bad_spec_before_writing_anything(options, message, tmp_path, capsys):
     out = tmp_path / "run"
@@ -210,6 +216,50 @@ def test_compare_checks_every_variant_before_training_any(tmp_path, capsys):
     assert not out.exists()
     assert main(["compare", "--steps", "128", "--algo-kwargs", '{"n_step": 64}', "--out", str(out)]) == 2
     assert "PPO takes no 'n_step'" in capsys.readouterr().err and not out.exists()
+
+
+@pytest.mark.parametrize("flag, message", [("--variants", "no variant given"), ("--seeds", "seeds must be"),
+                                           ("--distractors", "distractor counts must be")])
+def test_compare_refuses_an_empty_list_instead_of_taking_the_default(flag, message, tmp_path, capsys):
+    out = tmp_path / "cmp"
+    assert main(["compare", flag, "", "--steps", "64", "--out", str(out)]) == 2
+    assert message in capsys.readouterr().err and not out.exists()
+
+
+def test_non_finite_algo_kwargs_are_refused_in_python_too(tiny):
+    with pytest.raises(ValueError, match=r"algo_kwargs\['ent_coef'\] must hold finite numbers, got nan"):
+        tiny(algo_kwargs={"ent_coef": float("nan")})
+
+
+def test_extending_needs_only_the_new_budget_and_a_mismatch_names_the_field(tmp_path, tiny, capsys):
+    out = tmp_path / "run"
+    options = ["train", "--variant", "raw", "--no-progress", "--out", str(out), "--n-envs", "2", "--eval-episodes", "1",
+               "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    assert main([*options, "--steps", "128"]) == 0  # eval every 12, checkpoint every 25 (steps/10, steps/5)
+    assert main([*options, "--steps", "256"]) == 2
+    assert "holds a run of 128 env steps with otherwise the same spec; extend it to 256 (--extend)" in capsys.readouterr().err
+    assert main([*options, "--steps", "256", "--extend"]) == 0
+    spec = RunSpec.from_dict(json.loads((out / "spec.json").read_text()))
+    assert (spec.total_steps, spec.eval_every, spec.checkpoint_every) == (256, 12, 25)
+    assert main([*options, "--steps", "256", "--eval-episodes", "2"]) == 2
+    assert "(eval_episodes 1 → 2)" in capsys.readouterr().err.replace(str(out / "spec.json") + ": ", "")
+
+
+def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_does_not_lock_the_folder(tmp_path, tiny,
+                                                                                                    capsys):
+    out = tmp_path / "cmp"
+    options = ["compare", "--variants", "raw", "--seeds", "1", "--workers", "1", "--out", str(out), "--n-envs", "2",
+               "--eval-episodes", "1", "--steps", "128", "--env-kwargs", json.dumps(tiny.env_kwargs)]
+    (out).mkdir()
+    (out / "compare.json").write_text(json.dumps({"variants": ["focus"], "seeds": [3], "run": {}, "threshold": 0.5}))
+    assert main([*options, "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]) == 0  # no run held progress: taken over
+    assert main([*options, "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--vec", "dummy", "--threshold", "0.3"]) == 0
+    assert "1 run(s) already done, 0 to train" in capsys.readouterr().out
+    assert json.loads((out / "compare.json").read_text())["threshold"] == 0.3
+    assert main([*options, "--algo-kwargs", json.dumps({**tiny.ppo_kwargs, "n_epochs": 2})]) == 2
+    err = capsys.readouterr().err
+    assert "holds a comparison with other settings" in err and '"n_epochs": 1, "n_steps": 64} → {' in err
+    assert err.count("→") == 1  # only algo_kwargs differs
 
 
 # --- help texts and option parsing -----------------------------------------------------

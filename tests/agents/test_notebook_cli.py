@@ -46,6 +46,9 @@ def test_evaluate_records_a_video(trained, tmp_path):
     assert main(["evaluate", str(trained), "--episodes", "1", "--video", str(tmp_path / "v")]) == 0
     videos = list((tmp_path / "v").glob("*.mp4"))
     assert videos and videos[0].stat().st_size > 0
+    before = {path: path.stat().st_mtime_ns for path in videos}
+    assert main(["evaluate", str(trained), "--episodes", "1", "--video", str(tmp_path / "v")]) == 2  # would overwrite
+    assert {path: path.stat().st_mtime_ns for path in (tmp_path / "v").glob("*.mp4")} == before
 
 
 @pytest.mark.parametrize("argv, message", [

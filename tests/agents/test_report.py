@@ -1,5 +1,6 @@
 """The README's RL results come from the committed CSVs, and batches merge into them."""
 
+import json
 import math
 
 import pytest
@@ -117,6 +118,29 @@ def test_bad_input_to_the_report_is_one_line(tmp_path, capsys):
     assert main(["render", "--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(tmp_path / "x.csv"),
                  "--readme", str(readme), "--figures", str(tmp_path)]) == 2
     assert "no '<!-- rl-results:start -->'" in capsys.readouterr().err
+
+
+def test_added_rows_are_tagged_with_the_comparisons_own_algorithm_and_a_wrong_tag_is_refused(tmp_path, capsys):
+    results = tmp_path / "cmp" / "results.csv"
+    write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
+    (tmp_path / "cmp" / "compare.json").write_text(json.dumps({"run": {"algo": "recurrent-ppo", "obs_scaling": "none"}}))
+    target = ["--comparison", str(tmp_path / "rl.csv")]
+    for algo, message in (("recurent-ppo", "must start with one of ppo, sac, recurrent-ppo"),
+                          ("ppo", "--algo 'ppo' contradicts the comparison's settings")):
+        assert main(["add", str(results), "--algo", algo, *target]) == 2
+        assert message in capsys.readouterr().err and not (tmp_path / "rl.csv").exists()
+    assert main(["add", str(results), *target]) == 0
+    assert {(r["algo"], r["obs_scaling"]) for r in read_csv(tmp_path / "rl.csv")} == {("recurrent-ppo", "none")}
+    assert main(["add", str(results), "--algo", "recurrent-ppo, lr lin_3e-4", *target]) == 0
+    assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {"recurrent-ppo", "recurrent-ppo, lr lin_3e-4"}
+
+
+def test_render_writes_no_figure_when_the_readme_is_missing(tmp_path, capsys):
+    write_csv_atomic(tmp_path / "rl.csv", [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})], ("algo", *EVAL_COLUMNS))
+    figures = tmp_path / "figures"
+    assert main(["render", "--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(tmp_path / "x.csv"),
+                 "--readme", str(tmp_path / "missing.md"), "--figures", str(figures)]) == 2
+    assert "missing.md" in capsys.readouterr().err and not figures.exists()
 
 
 def test_the_readme_block_is_what_the_committed_csvs_give():
