@@ -50,7 +50,8 @@ class Fleet:
 
     Raises:
         ValueError: for an empty list, a member that is not a rescue environment, a
-            wrapper the fleet cannot step, or members with different sensors or actions.
+            wrapper the fleet cannot step, or members with different sensors, actions or
+            observations.
     """
 
     def __init__(self, envs: Sequence[gym.Env]) -> None:
@@ -77,6 +78,9 @@ class Fleet:
             if self.envs[i].action_space != self.envs[0].action_space:
                 raise ValueError(f"env {i}'s action space {self.envs[i].action_space} differs from env 0's "
                                  f"{self.envs[0].action_space}")
+            if self.envs[i].observation_space != self.envs[0].observation_space:
+                raise ValueError(f"env {i}'s observation space differs from env 0's; a fleet's members are one "
+                                 "variant with the same settings")
         self._attention = _attention_wrappers(self._observation_hooks)
         self._models = None if self._attention is None else ModelBatch([w.model for w in self._attention])
         self.action_space: gym.spaces.Box = self.envs[0].action_space
@@ -94,8 +98,8 @@ class Fleet:
         shape = (len(self.envs), *self.action_space.shape)
         if np.iscomplexobj(actions):
             raise ValueError(f"actions must be real numbers with shape {shape}, got complex values")
-        try:
-            batch = np.asarray(actions, dtype=self.action_space.dtype)
+        try:  # float64, as each member's own check takes an action: float32 rows convert exactly
+            batch = np.asarray(actions, dtype=np.float64)
         except (TypeError, ValueError):
             raise ValueError(f"actions must be numeric with shape {shape} (num_envs, *action shape)") from None
         if batch.shape != shape:

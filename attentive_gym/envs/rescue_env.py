@@ -29,7 +29,7 @@ from attentive_gym.world.scenario import Scenario, TaskSpec
 from attentive_gym.world.scenario_io import SCENARIO_SUFFIXES, load_scenario
 from attentive_gym.world.world import ROBOT_ID, World
 
-__all__ = ["AttentiveRescueEnv", "resolve_scenario", "PROCEDURAL_SCENARIO"]
+__all__ = ["AttentiveRescueEnv", "resolve_scenario", "PROCEDURAL_SCENARIO", "checked_action"]
 
 #: Name of the procedurally generated arena (a new random arena every reset).
 PROCEDURAL_SCENARIO = "rescue"
@@ -60,6 +60,30 @@ def resolve_scenario(scenario: str | os.PathLike | Scenario) -> Scenario | None:
 
 
 _FLOAT_DTYPES = (np.dtype(np.float32), np.dtype(np.float64))
+
+
+def checked_action(action: Any, shape: tuple[int, ...], layout: str = "") -> np.ndarray:
+    """``action`` as a float64 array of ``shape``, or ``ValueError`` naming what is wrong with
+    it (complex or non-numeric values, another shape, NaN or inf); ``layout`` names the
+    entries in the message, e.g. ``"(linear, angular)"``."""
+    what = f"shape {shape}" + (f" = {layout}" if layout else "")
+    if np.iscomplexobj(action):
+        raise ValueError(f"action must be real numbers with {what}, got complex {action!r}")
+    try:
+        command = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"action must be numeric with {what}, got {action!r}") from None
+    if command.shape != shape:
+        raise ValueError(f"action must have {what}, got shape {command.shape}")
+    if not np.all(np.isfinite(command)):
+        raise ValueError(f"action must be finite, got {command.tolist()}")
+    return command
+
+
+def _check_goal_bounds(goal: Goal | None) -> None:
+    """``ValueError`` for a goal whose bounds exceed ``_MAX_GOAL_BOUND`` (the laser's range)."""
+    if goal is not None and max(goal.encode()) > _MAX_GOAL_BOUND:
+        raise ValueError(f"goal {goal}: bounds above {_MAX_GOAL_BOUND} (the laser's range) are not allowed")
 
 
 def _check_number(name: str, value: Any, low: float, high: float, low_open: bool = False) -> float:
@@ -236,7 +260,9 @@ class AttentiveRescueEnv(gym.Env):
         self._renderer = None
         self._reading = None
         #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
-        #: ``AttentionWrapper`` to show the focus); None draws nothing more.
+        #: ``AttentionWrapper`` to show the focus); None draws nothing more. In human mode an
+        #: env with an overlay leaves each step's frame to the overlay's owner, who draws it
+        #: once the overlay is up to date: one frame per step, showing that step's overlay.
         self.render_overlay = None
 
     # --- resolved sensor settings ---------------------------------------------------
@@ -262,18 +288,18 @@ class AttentiveRescueEnv(gym.Env):
 
     # --- episode ------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        goal = self._goal_option(options)  # checked before anything changes: a bad option leaves the env as it was
+        _check_goal_bounds(goal)
         super().reset(seed=seed)
-        goal = self._goal_option(options)
         if self._fixed_scenario is None:
             scenario = generate_arena(self.arena, self.np_random, goal)
         else:
             scenario = self._fixed_scenario
             if goal is not None and scenario.task is not None:
                 scenario = _with_goal(scenario, goal)
-        self.scenario = scenario
-        self.goal = goal if goal is not None else (scenario.task.goal if scenario.task else None)
-        if self.goal is not None and max(self.goal.encode()) > _MAX_GOAL_BOUND:
-            raise ValueError(f"goal {self.goal}: bounds above {_MAX_GOAL_BOUND} (the laser's range) are not allowed")
+        goal = goal if goal is not None else (scenario.task.goal if scenario.task else None)
+        _check_goal_bounds(goal)
+        self.scenario, self.goal = scenario, goal
         self.world = World(scenario, self.robot_config)
         self._target_index = scenario.target_index
         self._distance = self._target_distance()
@@ -281,7 +307,7 @@ class AttentiveRescueEnv(gym.Env):
         self._scans.reset()
         observation = self._observe(self._read_sensors())
         info = self._info(collided=False, success=False)
-        if self.render_mode == "human":
+        if self.render_mode == "human" and self.render_overlay is None:
             self.render()
         return observation, info
 
@@ -318,7 +344,7 @@ class AttentiveRescueEnv(gym.Env):
             reward, success = rescue_reward(self.reward_config, self.dt, self._distance, distance, collided)
         self._distance = distance
         truncated = self.world.time_s >= self._limit_s - 1e-9 and not success
-        if self.render_mode == "human":
+        if self.render_mode == "human" and self.render_overlay is None:
             self.render()
         return observation, float(reward), bool(success), bool(truncated), self._info(collided, success)
 
@@ -344,17 +370,7 @@ class AttentiveRescueEnv(gym.Env):
             linear, angular = float(action[0]), float(action[1])  # fast path: a policy's usual output
             if math.isfinite(linear) and math.isfinite(angular):
                 return min(max(linear, -1.0), 1.0), min(max(angular, -1.0), 1.0)
-        if np.iscomplexobj(action):
-            raise ValueError(f"action must be real numbers with shape (2,), got complex {action!r}")
-        try:
-            command = np.asarray(action, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(f"action must be numeric with shape (2,), got {action!r}") from None
-        if command.shape != (2,):
-            raise ValueError(f"action must have shape (2,) = (linear, angular), got shape {command.shape}")
-        if not np.all(np.isfinite(command)):
-            raise ValueError(f"action must be finite, got {command.tolist()}")
-        linear, angular = np.clip(command, -1.0, 1.0).tolist()
+        linear, angular = np.clip(checked_action(action, (2,), "(linear, angular)"), -1.0, 1.0).tolist()
         return linear, angular
 
     def _observe(self, fresh: SensorReading) -> dict[str, np.ndarray]:

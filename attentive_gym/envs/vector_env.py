@@ -31,23 +31,35 @@ AUTORESET_MODES = {mode.value: mode for mode in AutoresetMode}
 
 
 def make_vector_env(num_envs: int = 1, variant: str = "raw", *, autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                    render_mode: str | None = None, copy: bool = True, **kwargs: Any) -> "AttentiveRescueVectorEnv":
+                    render_mode: str | None = None, copy: bool = True, max_episode_steps: int | None = None,
+                    **kwargs: Any) -> "AttentiveRescueVectorEnv":
     """``num_envs`` environments of ``variant`` (``wrappers.make_env``'s keywords in ``kwargs``).
 
     Only member 0 gets ``render_mode``: it is the one ``render()`` draws.
+    ``max_episode_steps`` truncates every member's episodes as ``gym.make``'s does.
     """
     from attentive_gym.wrappers.variants import make_env
 
     count = _check_num_envs(num_envs)
+    limit = _check_max_episode_steps(max_episode_steps)
     envs = [make_env(variant, **kwargs, **({"render_mode": render_mode} if i == 0 and render_mode else {}))
             for i in range(count)]
-    return AttentiveRescueVectorEnv(envs, autoreset_mode=autoreset_mode, copy=copy)
+    return AttentiveRescueVectorEnv(envs, autoreset_mode=autoreset_mode, copy=copy, max_episode_steps=limit)
 
 
 def _check_num_envs(num_envs: Any) -> int:
     if isinstance(num_envs, (bool, np.bool_)) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
         raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
     return int(num_envs)
+
+
+def _check_max_episode_steps(value: Any) -> int | None:
+    """``max_episode_steps`` as ``gym.make`` takes it: None or -1 for no limit, else an integer >= 1."""
+    if value is None or (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value == -1):
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"max_episode_steps must be an integer >= 1 (None or -1: no limit), got {value!r}")
+    return int(value)
 
 
 class AttentiveRescueVectorEnv(VectorEnv):
@@ -59,6 +71,8 @@ class AttentiveRescueVectorEnv(VectorEnv):
             ``AutoresetMode``.
         copy: return copies of the batched observation (as ``SyncVectorEnv`` does by
             default); False hands out the env's own buffer, overwritten by the next step.
+        max_episode_steps: truncate a member's episode after this many steps, as gymnasium's
+            ``TimeLimit`` (which ``gym.make(..., max_episode_steps=n)`` adds) does; None: no limit.
 
     Spaces: ``single_observation_space`` / ``single_action_space`` are a member's;
     ``observation_space`` / ``action_space`` are batched with a leading ``num_envs`` axis.
@@ -67,7 +81,7 @@ class AttentiveRescueVectorEnv(VectorEnv):
     """
 
     def __init__(self, envs: Sequence[gym.Env], autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                 copy: bool = True) -> None:
+                 copy: bool = True, max_episode_steps: int | None = None) -> None:
         self._fleet = Fleet(envs)
         self.envs = self._fleet.envs
         self.num_envs = len(self.envs)
@@ -79,6 +93,8 @@ class AttentiveRescueVectorEnv(VectorEnv):
             raise ValueError(f"autoreset_mode must be one of {list(AUTORESET_MODES)}, got {autoreset_mode!r}")
         self.autoreset_mode = autoreset_mode
         self.copy = copy
+        self.max_episode_steps = _check_max_episode_steps(max_episode_steps)
+        self._elapsed_steps = np.zeros(self.num_envs, np.int64)
         first = self.envs[0]
         self.render_mode = first.render_mode
         self.metadata = {**first.metadata, "autoreset_mode": autoreset_mode}
@@ -107,6 +123,7 @@ class AttentiveRescueVectorEnv(VectorEnv):
             self._env_obs[i], info = self.envs[i].reset(seed=seeds[i], options=options)
             infos.append((i, info))
         self._terminations[mask] = self._truncations[mask] = self._autoreset_envs[mask] = False
+        self._elapsed_steps[mask] = 0
         self._started = True
         return self._batched_observations(), batch_infos(infos, self.num_envs)
 
@@ -129,13 +146,18 @@ class AttentiveRescueVectorEnv(VectorEnv):
             if i not in results:  # NEXT_STEP: ended at the previous step, reset now
                 self._env_obs[i], info = self.envs[i].reset()
                 self._rewards[i], self._terminations[i], self._truncations[i] = 0.0, False, False
+                self._elapsed_steps[i] = 0
             else:
                 observation, reward, terminated, truncated, info = results[i]
+                self._elapsed_steps[i] += 1
+                truncated = truncated or (self.max_episode_steps is not None
+                                          and self._elapsed_steps[i] >= self.max_episode_steps)
                 self._rewards[i], self._terminations[i], self._truncations[i] = reward, terminated, truncated
                 self._env_obs[i] = observation
                 if self.autoreset_mode == AutoresetMode.SAME_STEP and (terminated or truncated):
                     infos.append((i, {"final_obs": observation, "final_info": info}))
                     self._env_obs[i], info = self.envs[i].reset()
+                    self._elapsed_steps[i] = 0
             infos.append((i, info))
         self._autoreset_envs = self._terminations | self._truncations
         return (self._batched_observations(), self._rewards.copy(), self._terminations.copy(),

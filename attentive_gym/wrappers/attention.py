@@ -9,6 +9,7 @@ a goal was chosen with ``set_goal`` (e.g. by ``GoalActionWrapper``).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any, Mapping
 
@@ -94,8 +95,9 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             self.model.set_state(state)
         if mode == "focus":
             self._encoder = FocusEncoder(self.model.config, base, memory_slots)
-        else:  # L's ceiling allows every named attentive state, or the higher gain asked for
-            self._encoder = ENCODERS[mode](self.model.config, base, gain=max(self.model.state, max(ATTENTIVE_STATES.values())))
+        else:  # L's ceiling allows every named attentive state, or the higher gain asked for, and the weights in force
+            in_force = dataclasses.replace(self.model.config, weights=tuple(self.model.weights.values()))
+            self._encoder = ENCODERS[mode](in_force, base, gain=max(self.model.state, max(ATTENTIVE_STATES.values())))
         self.observation_space = self._encoder.space
         self.selection = selection
         self.memory = WorkingMemory(memory_slots) if mode == "focus" and memory_slots else None
@@ -144,7 +146,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         it (``envs.fleet`` steps its members' models together, then calls this)."""
         observation = self._use(raw, info, output)
         if self.render_mode == "human":
-            self.env.render()  # again, now with this step's focus
+            self.env.render()  # the step's one frame (the base env leaves it to its overlay's owner)
         return observation
 
     @staticmethod

@@ -21,6 +21,7 @@ import numpy as np
 
 from attentive_gym.attention import Goal
 from attentive_gym.attention.config import MAP_NAMES
+from attentive_gym.envs.rescue_env import checked_action
 from attentive_gym.world.arena import DEFAULT_TASK_GOALS
 from attentive_gym.wrappers.attention import AttentionWrapper
 
@@ -70,6 +71,7 @@ class GoalActionWrapper(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
         self.max_weight = float(max_weight)
         size = 2 + len(self.goal_menu) + len(MAP_NAMES)
         self.action_space = gym.spaces.Box(-1.0, 1.0, shape=(size,), dtype=np.float32)
+        self._layout = f"(linear, angular, {len(self.goal_menu)} goal scores, {len(MAP_NAMES)} map weights)"
         self._choice: int | None = None  # the menu entry and weights in force
         self._weights: np.ndarray | None = None
 
@@ -80,12 +82,7 @@ class GoalActionWrapper(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
         return self.env.reset(seed=seed, options=options)
 
     def action(self, action):
-        action = np.asarray(action, dtype=np.float64)
-        if action.shape != self.action_space.shape:
-            raise ValueError(f"action must have shape {self.action_space.shape}, got {action.shape}")
-        if not np.all(np.isfinite(action)):
-            raise ValueError(f"action must be finite, got {action}")
-        action = np.clip(action, -1.0, 1.0)
+        action = np.clip(checked_action(action, self.action_space.shape, self._layout), -1.0, 1.0)
         k = len(self.goal_menu)
         choice = int(np.argmax(action[2:2 + k]))
         if choice != self._choice:  # re-planning the model's maps only on a change

@@ -4,6 +4,7 @@ sync vector env / ``DummyVecEnv`` over single envs, Gymnasium's semantics, clear
 import pickle
 import subprocess
 import sys
+import time
 
 import gymnasium as gym
 import numpy as np
@@ -97,6 +98,28 @@ def test_disabled_autoreset_needs_a_masked_reset_and_matches_sync():
     _assert_same_tree(native.reset(options={"reset_mask": mask}), sync.reset(options={"reset_mask": mask.copy()}))
 
 
+def test_max_episode_steps_truncates_as_gym_make_does_and_float64_actions_stay_exact():
+    native = _native("focus", num_envs=2, max_episode_steps=7)
+    sync = _sync("focus", num_envs=2, max_episode_steps=7)
+    native.reset(seed=3), sync.reset(seed=3)
+    rng = np.random.default_rng(3)
+    truncations = 0
+    for t in range(30):
+        actions = rng.uniform(-1, 1, (2, 2))  # float64, as sync passes them on
+        got, want = native.step(actions), sync.step(actions)
+        for k, name in enumerate(("obs", "reward", "terminated", "truncated", "info")):
+            _assert_same_tree(got[k], want[k], f"step {t} {name}")
+        truncations += int(got[3].sum())
+    assert truncations >= 6  # 7-step episodes, well inside the 20-step time limit
+    by_spec = gym.make_vec(gym.make(VARIANT_IDS["raw"], max_episode_steps=4, **SHORT).spec, 1,
+                           vectorization_mode="vector_entry_point")
+    by_spec.reset(seed=0)
+    assert [by_spec.step(np.zeros((1, 2)))[3][0] for _ in range(4)] == [False, False, False, True]
+    for bad in (0, 2.5, True):
+        with pytest.raises(ValueError, match="max_episode_steps must be an integer >= 1"):
+            make_vector_env(1, "raw", max_episode_steps=bad)
+
+
 def test_integer_seed_seeds_env_i_with_seed_plus_i_and_none_differs():
     a = make_vector_env(3, "raw", **SHORT)
     b = make_vector_env(3, "raw", **SHORT)
@@ -176,6 +199,8 @@ def test_fleet_refuses_wrappers_it_cannot_step_and_other_envs():
         Fleet([gym.make("Pendulum-v1").unwrapped])
     with pytest.raises(ValueError, match="other sensors"):
         Fleet([make_env("raw"), make_env("raw", sensor_noise=0.0)])
+    with pytest.raises(ValueError, match="observation space differs"):
+        Fleet([make_env("raw"), make_env("focus")])
     with pytest.raises(ValueError, match="at least one"):
         Fleet([])
 
@@ -246,6 +271,9 @@ def test_native_vec_env_equals_dummy_vec_env_over_monitor():
                 assert {k: a["episode"][k] for k in ("r", "l", "success")} == {k: b["episode"][k] for k in ("r", "l", "success")}
                 _assert_same_tree(a["terminal_observation"], b["terminal_observation"])
     assert episodes >= 4
+    last = [info["episode"]["t"] for info in got[3] if "episode" in info]
+    elapsed = time.time() - native._t_start
+    assert all(0.0 <= t <= elapsed for t in last)  # Monitor's clock: seconds since the env was built
     assert native.env_is_wrapped(Monitor) == [False, False] and native.get_attr("mode") == ["focus", "focus"]
     with pytest.raises(ValueError, match="finite"):
         native.step(np.full((2, 2), np.inf, np.float32))

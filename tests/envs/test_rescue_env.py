@@ -179,6 +179,33 @@ def test_bad_reset_options():
         env.reset(options={"goal": Goal.smaller("distance", 1.0)})
 
 
+def test_a_refused_reset_leaves_the_episode_as_it_was():
+    env = gym.make("AttentiveRescue-v0", scenario="exp01")
+    env.reset(seed=0)
+    goal, scenario = env.unwrapped.goal, env.unwrapped.scenario
+    with pytest.raises(ValueError, match="bounds above 20"):
+        env.reset(options={"goal": Goal.smaller("distance", 30.0)})
+    assert env.unwrapped.goal == goal and env.unwrapped.scenario is scenario
+    observation = env.step(np.zeros(2, np.float32))[0]
+    assert env.observation_space.contains(observation)
+
+
+@pytest.mark.parametrize("variant", ["raw", "focus", "oracle"])
+def test_human_mode_draws_one_frame_per_step_with_that_steps_overlay(variant, monkeypatch):
+    from attentive_gym.wrappers import make_env
+
+    env = make_env(variant, render_mode="human")
+    base = env.unwrapped
+    frames = []
+    original = type(base).render
+    monkeypatch.setattr(type(base), "render", lambda self: frames.append(self.world.time_s) or original(self))
+    env.reset(seed=0)
+    for _ in range(3):
+        env.step(np.zeros(2, np.float32))
+    assert frames == pytest.approx([0.0, 0.05, 0.1, 0.15])
+    env.close()
+
+
 def test_public_space_and_robot_body():
     env = gym.make("AttentiveRescue-v0")
     env.reset(seed=0)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig
+from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.wrappers import AttentionWrapper, make_env
 from attentive_gym.wrappers.encoders import LASER_BINS, FocusEncoder, map_ceilings
 
@@ -97,6 +98,13 @@ def test_unnormalised_ceiling_follows_the_balanced_weights(weights, balance, c_h
     config = AttentionConfig(normalise_combined=False, balance_groups=balance, weights=weights)
     m_high, l_high = map_ceilings(config, gain=1.0)
     assert l_high == pytest.approx(m_high * c_high)
+
+
+def test_the_ceiling_follows_the_weights_given_to_the_wrapper():
+    config = AttentionConfig(normalise_combined=False, balance_groups=False)
+    plain = make_env("saliency", attention=config)
+    heavy = make_env("saliency", attention=config, weights=dict.fromkeys(MAP_NAMES, 10.0))
+    assert heavy.observation_space["L"].high.max() == pytest.approx(10.0 * plain.observation_space["L"].high.max())
 
 
 @pytest.mark.parametrize("grid", ["sonar", "laser"])

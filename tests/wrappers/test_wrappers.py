@@ -111,7 +111,8 @@ def test_goal_action_chooses_goal_and_weights_each_step():
     assert dict(attention.model.weights) == {f"F{i}": 1.0 for i in range(1, 7)}
 
 
-@pytest.mark.parametrize("bad", [np.zeros(2), np.full(14, np.nan), np.zeros((2, 14))])
+@pytest.mark.parametrize("bad", [np.zeros(2), np.full(14, np.nan), np.zeros((2, 14)), np.zeros(14, complex),
+                                 np.array([object()] * 14), {"a": 1}, ["a"] * 14])
 def test_goal_action_rejects_malformed_actions(bad):
     env = make_env("goal-action")
     env.reset(seed=0)
