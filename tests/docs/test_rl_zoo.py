@@ -15,13 +15,16 @@ import pytest
 
 import attentive_gym  # noqa: F401  (registers the ids)
 from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.normalization import CLIP
 from attentive_gym.agents.rl_zoo import ZOO_ALGOS, conf_file, load_hyperparams
 
 ROOT = Path(__file__).resolve().parents[2]
 POLICIES = {"ppo": "MultiInputPolicy", "ppo_lstm": "MultiInputLstmPolicy"}
 RUNSPEC_ALGOS = {"ppo": "ppo", "ppo_lstm": "recurrent-ppo"}
+#: ``train``'s observation normalisation (``normalization.normalize``), in rl-zoo3's terms.
+NORMALIZE = {"norm_obs": True, "norm_reward": False, "clip_obs": CLIP}
 #: Entries that configure rl-zoo3 rather than the algorithm.
-ZOO_KEYS = ("n_envs", "n_timesteps", "policy")
+ZOO_KEYS = ("n_envs", "n_timesteps", "normalize", "policy")
 
 
 def algorithm_kwargs(entry: dict) -> dict:
@@ -59,6 +62,7 @@ def test_the_entries_are_the_projects_settings(algo):
         assert entry["policy"] == POLICIES[algo], env_id
         assert entry["n_envs"] == spec.n_envs, env_id
         assert algorithm_kwargs(entry) == spec.default_algo_kwargs(), env_id
+        assert spec.obs_scaling == "running" and eval(entry["normalize"]) == NORMALIZE, env_id
 
 
 def test_the_modules_serve_the_files():
