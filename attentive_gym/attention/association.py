@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -106,9 +108,12 @@ def gated_assignment(distance2, log_det, gate, row_to_col):
     cost = np.empty((n_rows, n_cols))
     for i in range(n_rows):
         for j in range(n_cols):
-            cost[i, j] = distance2[i, j] + log_det[i, j] if distance2[i, j] < gate else _OUTSIDE_GATE
+            pair = distance2[i, j] + log_det[i, j]
+            # a pair outside the gate, or of a covariance beyond float range, cannot match
+            # (an infinite cost would also keep the Hungarian method from ending)
+            cost[i, j] = pair if distance2[i, j] < gate and math.isfinite(pair) else _OUTSIDE_GATE
     min_cost_assignment(cost, row_to_col)
     for i in range(n_rows):
         j = row_to_col[i]
-        if j >= 0 and distance2[i, j] >= gate:
+        if j >= 0 and cost[i, j] >= _OUTSIDE_GATE:
             row_to_col[i] = -1

@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import numbers
 from dataclasses import dataclass
 from typing import Any, Mapping
 
@@ -29,11 +30,24 @@ __all__ = [
     "EGO_MOTION_MODES",
     "SONAR_EGO_MODELS",
     "KINEMATICS_MODES",
+    "MAX_MAP_WEIGHT",
+    "is_map_weight",
     "parse_state",
 ]
 
 #: Global Attentive State levels (docs/model.md §7): gain ``g`` multiplying the saliency map.
 ATTENTIVE_STATES: Mapping[str, float] = {"drowsy": 0.5, "alert": 1.0, "vigilant": 1.5}
+
+#: The largest weight a feature map may have: any larger and the combined map's sums could
+#: leave float range (a weight of 1e308 made C, L and saliency NaN).
+MAX_MAP_WEIGHT = 1e6
+
+
+def is_map_weight(value: Any) -> bool:
+    """Whether ``value`` is a feature map's weight: a real number (not a bool) in [0, ``MAX_MAP_WEIGHT``]."""
+    return (isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
+            and 0.0 <= value <= MAX_MAP_WEIGHT)
+
 
 #: The six feature maps in the order of the rows of ``F``.
 MAP_NAMES: tuple[str, ...] = ("F1", "F2", "F3", "F4", "F5", "F6")
@@ -376,11 +390,13 @@ class AttentionConfig:
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")
         try:
-            weights = tuple(float(w) for w in self.weights)
-        except (TypeError, ValueError):
-            raise ValueError(f"AttentionConfig.weights must be 6 numbers >= 0, got {self.weights!r}") from None
-        if len(weights) != len(MAP_NAMES) or not all(math.isfinite(w) and w >= 0.0 for w in weights):
-            raise ValueError(f"AttentionConfig.weights must be 6 finite numbers >= 0 (F1..F6), got {self.weights!r}")
+            entries = tuple(self.weights)
+        except TypeError:
+            entries = ()
+        if len(entries) != len(MAP_NAMES) or not all(is_map_weight(w) for w in entries):
+            raise ValueError(f"AttentionConfig.weights must be 6 numbers in [0, {MAX_MAP_WEIGHT:g}] (F1..F6), "
+                             f"got {self.weights!r}")
+        weights = tuple(float(w) for w in entries)
         object.__setattr__(self, "weights", weights)
         try:
             parse_state(self.state)

@@ -37,8 +37,10 @@ from attentive_gym.attention.config import (
     BOTTOM_UP_MAPS,
     MAP_ALIASES,
     MAP_NAMES,
+    MAX_MAP_WEIGHT,
     TOP_DOWN_MAPS,
     AttentionConfig,
+    is_map_weight,
     parse_state,
 )
 from attentive_gym.attention.features import (
@@ -124,7 +126,9 @@ class FocusView:
         distance_m: nearest valid sonar or laser reading in the region (m), None if none.
         features: ``(6,)`` F1..F6 at the region.
         track_id: the tracked body the region's motion comes from (``kinematics=
-            "tracker"``: the region's fastest confirmed track), None for none.
+            "tracker"``: of the region's confirmed tracks, a moving one whose speed the
+            speed goal wants, by motion probability, else the fastest; docs/model.md §10),
+            None for none.
         track_position_m: ``(2,)`` its centre in the robot frame (m), None for none.
         track_velocity_mps: ``(2,)`` its ground velocity in the robot's axes (m/s).
         track_speed_mps: its speed (m/s); track_age_s: time since it was first seen (s).
@@ -302,8 +306,8 @@ class AttentionModel:
     held while every active goal is fulfilled at its region; a top-down winner where the
     goals are only partly met (graded values) takes the focus but starts no course.
 
-    Region quantities (sonar grid; on the laser grid the region's sonar is the one whose
-    cone holds the beam): the speed and range rate are the sonar channel's (as F1): with
+    Region quantities (sonar grid; on the laser grid a beam's sonar is the front sonar
+    nearest its bearing, docs/model.md §1): the speed and range rate are the sonar channel's (as F1): with
     ``kinematics="tracker"`` those of the region's tracked body (docs/model.md §10; F1 and F4
     then see the full 2-D speed, where the paper's Δs/Δt sees only radial motion), else
     the sonar's range rate; the direction label is the sonar channel's when it is moving,
@@ -450,8 +454,9 @@ class AttentionModel:
             if index in seen:
                 raise ValueError(f"map {MAP_NAMES[index]} is given more than one weight")
             seen.add(index)
-            if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) or value < 0:
-                raise ValueError(f"the weight of {MAP_NAMES[index]} must be a finite number >= 0, got {value!r}")
+            if not is_map_weight(value):
+                raise ValueError(f"the weight of {MAP_NAMES[index]} must be a number in [0, {MAX_MAP_WEIGHT:g}], "
+                                 f"got {value!r}")
             new[index] = float(value)
         self._weights = new
         self._update_active()
@@ -561,10 +566,10 @@ class AttentionModel:
         moved = push and motion is not None and self._tracker is None and self._ego_change(t, motion)
         dt = 0.0 if self._last_t is None else t - self._last_t
         self._last_t = t
-        if sonar_new:
-            self._sonar_time = sonar_time_s
+        if sonar_new:  # a scan without a time is a fresh one, taken at t
+            self._sonar_time = t if sonar_time_s is None else sonar_time_s
         if laser_new:
-            self._laser_time = laser_time_s
+            self._laser_time = t if laser_time_s is None else laser_time_s
         linear, angular = (0.0, 0.0) if motion is None or self.config.ego_motion is None else motion
         return t, dt, moved, push, linear, angular, laser_new, sonar_new
 
@@ -813,6 +818,10 @@ def _as_float_array(values, name: str) -> np.ndarray:
     if type(values) is np.ndarray and values.dtype in _KERNEL_DTYPES:
         return values  # float32 widens exactly in the kernel, as np.asarray(values, float) does
     try:
-        return np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of ranges in metres, got {type(values).__name__}") from None
+        array = np.asarray(values)
+    except (TypeError, ValueError):  # e.g. a ragged list
+        array = np.asarray(None)
+    if array.dtype.kind not in "iuf":  # bool, complex, strings, objects: not ranges
+        raise ValueError(f"{name} must be an array of ranges in metres (real numbers), got {type(values).__name__} "
+                         f"of dtype {array.dtype}")
+    return array.astype(float, copy=False)

@@ -199,6 +199,9 @@ def _load_npz(path: Path) -> SensorLog:
         data = np.load(path, allow_pickle=False)
     except (ValueError, OSError) as err:
         raise LogFormatError(f"{path}: not a readable .npz archive ({err})") from None
+    if not isinstance(data, np.lib.npyio.NpzFile):  # a single array saved with np.save, named .npz
+        raise LogFormatError(f"{path}: holds one array, not an .npz archive of named arrays t, sonar, laser "
+                             "(np.savez writes one)")
     with data:
         missing = [name for name in ("t", "sonar", "laser") if name not in data.files]
         if missing:

@@ -268,10 +268,17 @@ def load_trace(path: str | os.PathLike) -> Trace:
     (written before they were recorded) loads with no tracks.
 
     Raises:
-        ValueError: when an array is missing or has the wrong shape, when only some of the
-            track arrays are there, or when ``track_step`` is not integers sorted within [0, T).
+        ValueError: when the file is not an .npz archive, when an array is missing or has the
+            wrong shape, when only some of the track arrays are there, or when ``track_step``
+            is not integers sorted within [0, T).
     """
-    with np.load(Path(path), allow_pickle=False) as data:
+    try:
+        data = np.load(Path(path), allow_pickle=False)
+    except (ValueError, OSError) as err:
+        raise ValueError(f"{path}: not a readable .npz archive ({err})") from None
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise ValueError(f"{path}: holds one array, not an attention trace (an .npz archive)")
+    with data:
         missing = [name for name in (*TRACE_ARRAYS, "config_json") if name not in data.files]
         if missing:
             raise ValueError(f"{path}: not an attention trace, missing arrays {missing}")

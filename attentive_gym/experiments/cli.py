@@ -52,6 +52,8 @@ def add_experiment_parser(subparsers) -> None:
 def _run(args: argparse.Namespace) -> int:
     names = EXPERIMENT_NAMES if args.name == _ALL else (get_experiment(args.name).name,)
     _check_kinematics(args.kinematics), _check_profile(args.profile)  # before any run starts
+    if args.out is not None and args.out.exists() and not args.out.is_dir():
+        raise ValueError(f"--out {args.out} is a file; give a folder (it is created if missing)")
     progress = Progress(len(names)) if args.name == _ALL else None
     lines = []
     for name in names:

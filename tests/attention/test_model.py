@@ -109,7 +109,7 @@ def test_balanced_groups_let_a_fulfilled_goal_weigh_as_much_as_the_bottom_up_map
 def test_balanced_groups_stay_finite_for_subnormal_weights():
     model = AttentionModel(AttentionConfig(ego_motion=None))
     model.set_goals(Goal.smaller("distance", 2.0))
-    model.set_weights(F3=1e300, F6=5e-324)
+    model.set_weights(F3=1e6, F6=5e-324)
     sonar, laser = np.full(16, 4.5), np.full(180, 8.0)
     sonar[6] = 1.0
     out = model.step(0.0, sonar, laser)
@@ -141,7 +141,7 @@ def test_top_down_map_without_goal_is_inactive_and_settings_are_readable():
         (lambda m: m.set_goals(Goal.greater("speed", 0.1), Goal.smaller("speed", 0.5)), "at most one goal per feature"),
         (lambda m: m.set_goals("speed>0.5"), "set_goals takes Goal objects"),
         (lambda m: m.set_weights({"F7": 1.0}), "unknown feature map 'F7'"),
-        (lambda m: m.set_weights(F1=-1.0), "weight of F1 must be a finite number >= 0"),
+        (lambda m: m.set_weights(F1=-1.0), r"weight of F1 must be a number in \[0, 1e\+06\]"),
         (lambda m: m.set_weights({"F1": 1.0}, motion=2.0), "map F1 is given more than one weight"),
         (lambda m: m.set_weights([1, 2]), "needs 6 entries"),
         (lambda m: m.set_state("asleep"), "unknown attentive state"),
@@ -166,6 +166,10 @@ def test_invalid_settings(call, message):
         (("1.0", np.full(16, 3.0), np.full(180, 8.0)), "t must be the reading's time in seconds"),
         ((0.1, np.full(16, 3.0), np.full(180, 8.0), (0.5,)), "odometry must be"),
         ((0.1, np.full(16, 3.0), np.full(180, 8.0), (0.5, np.inf)), "odometry must be 2 finite numbers"),
+        ((0.1, np.full(16, 3.0 + 1j), np.full(180, 8.0)), "sonar must be an array of ranges.*dtype complex128"),
+        ((0.1, np.ones(16, bool), np.full(180, 8.0)), "sonar must be an array of ranges.*dtype bool"),
+        ((0.1, np.full(16, 3.0), np.array(["8"] * 180)), "laser must be an array of ranges.*dtype <U1"),
+        ((0.1, [object()] * 16, np.full(180, 8.0)), "sonar must be an array of ranges.*dtype object"),
     ],
 )
 def test_invalid_readings_raise_and_leave_state_unchanged(args, message):
@@ -174,6 +178,23 @@ def test_invalid_readings_raise_and_leave_state_unchanged(args, message):
     with pytest.raises(ValueError, match=message):
         model.step(*args)
     assert model.step(0.1, np.full(8, 3.0), np.full(180, 8.0)).t == 0.1  # still usable
+
+
+def test_a_scan_given_without_a_time_counts_as_taken_at_its_step():
+    model = AttentionModel()
+    model.step(0.0, np.full(16, 3.0), np.full(180, 8.0))  # no scan times: fresh scans at t = 0
+    with pytest.raises(ValueError, match="laser_time_s=-5.0 is before the previous scan's time 0.0"):
+        model.step(0.1, np.full(16, 3.0), np.full(180, 8.0), laser_time_s=-5.0)
+
+
+def test_heavy_weights_are_refused_before_the_combined_map_could_overflow():
+    model = AttentionModel()
+    model.set_goals(Goal.greater("speed", 0.5))
+    with pytest.raises(ValueError, match=r"weight of F1 must be a number in \[0, 1e\+06\]"):
+        model.set_weights({"F1": 1e308, "F3": 1e308, "F4": 1.0})
+    model.set_weights({"F1": 1e6, "F3": 1e6, "F4": 1.0})
+    outputs = _target_run(model, steps=30)
+    assert all(np.isfinite(out.C).all() and np.isfinite(out.L).all() for out in outputs)
 
 
 def test_no_echo_readings_and_clipping():

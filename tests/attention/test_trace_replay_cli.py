@@ -129,7 +129,10 @@ def _bad_logs(tmp_path):
         "missing array": (tmp_path / "g.npz", "missing arrays"),
         "text file": (tmp_path / "h.txt", "unknown log format"),
         "not a number": (tmp_path / "i.csv", "is not a number"),
+        "one array named .npz": (tmp_path / "j.npz", "holds one array, not an .npz archive"),
     }
+    with open(tmp_path / "j.npz", "wb") as single:
+        np.save(single, t)
     np.savez(tmp_path / "f.npz", t=t, sonar=sonar[:, :12], laser=laser)
     np.savez(tmp_path / "g.npz", t=t, sonar=sonar)
     (tmp_path / "h.txt").write_text("t,sonar_0\n")
@@ -149,6 +152,13 @@ def test_bad_logs_raise_log_format_errors_and_the_cli_exits_2(tmp_path, capsys):
     assert main(["attend", str(tmp_path / "absent.csv"), "--out", str(tmp_path / "o")]) == 2
     assert main(["attend", str(tmp_path / "a.csv"), "--out", str(tmp_path / "o"), "--goal", "speed:fast"]) == 2
     assert main(["attend", str(tmp_path / "a.csv"), "--out", str(tmp_path / "o"), "--config", '{"grid": 3}']) == 2
+
+
+def test_a_file_that_is_not_a_trace_archive_is_refused(tmp_path):
+    with open(tmp_path / "one.npz", "wb") as single:
+        np.save(single, np.zeros(3))
+    with pytest.raises(ValueError, match="holds one array, not an attention trace"):
+        load_trace(tmp_path / "one.npz")
 
 
 def test_plot_trace_panels(tmp_path):

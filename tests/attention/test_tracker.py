@@ -108,6 +108,15 @@ def test_gated_assignment_matches_the_most_pairs_inside_the_gate():
     assert rows[0] == -1  # nothing inside the gate
 
 
+def test_a_pair_of_infinite_cost_never_matches_and_the_assignment_ends():
+    rows = np.empty(2, np.int64)
+    log_det = np.array([[np.inf, 0.0], [0.0, 0.0]])  # a covariance beyond float range
+    gated_assignment(np.array([[1.0, np.inf], [np.inf, 2.0]]), log_det, 13.8, rows)
+    assert rows.tolist() == [-1, 1]
+    gated_assignment(np.full((2, 2), 1.0), np.full((2, 2), np.inf), 13.8, rows)
+    assert rows.tolist() == [-1, -1]
+
+
 def test_a_vague_track_does_not_take_the_measurement_of_a_sharp_one():
     # both inside the gate; the vague track (log det 4) is nearer in Mahalanobis terms only
     distance2 = np.array([[0.5], [2.0]])

@@ -257,6 +257,15 @@ def test_cli_bad_input_is_one_line_and_exit_2(argv, message, capsys):
     assert "\n" not in err and message in err
 
 
+def test_an_out_that_is_a_file_is_refused_before_any_run(tmp_path, capsys, monkeypatch):
+    import attentive_gym.experiments.cli as experiment_cli
+
+    monkeypatch.setattr(experiment_cli, "run_experiment", lambda *a, **k: pytest.fail("an experiment ran"))
+    (tmp_path / "file").write_text("mine")
+    assert main(["experiment", "all", "--out", str(tmp_path / "file")]) == 2
+    assert "--out" in capsys.readouterr().err and (tmp_path / "file").read_text() == "mine"
+
+
 def test_table_has_a_column_per_mode_and_the_profile():
     measured = measure(seeds=[0], names=("exp02",))
     text = markdown(measured, n_seeds=1)
