@@ -107,6 +107,10 @@ def parse_state(state: str | float) -> float:
 class AttentionConfig:
     """Every parameter of the attentional model (docs/model.md), with defaults and units.
 
+    Every number is checked when the configuration is built (``ValueError`` naming the
+    field, its unit and the allowed range); a setting that must be positive is also at most
+    1e6 in its unit, so that no filter or map leaves float range.
+
     Sensorial memory and kinematics (§2, §3, §10):
         kinematics: "tracker" (default): objects segmented from each laser scan and
             tracked with a constant-velocity Kalman filter in an odometry-fixed frame,
@@ -205,7 +209,7 @@ class AttentionConfig:
         A_exc, A_ior: peak amplitudes of excitation and inhibition of return (gain units).
         kernel_rise_fraction, kernel_decay_fraction: time constants of the rise-and-decay
             kernel ``h_T`` as fractions of the phase length T (rise < decay).
-        lateral_sigma_regions: σ of the lateral spread ``G`` (regions).
+        lateral_sigma_regions: σ of the lateral spread ``G`` (regions, >= 0.01).
 
     Attentional map, top-down course (§7):
         A_td: plateau of the top-down enhancement (gain units).
@@ -329,7 +333,6 @@ class AttentionConfig:
             ("preactivation_s", "s"),
             ("excitation_s", "s"),
             ("ior_s", "s"),
-            ("lateral_sigma_regions", "regions"),
             ("td_onset_s", "s"),
             ("td_tau_on_s", "s"),
             ("td_tau_off_s", "s"),
@@ -337,8 +340,11 @@ class AttentionConfig:
             ("vigilance_tau_s", "s"),
             ("vigilance_recovery_s", "s"),
         )
-        for name, unit in positive:
-            _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=False)
+        for name, unit in positive:  # bounded above too: a filter's 1e300 would leave float range
+            _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=False, high=_MAX_SETTING)
+        # a narrower spread is no spread at all; 2σ² must stay a normal float (G's diagonal is 0/0 otherwise)
+        _check_number("lateral_sigma_regions", self.lateral_sigma_regions, "regions", low=0.01, low_inclusive=True,
+                      high=_MAX_SETTING)
         for name in ("laser_mount_x_m", "laser_mount_y_m"):
             _check_number(name, getattr(self, name), "m", low=-_MAX_MOUNT_M, low_inclusive=True, high=_MAX_MOUNT_M)
         non_negative = (
@@ -454,6 +460,10 @@ class AttentionConfig:
 
 #: The farthest a laser can sit from the robot's centre (m).
 _MAX_MOUNT_M = 5.0
+
+
+#: The largest value of a positive setting (in its own unit: m, s, m/s, σ, ...).
+_MAX_SETTING = 1e6
 
 
 def _check_number(name: str, value: Any, unit: str, *, low: float, low_inclusive: bool,

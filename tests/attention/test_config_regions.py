@@ -44,6 +44,9 @@ def test_defaults_follow_model_md():
         ("state", "sleepy", "unknown attentive state 'sleepy'"),
         ("sonar_cone_half_width_deg", 45.0, "sonar_cone_half_width_deg must be a finite number >= 0.5 and <= 30"),
         ("laser_only", 1, "laser_only must be True or False"),
+        ("lateral_sigma_regions", 1e-170, r"lateral_sigma_regions must be a finite number >= 0.01 and <= 1e\+06"),
+        ("track_accel_psd_m2ps3", 1e300, r"track_accel_psd_m2ps3 must be a finite number > 0 and <= 1e\+06 \(m²/s³\)"),
+        ("weights", (True,) * 6, r"weights must be 6 numbers in \[0, 1e\+06\]"),
     ],
 )
 def test_invalid_config_names_field_and_range(field, value, message):
