@@ -18,10 +18,10 @@ from attentive_gym.agents.backends import BACKENDS, Interrupted, raise_on_stop_s
 from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS, VEC_ENVS, RunSpec
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["add_train", "add_evaluate", "add_compare", "parse_env_kwargs"]
+__all__ = ["add_train", "add_evaluate", "add_compare", "parse_json_object"]
 
 
-def parse_env_kwargs(text: str | None, flag: str = "--env-kwargs") -> dict[str, Any]:
+def parse_json_object(text: str | None, flag: str) -> dict[str, Any]:
     """``flag``'s value (``--env-kwargs`` or ``--algo-kwargs``): a JSON object, or the path of a
     .json file holding one → dict. None (the flag not given) → {}; an empty value, invalid
     JSON, NaN or Infinity, or anything but an object raises ``ValueError`` naming ``flag``."""
@@ -142,9 +142,9 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
         eval_every=args.eval_every or defaults.get("eval_every", max(1, steps // 10)),
         eval_episodes=args.eval_episodes or defaults.get("eval_episodes", RunSpec.eval_episodes),
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
-        env_kwargs=(parse_env_kwargs(args.env_kwargs) if args.env_kwargs is not None
+        env_kwargs=(parse_json_object(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None
                     else dict(defaults.get("env_kwargs", {}))),
-        algo_kwargs=parse_env_kwargs(args.algo_kwargs, "--algo-kwargs"),
+        algo_kwargs=parse_json_object(args.algo_kwargs, "--algo-kwargs"),
         torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads), obs_scaling=args.obs_scaling,
     )
 

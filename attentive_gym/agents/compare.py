@@ -44,7 +44,7 @@ from attentive_gym.agents.results import (
 from attentive_gym.agents.training import budget_grows, holds_progress, is_done, validate_spec
 from attentive_gym.progress import Progress, format_duration
 
-__all__ = ["QUICK", "CompareResult", "compare", "collect", "run_dir_of", "runs_hold_progress"]
+__all__ = ["QUICK", "CompareResult", "compare", "collect", "run_dir_of", "runs_hold_progress", "settings_differences"]
 
 
 @dataclass
@@ -145,21 +145,28 @@ def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: b
     """
     path = out / "compare.json"
     if path.is_file() and runs_hold_progress(out):
-        old, new = json.loads(path.read_text()), json.loads(json.dumps(settings))
-        old_base = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed,
-                                      "vec_env": base.vec_env})  # the vectorisation changes no number
-        lists = [f"{key} {old[key]} → {new[key]}" for key in ("variants", "seeds") if old[key] != new[key]]
-        if not lists and old_base == base:
-            pass  # the same runs: only the vectorisation or the threshold may differ
-        elif not lists and budget_grows(old_base, base):
+        old = json.loads(path.read_text())
+        differences = settings_differences(old, settings["variants"], settings["seeds"], base)
+        old_base = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env})
+        same_runs = (old["variants"], old["seeds"]) == (list(settings["variants"]), list(settings["seeds"]))
+        if same_runs and budget_grows(old_base, base):
             if not extend:
                 raise ValueError(f"{out} holds this comparison with {old_base.total_steps} env steps per run; "
                                  f"extend it to {base.total_steps} (--extend) or use another --out folder")
-        else:
-            differences = ", ".join(filter(None, [*lists, old_base.differences(base)]))
+        elif differences:  # anything but the vectorisation or the threshold
             raise ValueError(f"{out} holds a comparison with other settings ({path}: {differences}); "
                              "use another --out folder")
     write_json_atomic(path, settings)
+
+
+def settings_differences(old: dict[str, Any], variants: Sequence[str], seeds: Sequence[int], base: RunSpec) -> str:
+    """How a comparison's stored settings ``old`` (its ``compare.json``) differ from ``variants``,
+    ``seeds`` and the run template ``base``, the vectorisation aside (it changes no number):
+    e.g. ``"seeds [0] → [0, 1], eval_every 25 → 51"``; "" when they do not."""
+    old_base = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env})
+    lists = [f"{key} {old[key]} → {list(new)}" for key, new in (("variants", variants), ("seeds", seeds))
+             if old[key] != list(new)]
+    return ", ".join(filter(None, [*lists, old_base.differences(base)]))
 
 
 def runs_hold_progress(out: Path) -> bool:

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
-from attentive_gym.agents.compare import compare
+from attentive_gym.agents.compare import compare, settings_differences
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.plots import plot_success_vs_distractors
 from attentive_gym.agents.results import EVAL_COLUMNS, SUMMARY_COLUMNS, read_csv, summarise, write_csv_atomic
@@ -114,18 +114,14 @@ def sweep_tables(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5) -> l
 
 def _differences(settings_path: Path, variants: Sequence[str], seeds: Sequence[int], base: RunSpec) -> str:
     """How the comparison whose ``compare.json`` is ``settings_path`` differs from this sweep's
-    ``variants``, ``seeds`` and ``base`` run (its distractor count and vectorisation aside);
+    ``variants``, ``seeds`` and ``base`` run, its distractor count aside (``compare.settings_differences``);
     "" when it does not, or when the file is missing."""
     if not settings_path.is_file():
         return ""
     old = json.loads(settings_path.read_text())
     without_count = lambda kwargs: {k: v for k, v in kwargs.items() if k != "num_distractors"}  # noqa: E731
-    this = base.replace(env_kwargs=without_count(base.env_kwargs))
-    other = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env,
-                               "env_kwargs": without_count(old["run"]["env_kwargs"])})
-    lists = [f"{key} {old[key]} → {list(new)}" for key, new in (("variants", variants), ("seeds", seeds))
-             if old[key] != list(new)]
-    return ", ".join(filter(None, [*lists, other.differences(this)]))
+    old["run"]["env_kwargs"] = without_count(old["run"]["env_kwargs"])
+    return settings_differences(old, variants, seeds, base.replace(env_kwargs=without_count(base.env_kwargs)))
 
 
 def _counts_in(out: Path) -> list[int]:

@@ -82,7 +82,7 @@ def checked_action(action: Any, shape: tuple[int, ...], layout: str = "") -> np.
 
 def _check_goal_bounds(goal: Goal | None) -> None:
     """``ValueError`` for a goal whose bounds exceed ``_MAX_GOAL_BOUND`` (the laser's range)."""
-    if goal is not None and max(goal.encode()) > _MAX_GOAL_BOUND:
+    if goal is not None and max(goal.lo or 0.0, goal.hi or 0.0, goal.tolerance) > _MAX_GOAL_BOUND:
         raise ValueError(f"goal {goal}: bounds above {_MAX_GOAL_BOUND} (the laser's range) are not allowed")
 
 
