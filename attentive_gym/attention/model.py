@@ -90,6 +90,7 @@ __all__ = [
     "ORIGIN_TOP_DOWN",
     "ORIGIN_CODES",
     "GOAL_MAP_OF_FEATURE",
+    "MIN_TIME_STEP_S",
 ]
 
 ORIGIN_BOTTOM_UP = "bottom-up"
@@ -685,9 +686,9 @@ class AttentionModel:
         t = float(t)
         if not math.isfinite(t):
             raise ValueError(f"t must be a finite time in seconds, got {t}")
-        if self._last_t is not None and not t - self._last_t >= _MIN_TIME_STEP_S:
+        if self._last_t is not None and not t - self._last_t >= MIN_TIME_STEP_S:
             raise ValueError(
-                f"t must increase from step to step (seconds, by at least {_MIN_TIME_STEP_S:g} s); got t={t!r} "
+                f"t must increase from step to step (seconds, by at least {MIN_TIME_STEP_S:g} s); got t={t!r} "
                 f"after t={self._last_t!r}. Call reset() to start a new run."
             )
         return t
@@ -781,7 +782,7 @@ def _row_of_slot(track_rows, slot):
 
 #: The smallest time between two readings (s): closer readings would make the range-rate
 #: slope's denominator underflow to 0 (a ZeroDivisionError inside the compiled kernel).
-_MIN_TIME_STEP_S = 1e-9
+MIN_TIME_STEP_S = 1e-9
 
 
 def _map_index(key: str) -> int:

@@ -35,7 +35,7 @@ import numpy as np
 
 from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES, AttentionConfig
 from attentive_gym.attention.goals import Feature, Goal, Relation
-from attentive_gym.attention.model import AttentionModel
+from attentive_gym.attention.model import MIN_TIME_STEP_S, AttentionModel
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
 from attentive_gym.attention.trace import Trace, TraceRecorder
 
@@ -92,10 +92,10 @@ class SensorLog:
                 row = int(np.argwhere(negative)[0][0])
                 raise LogFormatError(f"{source}: {name} holds a negative range (first at reading {row}); ranges are >= 0 m")
         steps = np.diff(self.t)
-        if np.any(steps <= 0.0):
-            row = int(np.flatnonzero(steps <= 0.0)[0]) + 1
-            raise LogFormatError(f"{source}: t must be strictly increasing (s); reading {row} has "
-                                 f"t={self.t[row]!r} after t={self.t[row - 1]!r}")
+        if np.any(~(steps >= MIN_TIME_STEP_S)):
+            row = int(np.flatnonzero(~(steps >= MIN_TIME_STEP_S))[0]) + 1
+            raise LogFormatError(f"{source}: t must be strictly increasing (s, by at least {MIN_TIME_STEP_S:g} s "
+                                 f"per reading); reading {row} has t={self.t[row]!r} after t={self.t[row - 1]!r}")
         return self
 
 

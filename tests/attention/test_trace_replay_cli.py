@@ -119,12 +119,15 @@ def _bad_logs(tmp_path):
     nan_laser[4, 7] = np.nan
     backwards = t.copy()
     backwards[5] = backwards[4]
+    tiny_step = t.copy()
+    tiny_step[5] = tiny_step[4] + 1e-12
     logs = {
         "missing laser column": (_write_csv(tmp_path / "a.csv", t, sonar, laser, drop="laser_42"), "laser_42"),
         "missing t": (_write_csv(tmp_path / "b.csv", t, sonar, laser, drop="t"), "time column 't'"),
         "odometry half": (_write_csv(tmp_path / "c.csv", t, sonar, laser, np.zeros((T, 2)), drop="w"), "both columns"),
         "nan csv": (_write_csv(tmp_path / "d.csv", t, sonar, nan_laser), "NaN or inf"),
         "time repeats": (_write_csv(tmp_path / "e.csv", backwards, sonar, laser), "strictly increasing"),
+        "time step below the model's": (_write_csv(tmp_path / "k.csv", tiny_step, sonar, laser), "by at least 1e-09 s"),
         "wrong sonar width": (tmp_path / "f.npz", "sonar must be"),
         "missing array": (tmp_path / "g.npz", "missing arrays"),
         "text file": (tmp_path / "h.txt", "unknown log format"),
