@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import enum
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,6 +83,8 @@ _DECODE_DECIMALS = 6
 def _parse_enum(enum_type, value, what):
     if isinstance(value, enum_type):
         return value
+    if isinstance(value, (bool, np.bool_)):  # True would read as the label 1
+        value = repr(value)
     try:
         if isinstance(value, str):
             return enum_type(value.lower()) if issubclass(enum_type, str) else enum_type[value.upper()]
@@ -92,10 +95,9 @@ def _parse_enum(enum_type, value, what):
 
 
 def _check_bound(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"goal bound {name} must be a number, got {value!r}") from None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ValueError(f"goal bound {name} must be a number, got {value!r}")
+    value = float(value)
     if not math.isfinite(value):
         raise ValueError(f"goal bound {name} must be finite, got {value}")
     if value < 0.0:

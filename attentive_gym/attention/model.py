@@ -248,8 +248,9 @@ class AttentionOutput:
     def view_of(self, region: int) -> FocusView:
         """What the sensors see in ``region`` (an index in ``[0, J)``), focused or not."""
         grid, readings, valid, rates, nearest, region_slot, track_rows, _ = self._sources
-        if not 0 <= region < grid.n_regions:
-            raise ValueError(f"region must be an index in [0, {grid.n_regions}), got {region!r}")
+        if isinstance(region, (bool, np.bool_)) or not isinstance(region, numbers.Integral) \
+                or not 0 <= region < grid.n_regions:
+            raise ValueError(f"region must be an integer index in [0, {grid.n_regions}), got {region!r}")
         j = int(region)
         sonar_index = int(grid.region_sonar[j])
         beams = grid.beam_slices[j]

@@ -187,6 +187,21 @@ def test_a_scan_given_without_a_time_counts_as_taken_at_its_step():
         model.step(0.1, np.full(16, 3.0), np.full(180, 8.0), laser_time_s=-5.0)
 
 
+@pytest.mark.parametrize("build", [lambda: Goal.greater("speed", True), lambda: Goal.greater("speed", "0.5"),
+                                   lambda: Goal.direction_is(True)])
+def test_goals_refuse_bools_and_strings_for_numbers_and_labels(build):
+    with pytest.raises(ValueError, match="must be a number|unknown direction"):
+        build()
+
+
+def test_view_of_takes_an_integer_region():
+    out = AttentionModel().step(0.0, np.full(16, 3.0), np.full(180, 8.0))
+    assert out.view_of(np.int64(2)).region == 2
+    for bad in (3.5, True, 8, -1):
+        with pytest.raises(ValueError, match=r"region must be an integer index in \[0, 8\)"):
+            out.view_of(bad)
+
+
 def test_heavy_weights_are_refused_before_the_combined_map_could_overflow():
     model = AttentionModel()
     model.set_goals(Goal.greater("speed", 0.5))
