@@ -114,12 +114,15 @@ def plot_learning_curves(
 
 def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str | os.PathLike) -> Path:
     """Write a PNG of final success rate (mean, 95 % bootstrap CI as error bars) against the
-    number of distractors, one line per variant, from rows of ``sweep.sweep_tables``."""
+    number of distractors, one line per variant, from rows of ``sweep.sweep_tables``; a
+    variant has one colour, its settings (``split_label``) different line styles, as in
+    ``plot_learning_curves``; the legend sits beside the axes."""
     plt = _pyplot()
     variants = list(dict.fromkeys(r["variant"] for r in summary))
     if not variants:
         raise ValueError("no summary rows to plot")
-    fig, ax = plt.subplots(figsize=(5.6, 3.9))
+    fig, ax = plt.subplots(figsize=(7.6, 3.9))
+    styles = _line_styles(variants)
     for variant in variants:
         rows = sorted((r for r in summary if r["variant"] == variant), key=lambda r: r["num_distractors"])
         x = np.array([r["num_distractors"] for r in rows], float)
@@ -127,13 +130,13 @@ def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str 
         low = np.nan_to_num(y - np.array([r["final_success_ci_low"] for r in rows], float))
         high = np.nan_to_num(np.array([r["final_success_ci_high"] for r in rows], float) - y)
         seeds = min(r["n_seeds"] for r in rows)
-        ax.errorbar(x, y, yerr=[low, high], marker="o", capsize=3, label=f"{variant} (n={seeds})")
+        ax.errorbar(x, y, yerr=[low, high], marker="o", capsize=3, label=f"{variant} (n={seeds})", **styles[variant])
     ax.set_xlabel("distractors in the arena")
     ax.set_ylabel("final success rate")
     ax.set_ylim(0.0, 1.0)
     ax.set_xticks(sorted({r["num_distractors"] for r in summary}))
     ax.grid(alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
+    ax.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
     ax.set_title("mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
     return _save(fig, path)
 
