@@ -107,6 +107,8 @@ def test_max_episode_steps_truncates_as_gym_make_does_and_float64_actions_stay_e
     for t in range(30):
         actions = rng.uniform(-1, 1, (2, 2))  # float64, as sync passes them on
         got, want = native.step(actions), sync.step(actions)
+        for key in ("TimeLimit.truncated", "_TimeLimit.truncated"):  # rl_zoo3, once imported, patches TimeLimit
+            want[4].pop(key, None)
         for k, name in enumerate(("obs", "reward", "terminated", "truncated", "info")):
             _assert_same_tree(got[k], want[k], f"step {t} {name}")
         truncations += int(got[3].sum())

@@ -17,6 +17,7 @@ from reliability_helpers import assert_clear_error, outcome
 
 from attentive_gym.attention import MAP_ALIASES, MAP_NAMES, AttentionConfig, AttentionModel, Goal
 from attentive_gym.attention.goals import Feature, Relation
+from attentive_gym.attention.config import MAX_MAP_WEIGHT
 
 weird_floats = st.floats(allow_nan=True, allow_infinity=True)
 bounds = st.one_of(weird_floats, st.none(), st.integers(-5, 5), st.sampled_from(["0.5", "x", True, [1.0]]))
@@ -94,7 +95,8 @@ weight_values = st.one_of(weird_floats, st.integers(-2, 3), st.sampled_from([Tru
 def _weight_ok(value) -> bool:
     import numbers
 
-    return (not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value) and value >= 0)
+    return (not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
+            and 0 <= value <= MAX_MAP_WEIGHT)
 
 
 def _index(key):
