@@ -147,7 +147,7 @@ def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: b
     if path.is_file() and runs_hold_progress(out):
         old = json.loads(path.read_text())
         differences = settings_differences(old, settings["variants"], settings["seeds"], base)
-        old_base = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env})
+        old_base = _stored_base(old, base)
         same_runs = (old["variants"], old["seeds"]) == (list(settings["variants"]), list(settings["seeds"]))
         if same_runs and budget_grows(old_base, base):
             if not extend:
@@ -163,10 +163,15 @@ def settings_differences(old: dict[str, Any], variants: Sequence[str], seeds: Se
     """How a comparison's stored settings ``old`` (its ``compare.json``) differ from ``variants``,
     ``seeds`` and the run template ``base``, the vectorisation aside (it changes no number):
     e.g. ``"seeds [0] → [0, 1], eval_every 25 → 51"``; "" when they do not."""
-    old_base = RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env})
+    old_base = _stored_base(old, base)
     lists = [f"{key} {old[key]} → {list(new)}" for key, new in (("variants", variants), ("seeds", seeds))
              if old[key] != list(new)]
     return ", ".join(filter(None, [*lists, old_base.differences(base)]))
+
+
+def _stored_base(old: dict[str, Any], base: RunSpec) -> RunSpec:
+    """The run template of stored settings ``old``, with ``base``'s variant, seed and vectorisation."""
+    return RunSpec.from_dict({**old["run"], "variant": base.variant, "seed": base.seed, "vec_env": base.vec_env})
 
 
 def runs_hold_progress(out: Path) -> bool:
