@@ -113,6 +113,9 @@ TRANSIENT_S = 1.0  # pairs within this after a turn are reported apart
 MOVING_MPS = 0.02  # below this a mover is still, its direction undefined (movers go in 0.05 m/s steps)
 _COS, _SIN, _MATCH = (MEMORY_FIELDS.index(f) for f in ("cos_bearing", "sin_bearing", "goal_match"))
 TRACK_MATCH_M = 0.75  # the nearest confirmed track within this of a mover is its track
+#: Bins (s) of the age of the target's track in the focus-by-track-age table: how long a
+#: track must have lasted before its goal can be judged.
+TRACK_AGE_BINS_S = (0.0, 1.0, 2.0, 4.0, math.inf)
 
 # --- controllers (actions are fractions of 0.7 m/s and 140°/s) ---------------------------
 WANDER_LINEAR = 0.6
@@ -291,6 +294,8 @@ class EpisodeRecord:
         static_region: ``(T, J)`` regions with an echo and no echo from a mover.
         target_case: ``(T,)`` why the focus is or is not on the target at each step, an
             index into ``TARGET_CASES`` (``target_case``); None when not recorded.
+        target_track_age: ``(T,)`` age (s) of the target's track (``nearest_track``), NaN
+            where it has none; None when not recorded.
     """
 
     goal: Goal
@@ -303,6 +308,7 @@ class EpisodeRecord:
     focus: np.ndarray
     static_region: np.ndarray
     target_case: np.ndarray | None = None
+    target_track_age: np.ndarray | None = None
 
 
 #: ``(J, 180)`` which laser beams each region holds.
@@ -346,21 +352,26 @@ TARGET_CASES = ("on target", "hidden from the laser", "seen, no track", "young t
                 "track, goal not judged", "no focus", "inhibited", "another region won")
 
 
+def nearest_track(tracks, xy: np.ndarray) -> int | None:
+    """The row in ``tracks`` of the confirmed track nearest to the robot-frame position
+    ``xy`` (2,) (m), None when none lies within ``TRACK_MATCH_M``."""
+    confirmed = np.asarray(tracks.confirmed, bool)
+    distance = np.linalg.norm(np.asarray(tracks.position_m, float).reshape(-1, 2) - xy, axis=1)
+    near = np.flatnonzero(confirmed & (distance <= TRACK_MATCH_M))
+    return int(near[np.argmin(distance[near])]) if near.size else None
+
+
 def target_case(output, target_xy: np.ndarray, target_laser_beams: int) -> int:
     """The index in ``TARGET_CASES`` of a step: the model's ``output``, the target's
     robot-frame position ``target_xy`` (2,) (m) and how many laser beams hit it."""
     region = int(region_of(target_xy))
     if output.focus == region:
         return 0
-    tracks = output.tracks
-    confirmed = np.asarray(tracks.confirmed, bool)
-    distance = np.linalg.norm(np.asarray(tracks.position_m, float).reshape(-1, 2) - target_xy, axis=1)
-    near = confirmed & (distance <= TRACK_MATCH_M)
-    if not near.any():
+    nearest = nearest_track(output.tracks, target_xy)
+    if nearest is None:
         return 1 if target_laser_beams == 0 else 2
     if not output.goal_fulfilled[region]:
-        nearest = np.flatnonzero(near)[np.argmin(distance[near])]
-        return 3 if tracks.age_s[nearest] < SETTLE_S else 4
+        return 3 if output.tracks.age_s[nearest] < SETTLE_S else 4
     if output.focus is None:
         return 5
     return 6 if output.M[region] < 1.0 else 7
@@ -380,21 +391,24 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
         xy = to_robot_frame(info["mover_positions"], info["robot_pose"])
         tracks = getattr(output, "tracks", None)
         tracked = tracked or (tracks is not None and len(tracks.id) > 0)
+        target_track = None if tracks is None else nearest_track(tracks, xy[info["target_index"]])
         steps.append((
             info["time_s"], xy, info["mover_velocities"], output.speeds_mps,
             np.full(len(xy), np.nan) if tracks is None else matched_track_speeds(tracks, xy),
             -1 if output.focus is None else output.focus,
             static_regions(info["laser_hits"], info["sonar_hits"], mover_ids),
             target_case(output, xy[info["target_index"]], int(np.sum(info["laser_hits"] == target_id))),
+            math.nan if target_track is None else tracks.age_s[target_track],
         ))
         if terminated or truncated:
             break
-    t_s, xy, velocity, region_speed, track_speed, focus, static, case = zip(*steps)
+    t_s, xy, velocity, region_speed, track_speed, focus, static, case, age = zip(*steps)
     return EpisodeRecord(
         goal=goal, target=int(info["target_index"]), t_s=np.array(t_s), mover_xy=np.array(xy),
         mover_velocity=np.array(velocity), region_speed=np.array(region_speed),
         track_speed=np.array(track_speed) if tracked else None,
         focus=np.array(focus), static_region=np.array(static), target_case=np.array(case) if tracked else None,
+        target_track_age=np.array(age) if tracked else None,
     )
 
 
@@ -557,6 +571,36 @@ def target_cases(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     return {_case_key(case): (n / total if total else math.nan) for case, n in zip(TARGET_CASES, counts)}
 
 
+def _age_bin_key(low: float, high: float) -> str:
+    return f"focus_on_target_track_{low:g}_to_{high:g}_s" if math.isfinite(high) else f"focus_on_target_track_over_{low:g}_s"
+
+
+def focus_by_track_age(records: Iterable[EpisodeRecord]) -> dict[str, float]:
+    """Focus on target (as ``focus_on_target``, both goals) over the in-view steps at which
+    the target has no track (``focus_on_target_no_track``) or a track whose age falls in
+    each bin of ``TRACK_AGE_BINS_S``, with each group's share of the steps (``steps_...``);
+    NaN rates for empty groups, {} without recorded ages."""
+    keys = ["focus_on_target_no_track"] + [_age_bin_key(lo, hi) for lo, hi in zip(TRACK_AGE_BINS_S, TRACK_AGE_BINS_S[1:])]
+    hits = np.zeros((len(keys), 2))  # [group] × [on target, steps]
+    for record in records:
+        if record.target_track_age is None:
+            continue
+        target_xy = record.mover_xy[:, record.target]
+        visible = in_view(target_xy)
+        age = record.target_track_age
+        group = np.where(np.isnan(age), 0, np.searchsorted(TRACK_AGE_BINS_S, np.nan_to_num(age), side="right"))
+        on_target = record.focus == region_of(target_xy)
+        for index in range(len(keys)):
+            mask = visible & (group == index)
+            hits[index] += on_target[mask].sum(), mask.sum()
+    total = hits[:, 1].sum()
+    if not total:
+        return {}
+    rates = {key: (on / n if n else math.nan) for key, (on, n) in zip(keys, hits)}
+    shares = {"steps_" + key[len("focus_on_target_"):]: n / total for key, (_, n) in zip(keys, hits)}
+    return {**rates, **shares}
+
+
 def focus_after_turns(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     """Focus on target (as ``focus_on_target``, both goals) over the in-view steps within
     ``TRANSIENT_S`` after the target turned (``turns``), and over the others."""
@@ -654,7 +698,7 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
     """Sections 1–3: speed error, static structure, goal classification, focus on target."""
     goals = tuple(arena.DEFAULT_TASK_GOALS)
     goal_names = [str(goal) for goal in goals]
-    speed_rows, track_rows, focus_rows, case_rows = [], [], [], []
+    speed_rows, track_rows, focus_rows, case_rows, age_rows = [], [], [], [], []
     for mode, noise, robot, records in perception_records(modes, episodes, seconds, goals):
         config = {"mode": mode, "robot": robot, "noise": noise}
         label = [mode, robot, noise]
@@ -682,6 +726,13 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
                 results.add("focus", config, {**cases, **after_turns})
             case_rows.append(label + [_fmt(cases[_case_key(case)], 3) for case in TARGET_CASES]
                              + [_fmt(after_turns[key], 3) for key in after_turns])
+        by_age = focus_by_track_age(records)
+        if by_age:
+            if "focus" in sections:
+                results.add("focus", config, by_age)
+            rates = [key for key in by_age if key.startswith("focus_on_target_")]
+            age_rows.append(label + [f"{_fmt(by_age[key])} ({_fmt(by_age['steps_' + key[len('focus_on_target_'):]], 2)})"
+                                     for key in rates])
     header = ["mode", "robot", "noise"]
     print(f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
           f"10 m arena, 3 distractors; goals in turn: {', '.join(goal_names)})")
@@ -709,6 +760,13 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
                   "steps.\n")
             print(markdown_table(header + list(TARGET_CASES) + ["on target after a turn", "on target otherwise"],
                                  case_rows))
+        if age_rows:
+            bins = [f"{lo:g}–{hi:g} s" if math.isfinite(hi) else f"≥ {lo:g} s"
+                    for lo, hi in zip(TRACK_AGE_BINS_S, TRACK_AGE_BINS_S[1:])]
+            print("\nFocus on target by the age of the target's track (the confirmed track nearest to it within "
+                  f"{TRACK_MATCH_M:g} m), both goals; each group's share of the steps in brackets. A young track's "
+                  "speed is not yet known well enough to judge the goal.\n")
+            print(markdown_table(header + ["no track"] + bins, age_rows))
 
 
 def control_success(env, make_policy: Callable[[Any, int], Policy], seeds: Iterable[int]) -> float:

@@ -199,6 +199,26 @@ def test_focus_after_turns_splits_the_steps_at_the_target_s_turns():
     assert rates == {"focus_on_target_after_turn": 0.0, "focus_on_target_otherwise": 1.0}
 
 
+def test_focus_by_track_age_groups_the_steps_by_the_target_track_s_age():
+    steps = 10
+    xy = np.tile([[2.0, 0.0]], (steps, 1, 1))  # in view
+    xy[9] = (-2.0, 0.0)  # behind the robot: not counted
+    region = int(bench.region_of(xy[0, 0]))
+    age = np.array([np.nan, np.nan, 0.2, 0.9, 1.0, 1.5, 3.0, 4.0, 9.0, 9.0])
+    focus = np.array([region, -1, -1, region, region, region, -1, region, region, -1])
+    record = bench.EpisodeRecord(GOAL, 0, np.arange(1, steps + 1) * 0.05, xy, np.zeros((steps, 1, 2)),
+                                 np.zeros((steps, 8)), None, focus, np.zeros((steps, 8), bool), target_track_age=age)
+    by_age = bench.focus_by_track_age([record])
+    assert by_age["focus_on_target_no_track"] == 0.5
+    assert by_age["focus_on_target_track_0_to_1_s"] == 0.5
+    assert by_age["focus_on_target_track_1_to_2_s"] == 1.0  # an age of exactly 1 s falls in the upper bin
+    assert by_age["focus_on_target_track_2_to_4_s"] == 0.0
+    assert by_age["focus_on_target_track_over_4_s"] == 1.0
+    assert by_age["steps_no_track"] == pytest.approx(2 / 9)
+    assert sum(v for k, v in by_age.items() if k.startswith("steps_")) == pytest.approx(1.0)
+    assert bench.focus_by_track_age([dataclasses.replace(record, target_track_age=None)]) == {}
+
+
 def test_clutter_section_reports_each_distractor_count(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(bench, "CLUTTER_ARENA", {**bench.CLUTTER_ARENA, "time_limit_s": 1.0})
     monkeypatch.setattr(bench, "CLUTTER_DISTRACTORS", (1, 3))
