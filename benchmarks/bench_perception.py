@@ -44,9 +44,7 @@ from __future__ import annotations
 import argparse
 import csv
 import math
-import os
 import statistics
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -54,6 +52,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
+from attentive_gym._atomic import atomic_file
 from attentive_gym.attention import ORIGIN_TOP_DOWN, AttentionConfig, AttentionModel, Goal, Grid
 from attentive_gym.attention.goals import Feature
 from attentive_gym.attention.regions import nearest_sonar
@@ -959,18 +958,11 @@ def print_cost(results: Results, modes, rounds: int) -> None:
 
 def write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
     """Write the tidy ``rows`` to ``path`` atomically (a temporary file, then ``os.replace``)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
     fields = ["section", "mode", "robot", "noise", "goal", "metric", "value", "distractors"]
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", newline="") as file:
-            writer = csv.DictWriter(file, fieldnames=fields, restval="")
-            writer.writeheader()
-            writer.writerows(rows)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
+    with atomic_file(path) as file:
+        writer = csv.DictWriter(file, fieldnames=fields, restval="")
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 def _choices(text: str, allowed: tuple[str, ...]) -> list[str]:

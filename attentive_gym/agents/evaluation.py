@@ -126,6 +126,10 @@ def evaluate_policy(
     """
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
         raise ValueError(f"episodes must be an integer >= 1, got {episodes!r}")
+    if isinstance(n_parallel, bool) or not isinstance(n_parallel, int) or n_parallel < 1:
+        raise ValueError(f"n_parallel must be an integer >= 1, got {n_parallel!r}")
+    if envs is not None and not envs:
+        raise ValueError("envs must hold at least one environment (or be None to build them)")
     own = envs is None
     if own:
         envs = [make_env_fn() for _ in range(min(n_parallel, episodes))]

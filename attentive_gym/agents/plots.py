@@ -10,6 +10,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from attentive_gym._atomic import save_figure
 from attentive_gym.agents.statistics import bootstrap_ci
 
 __all__ = ["curve_stats", "plot_learning_curves", "plot_success_vs_distractors", "split_label", "steps_label",
@@ -158,10 +159,7 @@ def _save(fig, path: str | os.PathLike, layout: bool = True) -> Path:
 
     if layout:
         fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp.png")
-    fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    os.replace(tmp, path)
-    return path
+    try:
+        return save_figure(fig, path, dpi=120)
+    finally:
+        plt.close(fig)

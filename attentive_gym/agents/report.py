@@ -13,8 +13,8 @@ Two steps, so that batches of runs trained in different sessions add up:
   ``docs/figures/`` and the README's block between ``<!-- rl-results:start -->`` and
   ``<!-- rl-results:end -->``: the summary table and the targets of attention against the
   bounds and controls at each training budget (``budgets``: runs trained on past a budget
-  count there with their curves cut at it, so every table compares equal budgets), and the
-  clutter table. ``--check`` writes nothing and exits 1 when
+  count there with their curves cut at it, each at its last evaluation at or below the
+  budget, which the table's env-steps column shows), and the clutter table. ``--check`` writes nothing and exits 1 when
   the README is not what the CSVs give.
 
 A variant trained with another algorithm than PPO, or without observation normalisation, is
@@ -247,8 +247,8 @@ def _ordered(rows: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
 
 
 def _replace_block(text: str, block: str, readme: Path) -> str:
-    if START not in text or END not in text:
-        raise ValueError(f"{readme} has no '{START}' … '{END}' block to fill")
+    if START not in text or END not in text or text.index(START) > text.index(END):
+        raise ValueError(f"{readme} has no '{START}' … '{END}' block to fill (the start marker before the end marker)")
     head, rest = text.split(START, 1)
     _, tail = rest.split(END, 1)
     return f"{head}{START}\n{block}{END}{tail}"
@@ -323,20 +323,41 @@ def _add(args) -> int:
                              f"comparison's results.csv (without a num_distractors column; {args.csv} "
                              f"{'has one' if 'num_distractors' in new[0] else 'has none'})")
         new = [{"num_distractors": args.num_distractors, **row} for row in new]
+    if not args.clutter and "num_distractors" in new[0]:
+        raise ValueError(f"{args.csv} has a num_distractors column: it is a sweep's sweep.csv; add it with --clutter")
     target, columns = (args.clutter_csv, CLUTTER_COLUMNS) if args.clutter else (args.comparison, COMPARISON_COLUMNS)
-    missing = [c for c in columns if c not in ("algo", "obs_scaling") and c not in new[0]]  # add tags those two
-    if missing:
-        raise ValueError(f"{args.csv} lacks the columns {missing} (a {'sweep.csv' if args.clutter else 'results.csv'} has them)")
+    _check_columns(args.csv, new, columns, "a sweep.csv" if args.clutter else "a results.csv")
     keys = ("variant", "seed", *(("num_distractors",) if args.clutter else ()))
+    seen: set[tuple[Any, ...]] = set()
+    for row in new:
+        evaluation = tuple(row[k] for k in (*keys, "env_steps"))
+        if evaluation in seen:
+            raise ValueError(f"{args.csv} holds the evaluation {dict(zip((*keys, 'env_steps'), evaluation))} twice")
+        seen.add(evaluation)
     rows = merge_rows(read_csv(target) if target.is_file() else [], new, algo, keys, scaling)
     write_csv_atomic(target, rows, columns)
     print(f"{target}: {len(rows)} rows ({len(new)} from {args.csv})")
     return 0
 
 
+def _check_columns(path: Path, rows: Sequence[Mapping[str, Any]], columns: Sequence[str], what: str,
+                   tagged: bool = False) -> None:
+    """``ValueError`` naming the ``columns`` the first of ``rows`` (read from ``path``) lacks;
+    ``algo`` and ``obs_scaling`` are not required unless ``tagged`` (``report add`` adds them)."""
+    required = [c for c in columns if tagged or c not in ("algo", "obs_scaling")]
+    missing = [c for c in required if rows and c not in rows[0]]
+    if missing:
+        raise ValueError(f"{path} lacks the columns {missing} ({what} has them)")
+
+
 def _render(args) -> int:
     comparison = read_csv(args.comparison)
     clutter = read_csv(args.clutter_csv) if args.clutter_csv.is_file() else []
+    if not comparison:
+        raise ValueError(f"{args.comparison} holds no rows; add a comparison with 'report add'")
+    _check_columns(args.comparison, comparison, ("algo", *EVAL_COLUMNS), "a file written by 'report add'", tagged=True)
+    _check_columns(args.clutter_csv, clutter, ("algo", "num_distractors", *EVAL_COLUMNS),
+                   "a file written by 'report add --clutter'", tagged=True)
     sources = [args.comparison, *([args.clutter_csv] if clutter else [])]
     text = args.readme.read_text()  # before any figure is written: a missing README fails first
     _replace_block(text, "", args.readme)

@@ -15,11 +15,12 @@ import io
 import json
 import math
 import os
-import tempfile
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
+
+from attentive_gym._atomic import atomic_file
 
 from attentive_gym.agents.statistics import bootstrap_ci, iqm, mean, probability_of_improvement
 
@@ -55,20 +56,11 @@ SUMMARY_COLUMNS = (
 
 def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` to ``path`` through a temp file in the same folder and ``os.replace``."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    if not isinstance(text, str):
+        raise TypeError(f"text must be a str, got {type(text).__name__}")
+    with atomic_file(path) as handle:
+        handle.write(text)
+    return Path(path)
 
 
 def write_json_atomic(path: str | os.PathLike, data: Any) -> Path:
@@ -149,6 +141,11 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
         raise ValueError(f"threshold must be a success rate in [0, 1], got {threshold!r}")
     if final_points < 1:
         raise ValueError(f"final_points must be >= 1, got {final_points!r}")
+    for row in rows:
+        success = row["success_rate"]
+        if not (isinstance(success, (int, float, np.number)) and 0.0 <= success <= 1.0):
+            raise ValueError(f"success_rate must be a number in [0, 1] at every evaluation; {row['variant']} seed "
+                             f"{row['seed']} at {row['env_steps']} env steps has {success!r}")
     by_run = _by_run(rows)
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     runs = {variant: [run for key, run in by_run.items() if key[0] == variant] for variant in variants}
@@ -162,6 +159,7 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
         reached = [float(hit) for hit in (next((r["env_steps"] for r in run if r["success_rate"] >= threshold), None)
                                           for run in runs[variant]) if hit is not None]
         final_steps = int(min(run[-1]["env_steps"] for run in runs[variant]))
+        longest = float(max(run[-1]["env_steps"] for run in runs[variant]))  # a seed may reach it past final_steps
         row = {"variant": variant, "n_seeds": len(runs[variant]), "final_env_steps": final_steps}
         for key, values, statistic, bounds in (
             ("final_success", success, mean, (0.0, 1.0)),
@@ -174,7 +172,7 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
         improvement = probability_of_improvement(success, baseline_success)
         row.update({"improvement_over": baseline, "prob_improvement": improvement[0],
                     "prob_improvement_ci_low": improvement[1], "prob_improvement_ci_high": improvement[2]})
-        steps = bootstrap_ci(reached, mean, (0.0, float(final_steps)))
+        steps = bootstrap_ci(reached, mean, (0.0, longest))
         row.update({"threshold": threshold, "seeds_reaching_threshold": len(reached), "steps_to_threshold_mean": steps[0],
                     "steps_to_threshold_ci_low": steps[1], "steps_to_threshold_ci_high": steps[2]})
         summary.append(row)
@@ -184,13 +182,17 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
 def summary_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
     """A markdown table of ``summarise``'s rows (values with [95 % CI])."""
 
-    def ci(row, point_key, key, fmt):
+    def ci(row, point_key, key, fmt, why_none="1 seed: no CI"):
+        """The value with its interval, or with ``why_none`` where it has none."""
         point, low, high = row[point_key], row[f"{key}_ci_low"], row[f"{key}_ci_high"]
         if isinstance(point, float) and math.isnan(point):
             return "—"
         if math.isnan(low):
-            return f"{point:{fmt}} (1 seed: no CI)" if row["n_seeds"] == 1 else f"{point:{fmt}} (1 seed reached it)"
+            return f"{point:{fmt}} ({why_none})"
         return f"{point:{fmt}} [{low:{fmt}}, {high:{fmt}}]"
+
+    def single(row, otherwise):
+        return "1 seed: no CI" if row["n_seeds"] == 1 else otherwise
 
     baseline = summary[0]["improvement_over"] if summary else "raw"
     lines = [
@@ -204,8 +206,9 @@ def summary_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
             f"| {row['variant']} | {row['n_seeds']} | {row['final_env_steps']} "
             f"| {ci(row, 'final_success_mean', 'final_success', '.2f')} "
             f"| {ci(row, 'final_success_iqm', 'final_success_iqm', '.2f')} "
-            f"| {ci(row, 'prob_improvement', 'prob_improvement', '.2f')} "
+            f"| {ci(row, 'prob_improvement', 'prob_improvement', '.2f', single(row, f'{baseline} has 1 seed: no CI'))} "
             f"| {ci(row, 'final_return_mean', 'final_return', '.2f')} | {row['seeds_reaching_threshold']}/{row['n_seeds']} "
-            f"(≥ {row['threshold']:.2f}) | {ci(row, 'steps_to_threshold_mean', 'steps_to_threshold', '.0f')} |"
+            f"(≥ {row['threshold']:.2f}) "
+            f"| {ci(row, 'steps_to_threshold_mean', 'steps_to_threshold', '.0f', single(row, '1 seed reached it'))} |"
         )
     return "\n".join(lines) + "\n"

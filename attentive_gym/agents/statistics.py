@@ -70,10 +70,21 @@ def bootstrap_ci(
 
     Returns:
         NaNs without values; NaN bounds with one value.
+
+    Raises:
+        ValueError: ``confidence`` outside (0, 1), ``reps`` < 1, ``bounds`` not ordered
+            (low <= high), a value outside ``bounds``, or an infinite value.
     """
     if not 0.0 < confidence < 1.0:
         raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    _check_reps(reps)
+    low_bound, high_bound = bounds
+    if not low_bound <= high_bound:
+        raise ValueError(f"bounds must be (low, high) with low <= high, got {bounds!r}")
     x = _values(values)
+    outside = x[(x < low_bound) | (x > high_bound)]
+    if outside.size:
+        raise ValueError(f"values must lie within the metric's range {bounds}, got {outside.tolist()}")
     if x.size == 0:
         return math.nan, math.nan, math.nan
     point = float(statistic(x, -1))
@@ -82,6 +93,11 @@ def bootstrap_ci(
     rng = np.random.default_rng(_SEED)
     resampled = statistic(x[rng.integers(0, x.size, size=(reps, x.size))], -1)
     return (point, *_percentile_interval(resampled, point, confidence, bounds))
+
+
+def _check_reps(reps: int) -> None:
+    if isinstance(reps, bool) or not isinstance(reps, (int, np.integer)) or reps < 1:
+        raise ValueError(f"reps must be an integer >= 1, got {reps!r}")
 
 
 def _percentile_interval(resampled: np.ndarray, point: float, confidence: float,
@@ -110,6 +126,7 @@ def probability_of_improvement(
     """
     if not 0.0 < confidence < 1.0:
         raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    _check_reps(reps)
     x, y = _values(x_values), _values(y_values)
     if x.size == 0 or y.size == 0:
         return math.nan, math.nan, math.nan

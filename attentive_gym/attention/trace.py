@@ -55,7 +55,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -63,6 +62,7 @@ from typing import Any
 
 import numpy as np
 
+from attentive_gym._atomic import atomic_file
 from attentive_gym.attention.config import AttentionConfig
 from attentive_gym.attention.model import ORIGIN_CODES, AttentionOutput
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS
@@ -89,8 +89,6 @@ _TRACK_COLUMNS: tuple[tuple[str, tuple[int, ...], type], ...] = (
 #: Track arrays of a trace file (files from before the tracker have none), in the order
 #: of the format table.
 TRACK_ARRAYS: tuple[str, ...] = ("track_step", *(f"track_{name}" for name, _, _ in _TRACK_COLUMNS))
-#: Permissions of a saved trace before the umask, as for any newly created file.
-_FILE_MODE = 0o666
 
 
 def _no_tracks() -> dict[str, np.ndarray]:
@@ -243,24 +241,9 @@ class TraceRecorder:
 
 def save_trace(trace: Trace, path: str | os.PathLike) -> Path:
     """Write ``trace`` to ``path`` through a temporary file in the same folder and ``os.replace``."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            np.savez(handle, **trace.arrays(), config_json=np.asarray(json.dumps(trace.config, sort_keys=True)))
-        os.chmod(tmp, _FILE_MODE & ~_current_umask())  # mkstemp creates 0600; give the usual mode
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
-def _current_umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+    with atomic_file(path, binary=True) as handle:
+        np.savez(handle, **trace.arrays(), config_json=np.asarray(json.dumps(trace.config, sort_keys=True)))
+    return Path(path)
 
 
 def load_trace(path: str | os.PathLike) -> Trace:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from attentive_gym._atomic import save_figure
 from attentive_gym.experiments.result import ExperimentResult
 from attentive_gym.viz.trace_figure import panel_axes, plot_trace
 
@@ -42,9 +43,6 @@ def plot_experiment(result: ExperimentResult, path: str | os.PathLike, dpi: int 
 
     fig = experiment_figure(result)
     try:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=dpi)
+        return save_figure(fig, path, dpi=dpi)
     finally:
         plt.close(fig)
-    return path

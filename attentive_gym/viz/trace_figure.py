@@ -13,11 +13,11 @@ without touching pyplot's global backend.
 from __future__ import annotations
 
 import os
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np
 
+from attentive_gym._atomic import save_figure
 from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.attention.regions import FRONT_SONARS, region_name
 from attentive_gym.attention.trace import Trace, load_trace
@@ -84,9 +84,7 @@ def plot_trace(trace: Trace | str | os.PathLike, panels: Sequence[str] = DEFAULT
     ax.set_xlim(edges[0], edges[-1])
     fig.tight_layout()
     if path is not None:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=_DPI)
+        save_figure(fig, path, dpi=_DPI)
     return fig
 
 

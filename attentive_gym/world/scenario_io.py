@@ -29,7 +29,6 @@ import dataclasses
 import enum
 import json
 import os
-import tempfile
 import types
 import typing
 from pathlib import Path
@@ -37,6 +36,7 @@ from typing import Any, Mapping
 
 import yaml
 
+from attentive_gym._atomic import atomic_file
 from attentive_gym.attention.goals import Goal
 from attentive_gym.world.scenario import (
     BoxRubble,
@@ -204,9 +204,6 @@ def save_scenario(scenario: Scenario, path: str | os.PathLike) -> Path:
     suffix = _check_suffix(path)
     data = scenario_to_dict(scenario)
     text = json.dumps(data, indent=2) if suffix == ".json" else yaml.safe_dump(data, sort_keys=False)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as handle:
+    with atomic_file(path) as handle:
         handle.write(text)
-    os.replace(tmp, path)
     return path

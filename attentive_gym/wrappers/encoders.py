@@ -78,8 +78,8 @@ class FocusEncoder:
     - ``"sonar"`` (2,): the region's sonar range (m, [0, sonar max]) and echo flag.
     - ``"laser"`` (6,): minimum laser range (m) in each of 6 equal sub-sectors of the
       region's beams, right to left.
-    - ``"distance"`` (1,): nearest valid reading in the region (m); the laser's
-      maximum when none.
+    - ``"distance"`` (1,): nearest valid reading in the region (m), clipped to
+      ``max_distance_m``; ``max_distance_m`` when none.
     - ``"motion"`` (4,): range rate (m/s, + away, clipped to ±max speed) and the
       direction label one-hot (towards, static, away).
     - ``"features"`` (6,): F1..F6 at the region.

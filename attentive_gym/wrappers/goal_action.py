@@ -74,10 +74,12 @@ class GoalActionWrapper(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
         self._layout = f"(linear, angular, {len(self.goal_menu)} goal scores, {len(MAP_NAMES)} map weights)"
         self._choice: int | None = None  # the menu entry and weights in force
         self._weights: np.ndarray | None = None
+        # the weights an episode starts with until the first action sets them (make_env's weights=)
+        self._initial_weights = dict(self._attention.model.weights)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         self._attention.clear_goal()
-        self._attention.model.set_weights()
+        self._attention.model.set_weights(self._initial_weights)
         self._choice, self._weights = None, None
         return self.env.reset(seed=seed, options=options)
 

@@ -101,6 +101,14 @@ def test_evaluation_carries_each_envs_state_and_resets_it_at_episode_starts(n_pa
     assert result.returns == tuple(float(2 + (1 + i) % 4) for i in range(7))  # episodes of 4, 5, 2, 3, 4, 5, 2 steps
 
 
+@pytest.mark.parametrize(("kwargs", "message"), [({"n_parallel": 0}, "n_parallel must be an integer >= 1, got 0"),
+                                               ({"n_parallel": -2}, "n_parallel"), ({"n_parallel": 2.0}, "n_parallel"),
+                                               ({"envs": []}, "envs must hold at least one")])
+def test_evaluation_refuses_no_environments_instead_of_reporting_zeros(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        evaluate_policy(StepCounter(), StepIndexEnv, 5, seed=1, **kwargs)
+
+
 def test_policy_memory_keeps_each_envs_rows():
     memory = PolicyMemory(3)
     assert memory.take([0, 2]) is None

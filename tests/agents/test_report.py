@@ -120,6 +120,33 @@ def test_bad_input_to_the_report_is_one_line(tmp_path, capsys):
     assert "no '<!-- rl-results:start -->'" in capsys.readouterr().err
 
 
+def test_report_refuses_files_that_would_merge_wrongly(tmp_path, capsys):
+    comparison = tmp_path / "rl.csv"
+    write_csv_atomic(comparison, [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.4]})],
+                     ("algo", "obs_scaling", *EVAL_COLUMNS))
+    before = comparison.read_bytes()
+    sweep = tmp_path / "sweep" / "sweep.csv"
+    write_csv_atomic(sweep, [{"num_distractors": n, **r} for n in (1, 5) for r in _rows({"raw": [0.9]})],
+                     ("num_distractors", *EVAL_COLUMNS))
+    assert main(["add", str(sweep), "--comparison", str(comparison)]) == 2  # forgot --clutter
+    assert "it is a sweep's sweep.csv; add it with --clutter" in capsys.readouterr().err
+    twice = tmp_path / "twice" / "results.csv"
+    write_csv_atomic(twice, _rows({"raw": [0.9]}) * 2, EVAL_COLUMNS)
+    assert main(["add", str(twice), "--comparison", str(comparison)]) == 2
+    assert "holds the evaluation {'variant': 'raw', 'seed': 0, 'env_steps': 0} twice" in capsys.readouterr().err
+    assert comparison.read_bytes() == before
+    readme = tmp_path / "README.md"
+    readme.write_text(f"{END}\n{START}\n")  # markers in the wrong order
+    render = ["render", "--comparison", str(comparison), "--clutter-csv", str(tmp_path / "none.csv"),
+              "--readme", str(readme), "--figures", str(tmp_path / "figures")]
+    assert main(render) == 2 and "the start marker before the end marker" in capsys.readouterr().err
+    untagged = tmp_path / "untagged.csv"
+    write_csv_atomic(untagged, _rows({"raw": [0.4]}), EVAL_COLUMNS)  # a run folder's results.csv, not added
+    readme.write_text(f"{START}\n{END}\n")
+    assert main([*render[:2], str(untagged), *render[3:]]) == 2
+    assert "lacks the columns ['algo']" in capsys.readouterr().err and not (tmp_path / "figures").exists()
+
+
 def test_added_rows_are_tagged_with_the_comparisons_own_algorithm_and_a_wrong_tag_is_refused(tmp_path, capsys):
     results = tmp_path / "cmp" / "results.csv"
     write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)

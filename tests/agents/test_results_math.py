@@ -41,6 +41,14 @@ def test_bootstrap_ci_hand_computed_cases():
         bootstrap_ci([0.1, float("inf")])
     with pytest.raises(ValueError, match="confidence"):
         bootstrap_ci([0.1, 0.2], confidence=1.0)
+    with pytest.raises(ValueError, match=r"range \(0, 1\).*1\.3"):
+        bootstrap_ci([1.3, 1.0], bounds=(0, 1))  # a success rate above 1 would push the interval past 1
+    with pytest.raises(ValueError, match="low <= high"):
+        bootstrap_ci([0.4, 0.0], bounds=(1, 0))
+    with pytest.raises(ValueError, match="reps"):
+        bootstrap_ci([0.4, 0.0], reps=0)
+    with pytest.raises(ValueError, match="reps"):
+        probability_of_improvement([0.4, 0.0], [0.1, 0.2], reps=0)
 
 
 def test_bootstrap_ci_agrees_with_the_normal_interval_for_many_seeds_and_is_reproducible():
@@ -96,6 +104,38 @@ def test_summarise_final_values_and_steps_to_threshold():
     assert "0.20 (1 seed: no CI)" in text and "P(success > a)" in text
     with pytest.raises(ValueError):
         summarise(_rows(), threshold=1.5)
+
+
+def test_steps_to_threshold_interval_covers_seeds_trained_past_the_shortest_budget():
+    rows = [{"variant": "a", "seed": seed, "env_steps": steps, "success_rate": float(steps >= hit), "mean_return": 0.0}
+            for seed, (hit, budget) in enumerate(((100, 100), (200, 200), (200, 200)))
+            for steps in range(0, budget + 1, 100)]
+    (a,) = summarise(rows, threshold=0.5)
+    assert a["final_env_steps"] == 100 and a["seeds_reaching_threshold"] == 3
+    assert a["steps_to_threshold_mean"] == pytest.approx(500 / 3)
+    assert (a["steps_to_threshold_ci_low"], a["steps_to_threshold_ci_high"]) == (100.0, 200.0)
+
+
+def test_summarise_refuses_a_missing_or_impossible_success_rate():
+    rows = _rows()
+    rows[4] = {**rows[4], "success_rate": float("nan")}  # seed 1 at 100 env steps
+    with pytest.raises(ValueError, match="a seed 1 at 100 env steps has nan"):
+        summarise(rows)
+    rows[4] = {**rows[4], "success_rate": 1.5}
+    with pytest.raises(ValueError, match=r"in \[0, 1\]"):
+        summarise(rows)
+
+
+def test_summary_says_why_an_interval_is_missing():
+    rows = [{"variant": "raw", "seed": 0, "env_steps": 100, "success_rate": 0.5, "mean_return": 0.0}]
+    rows += [{"variant": "focus", "seed": seed, "env_steps": 100, "success_rate": value, "mean_return": 0.0}
+             for seed, value in enumerate((0.6, 0.7, 0.8))]
+    text = summary_markdown(summarise(rows, threshold=0.65))
+    focus = next(line for line in text.splitlines() if line.startswith("| focus"))
+    assert "1.00 (raw has 1 seed: no CI)" in focus  # P(improvement): the baseline has one seed
+    assert "100 [100, 100]" in focus  # two seeds reached the threshold: an interval
+    raw = next(line for line in text.splitlines() if line.startswith("| raw"))
+    assert "0.50 (1 seed: no CI)" in raw
 
 
 def test_csv_roundtrip_and_atomic_write(tmp_path):

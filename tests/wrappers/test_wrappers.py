@@ -111,6 +111,16 @@ def test_goal_action_chooses_goal_and_weights_each_step():
     assert dict(attention.model.weights) == {f"F{i}": 1.0 for i in range(1, 7)}
 
 
+def test_goal_action_episodes_start_with_the_weights_it_was_made_with():
+    env = make_env("goal-action", weights={"F1": 2.0, "F4": 1.0})
+    made_with = {"F1": 2.0, "F2": 0.0, "F3": 0.0, "F4": 1.0, "F5": 0.0, "F6": 0.0}
+    for seed in (0, 1):
+        env.reset(seed=seed)
+        assert dict(env.env.model.weights) == made_with  # not the configuration's defaults
+        env.step(np.ones(env.action_space.shape, np.float32))
+        assert dict(env.env.model.weights) == {f"F{i}": 2.0 for i in range(1, 7)}  # the action sets them
+
+
 @pytest.mark.parametrize("bad", [np.zeros(2), np.full(14, np.nan), np.zeros((2, 14)), np.zeros(14, complex),
                                  np.array([object()] * 14), {"a": 1}, ["a"] * 14])
 def test_goal_action_rejects_malformed_actions(bad):
