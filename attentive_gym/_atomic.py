@@ -3,6 +3,8 @@
 - ``atomic_file``: a context manager that yields the temporary file's handle and puts the
   file in place when the block ends without an exception.
 - ``save_figure``: a matplotlib figure saved through ``atomic_file``.
+- ``refuse_existing``: a clear error, before anything is written, when a command would
+  replace files that are already there.
 
 A write that fails or is interrupted (an exception, Ctrl-C) leaves the previous file whole
 and no temporary file behind. The new file keeps the permissions of the file it replaces,
@@ -18,7 +20,7 @@ import tempfile
 from pathlib import Path
 from typing import IO, Any, Iterator
 
-__all__ = ["atomic_file", "save_figure"]
+__all__ = ["atomic_file", "save_figure", "refuse_existing"]
 
 #: Permissions of a newly created file before the umask.
 _NEW_FILE_MODE = 0o666
@@ -50,6 +52,13 @@ def save_figure(fig, path: str | os.PathLike, **savefig_kwargs: Any) -> Path:
     with atomic_file(path, binary=True) as file:
         fig.savefig(file, format=path.suffix[1:] or "png", **savefig_kwargs)
     return path
+
+
+def refuse_existing(paths, flag: str = "--overwrite") -> None:
+    """``ValueError`` naming those of ``paths`` that exist, and ``flag``, which replaces them."""
+    existing = [str(path) for path in paths if Path(path).exists()]
+    if existing:
+        raise ValueError(f"{', '.join(existing)} already exist(s); pass {flag} to replace them, or write elsewhere")
 
 
 def _mode_for(path: Path) -> int:

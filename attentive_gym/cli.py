@@ -64,6 +64,8 @@ def _add_attend(subparsers) -> None:
     parser.add_argument("--config", metavar="JSON",
                         help="AttentionConfig fields as a JSON object, or the path of a .json file holding one")
     parser.add_argument("--no-figure", action="store_true", help="write trace.npz only")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace trace.npz and trace.png where --out already holds them (refused otherwise)")
     bag = parser.add_argument_group("ROS bags", "topics of a bag, when they are not one of each message type")
     bag.add_argument("--laser-topic", metavar="TOPIC", help="the sensor_msgs/LaserScan topic (the time base)")
     bag.add_argument("--sonar-topics", metavar="A,B,...",
@@ -81,8 +83,13 @@ def _add_attend(subparsers) -> None:
 def _run_attend(args: argparse.Namespace) -> int:
     from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
     from attentive_gym.attention.rosbag import parse_bag_topics
+    from attentive_gym._atomic import refuse_existing
     from attentive_gym.attention.trace import save_trace
 
+    if args.out.exists() and not args.out.is_dir():
+        raise ValueError(f"--out {args.out} is a file; give a folder (it is created if missing)")
+    if not args.overwrite:
+        refuse_existing([args.out / "trace.npz", *([] if args.no_figure else [args.out / "trace.png"])])
     config = AttentionConfig()
     if args.config:
         text = args.config

@@ -14,6 +14,7 @@ import sys
 import time
 from pathlib import Path
 
+from attentive_gym._atomic import refuse_existing
 from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.experiments.checks import check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, get_experiment
@@ -46,6 +47,8 @@ def add_experiment_parser(subparsers) -> None:
                         help=f"the env's sensor profile: {', '.join(sorted(SENSOR_PROFILES))} "
                              "(default none: Gaussian noise, a scan every step)")
     parser.add_argument("--out", type=Path, help="folder for NAME.npz and NAME.png (default: write nothing)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace NAME.npz and NAME.png where --out already holds them (refused otherwise)")
     parser.set_defaults(handler=_run)
 
 
@@ -54,6 +57,8 @@ def _run(args: argparse.Namespace) -> int:
     _check_kinematics(args.kinematics), _check_profile(args.profile)  # before any run starts
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise ValueError(f"--out {args.out} is a file; give a folder (it is created if missing)")
+    if args.out is not None and not args.overwrite:
+        refuse_existing([args.out / f"{name}{suffix}" for name in names for suffix in (".npz", ".png")])
     progress = Progress(len(names)) if args.name == _ALL else None
     lines = []
     for name in names:

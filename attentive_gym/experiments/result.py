@@ -85,7 +85,7 @@ class ExperimentResult:
         if not self.noise:
             level = "no noise"
         elif self.noise_model == "uniform":
-            level = f"±{self.noise:.0%} uniform noise, seed {self.seed}"
+            level = f"±{100 * self.noise:.3g} % uniform noise, seed {self.seed}"
         else:
-            level = f"noise {self.noise:.0%}, seed {self.seed}"
+            level = f"noise {100 * self.noise:.3g} %, seed {self.seed}"
         return f"{self.profile}: {level}" if self.profile else level

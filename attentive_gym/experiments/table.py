@@ -22,7 +22,7 @@ from typing import Any, Mapping, Sequence
 
 from attentive_gym.experiments.checks import CHECKS, check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES
-from attentive_gym.experiments.runner import run_experiment
+from attentive_gym.experiments.runner import _check_config, _check_noise, run_experiment
 
 __all__ = ["COLUMNS", "MIN_PASS_RATE", "measure", "markdown", "main"]
 
@@ -60,7 +60,10 @@ def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mappi
         a profile's column has no "exact" entry (its noise is part of the profile).
     """
     seeds = list(seeds)
-    config = dict(config or {})
+    config = _check_config(config)
+    _check_noise(noise)
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
     jobs = [("exact", name, 0.0, 0, kinematics, None, config) for name in names for kinematics, profile in COLUMNS
             if profile is None]
     jobs += [("rate", name, None if profile else noise, seed, kinematics, profile, config)

@@ -24,15 +24,16 @@ __all__ = [
 ]
 
 
+def _is_real(value) -> bool:
+    """Whether ``value`` is a real number (Python's or numpy's), not a bool or a string."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
 def check_positive(name: str, value) -> float:
-    """``value`` as a float, or ``ValueError`` unless it is a finite number > 0."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}") from None
-    if isinstance(value, bool) or not (math.isfinite(number) and number > 0.0):
+    """``value`` as a float, or ``ValueError`` unless it is a finite real number > 0."""
+    if not (_is_real(value) and math.isfinite(value) and value > 0.0):
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return number
+    return float(value)
 
 
 def check_half_width(half_width_rad) -> float:
@@ -48,13 +49,9 @@ def check_relative_std(name: str, value) -> float:
 
     Below 1 so that one standard deviation of noise cannot flip a range's sign.
     """
-    try:
-        sigma = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number in [0, 1), got {value!r}") from None
-    if isinstance(value, bool) or not (math.isfinite(sigma) and 0.0 <= sigma < 1.0):
+    if not (_is_real(value) and math.isfinite(value) and 0.0 <= value < 1.0):
         raise ValueError(f"{name} must be a finite number in [0, 1), got {value!r}")
-    return sigma
+    return float(value)
 
 
 def check_scan_interval(name: str, value) -> float | None:
@@ -62,9 +59,7 @@ def check_scan_interval(name: str, value) -> float | None:
     ``None`` or a finite real number > 0 (strings and bools are refused)."""
     if value is None:
         return None
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not (
-        math.isfinite(value) and value > 0.0
-    ):
+    if not (_is_real(value) and math.isfinite(value) and value > 0.0):
         raise ValueError(f"{name} must be None (a scan every step) or a finite number of seconds > 0, got {value!r}")
     return float(value)
 
@@ -85,10 +80,10 @@ def check_owner(exclude_owner) -> int:
 
 def check_pose(pose) -> tuple[float, float, float]:
     """``pose`` as ``(x_m, y_m, theta_rad)`` floats, or ``ValueError`` unless finite with shape (3,)."""
-    try:
-        array = np.asarray(pose, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"pose must be numeric (3,) = x_m, y_m, theta_rad; got {pose!r}") from None
+    array = np.asarray(pose)
+    if array.dtype.kind not in "iuf":  # not strings, bools, objects or complex numbers
+        raise ValueError(f"pose must be numeric (3,) = x_m, y_m, theta_rad; got {pose!r}")
+    array = array.astype(np.float64, copy=False)
     if array.shape != (3,) or not np.isfinite(array).all():
         raise ValueError(f"pose must be finite with shape (3,) = x_m, y_m, theta_rad; got {array.tolist()!r}")
     return float(array[0]), float(array[1]), float(array[2])

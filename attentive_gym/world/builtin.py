@@ -53,7 +53,7 @@ def exp02() -> Scenario:
     range (> 5 m) but within laser range; a robot 3 m away at +135° — behind-left, outside
     every front sonar cone and the laser's field of view — starts after 1.5 s at 0.5 m/s
     and drives forward past the robot's left side (2.1 m abeam), entering sonar s1's cone
-    at about 4 s and s2's at about 6 s."""
+    at about 4.3 s and s2's at about 7.2 s."""
     x, y = polar(3.0, 135.0)
     target = MoverSpec(
         name="target",

@@ -90,11 +90,19 @@ class Robot:
         self._current = (0.0, 0.0)  # ramped command actually sent to the drive
 
     def command(self, linear_mps: float, angular_rps: float) -> None:
-        """Set the target velocities; values beyond the limits are clipped to them."""
+        """Set the target velocities; values beyond the limits are clipped to them.
+
+        Raises:
+            ValueError: a velocity is not a finite number.
+        """
         c = self.config
+        linear, angular = float(linear_mps), float(angular_rps)
+        if not (math.isfinite(linear) and math.isfinite(angular)):
+            raise ValueError(f"robot commands must be finite numbers, got linear {linear_mps!r} m/s, "
+                             f"angular {angular_rps!r} rad/s")
         self._target = (
-            min(max(float(linear_mps), -c.max_linear_mps), c.max_linear_mps),
-            min(max(float(angular_rps), -c.max_angular_rps), c.max_angular_rps),
+            min(max(linear, -c.max_linear_mps), c.max_linear_mps),
+            min(max(angular, -c.max_angular_rps), c.max_angular_rps),
         )
 
     def drive(self, h_s: float) -> None:
@@ -112,7 +120,8 @@ class Robot:
 
     @property
     def pose(self) -> np.ndarray:
-        """``(x_m, y_m, heading_rad)`` of the body's centre."""
+        """``(x_m, y_m, heading_rad)`` of the body's centre; the heading is not wrapped: it
+        is the angle turned since the start (counter-clockwise positive), as pymunk keeps it."""
         return np.array(_body_state.pose(self.body))
 
     @property

@@ -18,6 +18,7 @@ the field names here.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Literal, Union
 
@@ -47,7 +48,7 @@ MOVER_KINDS = ("victim", "robot")
 
 
 def _finite(owner: str, name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ValueError(f"{owner}.{name} must be a number, got {value!r}")
     if not math.isfinite(value):
         raise ValueError(f"{owner}.{name} must be finite, got {value}")
@@ -66,6 +67,23 @@ def _non_negative(owner: str, name: str, value) -> float:
     if value < 0.0:
         raise ValueError(f"{owner}.{name} must be >= 0, got {value}")
     return value
+
+
+def _keep(spec, check, owner: str, name: str) -> None:
+    """Store ``check(owner, name, value)`` (the value as a plain float) in ``spec.name``."""
+    object.__setattr__(spec, name, check(owner, name, getattr(spec, name)))
+
+
+def _all_of(owner: str, name: str, items, kinds) -> tuple:
+    """``items`` as a tuple, each an instance of ``kinds``; ``ValueError`` naming the first that is not."""
+    if isinstance(items, (str, bytes)) or not hasattr(items, "__iter__"):
+        raise ValueError(f"{owner}.{name} must be a sequence, got {items!r}")
+    items = tuple(items)
+    allowed = " or ".join(kind.__name__ for kind in kinds)
+    for i, item in enumerate(items):
+        if not isinstance(item, kinds):
+            raise ValueError(f"{owner}.{name}[{i}] must be a {allowed}, got {item!r}")
+    return items
 
 
 def _point(owner: str, name: str, value) -> tuple[float, float]:
@@ -101,7 +119,7 @@ class WallSpec:
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _point("wall", "start", self.start))
         object.__setattr__(self, "end", _point("wall", "end", self.end))
-        _positive("wall", "thickness_m", self.thickness_m)
+        _keep(self, _positive, "wall", "thickness_m")
         if self.start == self.end:
             raise ValueError(f"wall.start and wall.end must differ, both are {self.start}")
 
@@ -119,9 +137,9 @@ class BoxRubble:
 
     def __post_init__(self) -> None:
         for name in ("x_m", "y_m", "angle_deg"):
-            _finite("box", name, getattr(self, name))
-        _positive("box", "width_m", self.width_m)
-        _positive("box", "height_m", self.height_m)
+            _keep(self, _finite, "box", name)
+        _keep(self, _positive, "box", "width_m")
+        _keep(self, _positive, "box", "height_m")
 
     @property
     def extent_m(self) -> float:
@@ -139,9 +157,9 @@ class CircleRubble:
     kind: Literal["circle"] = "circle"
 
     def __post_init__(self) -> None:
-        _finite("circle", "x_m", self.x_m)
-        _finite("circle", "y_m", self.y_m)
-        _positive("circle", "radius_m", self.radius_m)
+        _keep(self, _finite, "circle", "x_m")
+        _keep(self, _finite, "circle", "y_m")
+        _keep(self, _positive, "circle", "radius_m")
 
     @property
     def extent_m(self) -> float:
@@ -160,7 +178,7 @@ class SegmentRubble:
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _point("segment", "start", self.start))
         object.__setattr__(self, "end", _point("segment", "end", self.end))
-        _positive("segment", "radius_m", self.radius_m)
+        _keep(self, _positive, "segment", "radius_m")
 
     @property
     def x_m(self) -> float:
@@ -188,8 +206,8 @@ class Leg:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "to", _point("leg", "to", self.to))
-        _positive("leg", "speed_mps", self.speed_mps)
-        _non_negative("leg", "pause_s", self.pause_s)
+        _keep(self, _positive, "leg", "speed_mps")
+        _keep(self, _non_negative, "leg", "pause_s")
 
 
 @dataclass(frozen=True)
@@ -210,13 +228,11 @@ class PathBehaviour:
     kind: Literal["path"] = "path"
 
     def __post_init__(self) -> None:
-        legs = tuple(self.legs)
+        legs = _all_of("path", "legs", self.legs, (Leg,))
         if not legs:
             raise ValueError("path.legs must hold at least one leg")
-        if not all(isinstance(leg, Leg) for leg in legs):
-            raise ValueError("path.legs must be Leg objects")
         object.__setattr__(self, "legs", legs)
-        _non_negative("path", "start_delay_s", self.start_delay_s)
+        _keep(self, _non_negative, "path", "start_delay_s")
         if not isinstance(self.loop, bool) or not isinstance(self.face_motion, bool):
             raise ValueError("path.loop and path.face_motion must be true or false")
 
@@ -231,9 +247,9 @@ class PursueBehaviour:
     kind: Literal["pursue"] = "pursue"
 
     def __post_init__(self) -> None:
-        _positive("pursue", "speed_mps", self.speed_mps)
-        _non_negative("pursue", "stop_distance_m", self.stop_distance_m)
-        _non_negative("pursue", "start_delay_s", self.start_delay_s)
+        _keep(self, _positive, "pursue", "speed_mps")
+        _keep(self, _non_negative, "pursue", "stop_distance_m")
+        _keep(self, _non_negative, "pursue", "start_delay_s")
 
 
 @dataclass(frozen=True)
@@ -245,8 +261,8 @@ class EvadeBehaviour:
     kind: Literal["evade"] = "evade"
 
     def __post_init__(self) -> None:
-        _positive("evade", "speed_mps", self.speed_mps)
-        _non_negative("evade", "start_delay_s", self.start_delay_s)
+        _keep(self, _positive, "evade", "speed_mps")
+        _keep(self, _non_negative, "evade", "start_delay_s")
 
 
 Behaviour = Union[PathBehaviour, PursueBehaviour, EvadeBehaviour]
@@ -275,8 +291,11 @@ class MoverSpec:
             raise ValueError(f"mover {self.name!r}: kind must be one of {MOVER_KINDS}, got {self.kind!r}")
         if not isinstance(self.start, Pose):
             raise ValueError(f"mover {self.name!r}: start must be a Pose")
+        if self.behaviour is not None and not isinstance(self.behaviour, (PathBehaviour, PursueBehaviour, EvadeBehaviour)):
+            raise ValueError(f"mover {self.name!r}: behaviour must be a PathBehaviour, PursueBehaviour, EvadeBehaviour "
+                             f"or None, got {self.behaviour!r}")
         for name in ("radius_m", "length_m", "width_m"):
-            _positive(f"mover {self.name!r}", name, getattr(self, name))
+            _keep(self, _positive, f"mover {self.name!r}", name)
 
     @property
     def extent_m(self) -> float:
@@ -295,7 +314,9 @@ class TaskSpec:
     def __post_init__(self) -> None:
         if not isinstance(self.goal, Goal):
             raise ValueError(f"task.goal must be a Goal, got {type(self.goal).__name__}")
-        _positive("task", "time_limit_s", self.time_limit_s)
+        if not isinstance(self.target, str):
+            raise ValueError(f"task.target must be a mover's name, got {self.target!r}")
+        _keep(self, _positive, "task", "time_limit_s")
 
 
 @dataclass(frozen=True)
@@ -331,9 +352,16 @@ class Scenario:
         if bounds[0] >= bounds[2] or bounds[1] >= bounds[3]:
             raise ValueError(f"scenario.bounds must have x_min < x_max and y_min < y_max, got {bounds}")
         object.__setattr__(self, "bounds", bounds)
-        for name in ("walls", "rubble", "movers"):
-            object.__setattr__(self, name, tuple(getattr(self, name)))
-        _positive("scenario", "duration_s", self.duration_s)
+        if not isinstance(self.robot, Pose):
+            raise ValueError(f"scenario.robot must be a Pose, got {self.robot!r}")
+        if not isinstance(self.enclosed, bool):
+            raise ValueError(f"scenario.enclosed must be true or false, got {self.enclosed!r}")
+        for name, kinds in (("walls", (WallSpec,)), ("rubble", (BoxRubble, CircleRubble, SegmentRubble)),
+                            ("movers", (MoverSpec,))):
+            object.__setattr__(self, name, _all_of("scenario", name, getattr(self, name), kinds))
+        if self.task is not None and not isinstance(self.task, TaskSpec):
+            raise ValueError(f"scenario.task must be a TaskSpec or None, got {self.task!r}")
+        _keep(self, _positive, "scenario", "duration_s")
         names = [m.name for m in self.movers]
         duplicates = sorted({n for n in names if names.count(n) > 1})
         if duplicates:

@@ -154,7 +154,7 @@ class World:
         self.entities: list[Entity] = [Entity(ROBOT_ID, "robot", "attentive robot")]
         self.movers: list[Mover] = []
         for spec in scenario.movers:
-            mover = Mover(self._new_entity(spec.kind, spec.name), spec, scenario.bounds)
+            mover = Mover(self._new_entity(spec.kind, spec.name), spec, self._free_bounds())
             self.space.add(mover.body, mover.shape)
             self.movers.append(mover)
         if self.movers:
@@ -176,6 +176,10 @@ class World:
             + [(entity.id, self.space.static_body, [shape]) for entity, shape in self.static]
         )
         self.time_s = 0.0
+        # the clock: time_s = _clock_start_s + _steps_taken · _clock_dt_s, restarted when the
+        # step length changes (a product, not a running sum, so that it does not drift)
+        self._clock_start_s = 0.0
+        self._clock_dt_s = math.nan
         self._steps_taken = 0
 
     def _new_entity(self, kind: str, name: str) -> Entity:
@@ -188,6 +192,13 @@ class World:
         shape.friction = _STATIC_FRICTION
         self.space.add(shape)
         self.static.append((entity, shape))
+
+    def _free_bounds(self) -> tuple[float, float, float, float]:
+        """The bounds (m) inside the enclosure walls' inner faces (the bounds themselves
+        when the scenario is not enclosed): where an evading mover may go."""
+        inset = 0.5 * WallSpec.thickness_m if self.scenario.enclosed else 0.0
+        x0, y0, x1, y1 = self.scenario.bounds
+        return (x0 + inset, y0 + inset, x1 - inset, y1 - inset)
 
     def _enclosure(self) -> list[WallSpec]:
         """Walls centred on the bounds (half their thickness lies outside)."""
@@ -214,7 +225,14 @@ class World:
 
         Returns:
             Whether the robot touched another body during the step.
+
+        Raises:
+            ValueError: ``dt_s`` is not a finite number > 0, or a command is not finite.
         """
+        if not (isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0.0):
+            raise ValueError(f"dt_s must be a finite number of seconds > 0, got {dt_s!r}")
+        if dt_s != self._clock_dt_s:
+            self._clock_start_s, self._clock_dt_s, self._steps_taken = self.time_s, dt_s, 0
         substeps = max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
         h = dt_s / substeps
         robot = self.robot
@@ -231,7 +249,7 @@ class World:
             robot.drive(h)
             space.step(h)
         self._steps_taken += 1
-        self.time_s = self._steps_taken * dt_s
+        self.time_s = self._clock_start_s + self._steps_taken * dt_s
         return touched[0]
 
     def geometry(self) -> SceneGeometry:

@@ -449,6 +449,9 @@ def test_attend_replays_a_bag_end_to_end(tmp_path, capsys):
     assert trace.n_steps == N_SCANS - 1
     np.testing.assert_array_equal(trace.O2, expected["laser"])
     assert f"{N_SCANS - 1} steps" in capsys.readouterr().out
+    assert main(["attend", str(bag), "--out", str(out), "--no-figure"]) == 2  # trace.npz is there
+    assert "trace.npz already exist(s); pass --overwrite" in capsys.readouterr().err
+    assert main(["attend", str(bag), "--out", str(out), "--no-figure", "--overwrite"]) == 0
 
 
 def test_attend_flags_name_the_topics(tmp_path):

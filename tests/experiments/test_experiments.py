@@ -235,6 +235,12 @@ def test_cli_runs_one_experiment_and_reports_checks(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "exp02: 3/4 checks pass" in out and "PASS static_scene_fires" in out
     assert (tmp_path / "exp02.png").is_file() and (tmp_path / "exp02.npz").is_file()
+    before = (tmp_path / "exp02.png").read_bytes()
+    assert main(["experiment", "exp02", "--noise", "0.05", "--out", str(tmp_path)]) == 2  # would replace them
+    assert "exp02.npz" in capsys.readouterr().err and (tmp_path / "exp02.png").read_bytes() == before
+    assert main(["experiment", "exp02", "--noise", "0.05", "--out", str(tmp_path), "--overwrite"]) == 0
+    assert (tmp_path / "exp02.png").read_bytes() != before
+    capsys.readouterr()
     assert main(["experiment", "exp01", "--kinematics", "window"]) == 0
     assert "exp01: 5/5 checks pass" in capsys.readouterr().out
     assert main(["experiment", "exp01", "--profile", "usarsim", "--seed", "3"]) == 0
@@ -275,6 +281,26 @@ def test_table_has_a_column_per_mode_and_the_profile():
     assert "tracker, usarsim" in lines[0] and "| exp02 | `ior_visits_several_regions` | **fail**;" in text
     cell = measured[("exp02", "static_scene_fires")]
     assert all(cell["exact"].values()) and set(cell["rate"]) == set(COLUMNS)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--config", "[1]"], "config must be a mapping of AttentionConfig fields, got list"),
+    (["--config", '"ab"'], "config must be a mapping"),
+    (["--config", '{"treshold": 0.2}'], "unknown AttentionConfig field"),
+    (["--workers", "0"], "workers must be an integer >= 1, got 0"),
+    (["--noise", "0.9"], "noise must be a relative level in"),
+])
+def test_table_refuses_bad_flags_before_any_run(args, message, capsys, monkeypatch):
+    from attentive_gym.experiments import table
+
+    monkeypatch.setattr(table, "run_experiment", lambda *a, **k: pytest.fail("an experiment ran"))
+    assert table.main(["--seeds", "1", *args]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_noise_in_titles_keeps_its_digits():
+    result = run_experiment("exp02", noise=0.025, seed=1)
+    assert result.describe_noise() == "noise 2.5 %, seed 1"
 
 
 def test_experiment_modules_import_without_a_cycle():

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from attentive_gym.sensors import NOISE_MODELS, SceneGeometry, SensorSuite, apply_range_noise, unit_noise
+from attentive_gym.sensors import NOISE_MODELS, SensorSuite, apply_range_noise, unit_noise
 
 SONAR_MIN_M, SONAR_MAX_M, LASER_MAX_M = 0.15, 5.0, 20.0
 

@@ -67,7 +67,7 @@ def test_relative_error_has_the_requested_spread():
     assert relative.std() == pytest.approx(sigma, abs=4e-4)
 
 
-@pytest.mark.parametrize("sigma", [-0.01, 1.0, math.nan, math.inf, "5%", None, True])
+@pytest.mark.parametrize("sigma", [-0.01, 1.0, math.nan, math.inf, "5%", "0.05", None, True])
 def test_bad_sigma_is_refused(sigma):
     with pytest.raises(ValueError, match=r"relative_std must be a finite number in \[0, 1\)"):
         apply_range_noise(_readings(), sigma, 0.15, 5.0, np.random.default_rng(0))

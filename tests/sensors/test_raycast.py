@@ -356,6 +356,8 @@ def test_argument_checks():
         cast_rays(np.zeros((1, 2)), [np.nan], 1.0, g)
     with pytest.raises(ValueError, match="max_range_m must be a finite number > 0"):
         cast_rays(np.zeros((1, 2)), [0.0], -1.0, g)
+    with pytest.raises(ValueError, match="max_range_m must be a finite number > 0, got '10'"):
+        cast_rays(np.zeros((1, 2)), [0.0], "10", g)
     with pytest.raises(TypeError, match="geometry must be a SceneGeometry"):
         cast_rays(np.zeros((1, 2)), [0.0], 1.0, (np.zeros((0, 4)),))
     with pytest.raises(TypeError, match="exclude_owner must be an int"):

@@ -190,6 +190,8 @@ def test_drawing_helpers():
         (lambda: LaserConfig(mount_x_m=math.inf), "mount_x_m must be a finite number"),
         (lambda: SonarRing().read((0.0, 0.0), SceneGeometry.empty()), r"pose must be finite with shape \(3,\)"),
         (lambda: LaserScanner().read((0.0, math.nan, 0.0), SceneGeometry.empty()), "pose must be finite"),
+        (lambda: LaserScanner().read(("0", "0", "0"), SceneGeometry.empty()), "pose must be numeric"),
+        (lambda: LaserScanner().read((True, False, True), SceneGeometry.empty()), "pose must be numeric"),
     ],
 )
 def test_bad_configs_and_poses_are_refused(factory, message):

@@ -129,6 +129,32 @@ def test_evader_moves_away_and_stays_inside_bounds():
     assert world.mover_positions()[0][0] == pytest.approx(5.0 - 0.25, abs=1e-6)
 
 
+def test_an_enclosed_evader_stops_at_the_wall_s_inner_face():
+    mover = MoverSpec("e", "victim", Pose(2.0, 0.0), EvadeBehaviour(1.0))
+    world = World(Scenario("box", (-5, -5, 5, 5), enclosed=True, movers=(mover,)))
+    run(world, 7.0, 0.0, 0.0)
+    # the wall, 0.2 m thick, is centred on x = 5: its inner face is at 4.9
+    assert world.mover_positions()[0][0] == pytest.approx(5.0 - 0.1 - 0.25, abs=1e-6)
+    depths = [point.distance for hit in world.space.shape_query(world.movers[0].shape)
+              for point in hit.contact_point_set.points]
+    assert all(depth > -1e-6 for depth in depths)
+
+
+def test_the_clock_follows_a_changing_step_and_bad_steps_are_refused():
+    world = open_world()
+    world.step(0.05, 0.0, 0.0)
+    world.step(0.1, 0.0, 0.0)
+    assert world.time_s == pytest.approx(0.15)
+    run(world, 1.0, 0.0, 0.0, dt=0.05)
+    assert world.time_s == pytest.approx(1.15)
+    for dt in (0.0, -0.05, math.nan, math.inf, "0.05"):
+        with pytest.raises(ValueError, match="dt_s must be a finite number of seconds > 0"):
+            world.step(dt, 0.0, 0.0)
+    with pytest.raises(ValueError, match="robot commands must be finite"):
+        world.step(0.05, math.nan, 0.0)
+    assert np.isfinite(world.robot.pose).all() and world.time_s == pytest.approx(1.15)
+
+
 def test_a_mover_stops_at_the_robot_instead_of_crushing_it_against_rubble():
     # a 2 m/s robot drives straight through the parked robot, which has rubble right behind it
     path = PathBehaviour(legs=(Leg((4.0, 0.0), 2.0),))
