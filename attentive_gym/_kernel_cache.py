@@ -22,10 +22,10 @@ folder is writable, as in an editable install); a cache that numba had to put el
 from __future__ import annotations
 
 import hashlib
-import os
 import re
-import tempfile
 from pathlib import Path
+
+from attentive_gym._atomic import atomic_file
 
 __all__ = ["kernel_sources", "source_fingerprint", "discard_stale_kernels", "FINGERPRINT_FILE"]
 
@@ -125,16 +125,10 @@ def discard_stale_kernels(package_dir: Path) -> int:
 
 
 def _write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and ``os.replace``; give up quietly
+    """Write ``text`` to ``path`` atomically (``attentive_gym._atomic``); give up quietly
     where the folder cannot be written."""
     try:
-        path.parent.mkdir(exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    except OSError:
-        return
-    try:
-        with os.fdopen(handle, "w") as file:
+        with atomic_file(path) as file:
             file.write(text)
-        os.replace(temporary, path)
     except OSError:
-        Path(temporary).unlink(missing_ok=True)
+        pass

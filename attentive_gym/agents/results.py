@@ -56,8 +56,6 @@ SUMMARY_COLUMNS = (
 
 def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
     """Write ``text`` to ``path`` through a temp file in the same folder and ``os.replace``."""
-    if not isinstance(text, str):
-        raise TypeError(f"text must be a str, got {type(text).__name__}")
     with atomic_file(path) as handle:
         handle.write(text)
     return Path(path)
