@@ -105,7 +105,7 @@ class Pose:
 
     def __post_init__(self) -> None:
         for name in ("x_m", "y_m", "heading_deg"):
-            object.__setattr__(self, name, _finite("pose", name, getattr(self, name)))
+            _keep(self, _finite, "pose", name)
 
 
 @dataclass(frozen=True)
