@@ -113,11 +113,13 @@ def plot_learning_curves(
     return _save(fig, path, layout=False)
 
 
-def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str | os.PathLike) -> Path:
+def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str | os.PathLike,
+                                budget: int | None = None) -> Path:
     """Write a PNG of final success rate (mean, 95 % bootstrap CI as error bars) against the
     number of distractors, one line per variant, from rows of ``sweep.sweep_tables``; a
     variant has one colour, its settings (``split_label``) different line styles, as in
-    ``plot_learning_curves``; the legend sits beside the axes."""
+    ``plot_learning_curves``; the legend sits beside the axes. ``budget`` (env steps), when
+    given, is named in the title: runs trained further are shown cut there."""
     plt = _pyplot()
     variants = list(dict.fromkeys(r["variant"] for r in summary))
     if not variants:
@@ -138,7 +140,8 @@ def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str 
     ax.set_xticks(sorted({r["num_distractors"] for r in summary}))
     ax.grid(alpha=0.3)
     ax.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
-    ax.set_title("mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
+    after = "" if budget is None else f"after {steps_label(budget)} env steps (longer runs cut there)\n"
+    ax.set_title(f"{after}mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
     return _save(fig, path)
 
 

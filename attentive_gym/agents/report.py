@@ -233,7 +233,8 @@ def render_block(comparison: Sequence[Mapping[str, Any]], clutter: Sequence[Mapp
                 if write_figures:
                     scaled_variants = {row["variant"] for row in at_budget if row.get("obs_scaling") == SCALED}
                     plot_success_vs_distractors([row for row in clutter_summary if row["variant"] in scaled_variants]
-                                                or clutter_summary, figures / "rl_clutter.png")
+                                                or clutter_summary, figures / "rl_clutter.png",
+                                                budget if len(clutter_budgets) > 1 else None)
     return "\n".join(parts).rstrip() + "\n"
 
 

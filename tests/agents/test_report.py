@@ -219,7 +219,7 @@ def test_the_clutter_figure_draws_the_normalised_runs_when_there_are_some(tmp_pa
     import attentive_gym.agents.report as report
 
     drawn = []
-    monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path: drawn.append(summary))
+    monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path, budget: drawn.append(summary))
     monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path: None)
     rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
     clutter = ([{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in rows]
@@ -231,3 +231,18 @@ def test_the_clutter_figure_draws_the_normalised_runs_when_there_are_some(tmp_pa
     unscaled_only = [row for row in clutter if row["obs_scaling"] == "none"]
     render_block(comparison, unscaled_only, tmp_path, [tmp_path / "a.csv"], tmp_path)
     assert {row["variant"] for row in drawn[1]} == {"raw (unscaled)", "focus (unscaled)"}
+
+
+def test_the_clutter_figure_names_its_budget_when_runs_were_trained_further(tmp_path, monkeypatch):
+    import attentive_gym.agents.report as report
+
+    budgets_drawn = []
+    monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path, budget: budgets_drawn.append(budget))
+    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path: None)
+    short, long = _rows({"raw": [0.5, 0.5]}), _rows({"focus": [0.7, 0.7]}, steps=(0, 100, 200, 300))
+    clutter = [{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in short + long]
+    comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in short]
+    render_block(comparison, clutter, tmp_path, [tmp_path / "a.csv"], tmp_path)
+    assert budgets_drawn == [200]  # the figure shows the first budget, and says so
+    render_block(comparison, clutter[:6], tmp_path, [tmp_path / "a.csv"], tmp_path)
+    assert budgets_drawn[1] is None  # one budget: the title needs none
