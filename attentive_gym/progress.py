@@ -11,6 +11,8 @@ from __future__ import annotations
 import time
 from typing import Callable
 
+from attentive_gym._checks import check_int
+
 __all__ = ["Progress", "format_duration"]
 
 
@@ -35,8 +37,7 @@ class Progress:
     """
 
     def __init__(self, total: int, clock: Callable[[], float] = time.monotonic):
-        if isinstance(total, bool) or not isinstance(total, int) or total < 0:
-            raise ValueError(f"total must be an integer >= 0, got {total!r}")
+        check_int("total", total, 0)
         self.total = total
         self.finished = 0
         self._clock = clock

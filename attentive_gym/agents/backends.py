@@ -30,6 +30,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
+from attentive_gym._checks import check_int
+
 __all__ = ["BACKENDS", "STOP_SIGNALS", "STOP_GRACE_S", "Interrupted", "JobOutcome", "raise_on_stop_signals",
            "raise_if_stopped", "signals_blocked", "run_job", "run_many", "ray_available"]
 
@@ -195,8 +197,7 @@ def ray_available() -> bool:
 def _check(backend: str, workers: int) -> None:
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; allowed: {list(BACKENDS)}")
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    check_int("workers", workers, 1)
     if backend == "ray" and not ray_available():
         raise ValueError("backend 'ray' needs Ray: pip install -e '.[ray]' (or pip install ray)")
 

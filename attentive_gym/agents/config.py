@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
+from attentive_gym._checks import check_int
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule", "parse_variants",
@@ -50,12 +51,6 @@ QUICK: dict[str, Any] = {
     "checkpoint_every": 50_000,
     "env_kwargs": {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0},
 }
-
-
-def _check_int(name: str, value: Any, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < low:
-        raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
-    return value
 
 
 @dataclass(frozen=True)
@@ -105,13 +100,13 @@ class RunSpec:
             raise ValueError(f"unknown vec_env {self.vec_env!r}; allowed: {list(VEC_ENVS)}")
         if self.obs_scaling not in OBS_SCALINGS:
             raise ValueError(f"unknown obs_scaling {self.obs_scaling!r}; allowed: {list(OBS_SCALINGS)}")
-        _check_int("total_steps", self.total_steps, 1)
-        _check_int("seed", self.seed, 0)
-        _check_int("n_envs", self.n_envs, 1)
-        _check_int("eval_every", self.eval_every, 1)
-        _check_int("eval_episodes", self.eval_episodes, 1)
-        _check_int("checkpoint_every", self.checkpoint_every, 1)
-        _check_int("torch_threads", self.torch_threads, 1)
+        check_int("total_steps", self.total_steps, 1)
+        check_int("seed", self.seed, 0)
+        check_int("n_envs", self.n_envs, 1)
+        check_int("eval_every", self.eval_every, 1)
+        check_int("eval_episodes", self.eval_episodes, 1)
+        check_int("checkpoint_every", self.checkpoint_every, 1)
+        check_int("torch_threads", self.torch_threads, 1)
         for name in ("env_kwargs", "algo_kwargs"):
             value = getattr(self, name)
             if not isinstance(value, Mapping):

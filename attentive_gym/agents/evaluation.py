@@ -18,6 +18,8 @@ from typing import Any, Callable, NamedTuple
 import gymnasium as gym
 import numpy as np
 
+from attentive_gym._checks import check_int
+
 __all__ = ["EvalResult", "evaluate_policy", "record_videos", "check_video_dir", "PolicyMemory", "predict_batch", "EVAL_SEED_OFFSET"]
 
 #: Evaluation episodes use seeds ``run seed + EVAL_SEED_OFFSET + i`` (disjoint from training's).
@@ -124,10 +126,8 @@ def evaluate_policy(
         deterministic: greedy actions (True) or sampled ones.
         envs: environments to reuse (not closed here); they must match ``make_env_fn``.
     """
-    if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
-        raise ValueError(f"episodes must be an integer >= 1, got {episodes!r}")
-    if isinstance(n_parallel, bool) or not isinstance(n_parallel, int) or n_parallel < 1:
-        raise ValueError(f"n_parallel must be an integer >= 1, got {n_parallel!r}")
+    check_int("episodes", episodes, 1)
+    check_int("n_parallel", n_parallel, 1)
     if envs is not None and not envs:
         raise ValueError("envs must hold at least one environment (or be None to build them)")
     own = envs is None

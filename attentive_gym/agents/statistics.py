@@ -22,6 +22,8 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
+from attentive_gym._checks import check_int
+
 __all__ = ["BOOTSTRAP_REPS", "iqm", "mean", "bootstrap_ci", "probability_of_improvement"]
 
 #: Bootstrap resamples per interval.
@@ -77,7 +79,7 @@ def bootstrap_ci(
     """
     if not 0.0 < confidence < 1.0:
         raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    _check_reps(reps)
+    check_int("reps", reps, 1)
     low_bound, high_bound = bounds
     if not low_bound <= high_bound:
         raise ValueError(f"bounds must be (low, high) with low <= high, got {bounds!r}")
@@ -93,11 +95,6 @@ def bootstrap_ci(
     rng = np.random.default_rng(_SEED)
     resampled = statistic(x[rng.integers(0, x.size, size=(reps, x.size))], -1)
     return (point, *_percentile_interval(resampled, point, confidence, bounds))
-
-
-def _check_reps(reps: int) -> None:
-    if isinstance(reps, bool) or not isinstance(reps, (int, np.integer)) or reps < 1:
-        raise ValueError(f"reps must be an integer >= 1, got {reps!r}")
 
 
 def _percentile_interval(resampled: np.ndarray, point: float, confidence: float,
@@ -126,7 +123,7 @@ def probability_of_improvement(
     """
     if not 0.0 < confidence < 1.0:
         raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    _check_reps(reps)
+    check_int("reps", reps, 1)
     x, y = _values(x_values), _values(y_values)
     if x.size == 0 or y.size == 0:
         return math.nan, math.nan, math.nan

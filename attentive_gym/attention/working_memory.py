@@ -25,6 +25,8 @@ import math
 import numpy as np
 from numba import njit
 
+from attentive_gym._checks import check_int
+
 __all__ = ["MEMORY_FIELDS", "WorkingMemory"]
 
 #: The columns of ``WorkingMemory.read``.
@@ -44,8 +46,7 @@ class WorkingMemory:
     """
 
     def __init__(self, slots: int = 3, horizon_s: float = 10.0) -> None:
-        if not isinstance(slots, int) or isinstance(slots, bool) or slots < 1:
-            raise ValueError(f"slots must be an integer >= 1, got {slots!r}")
+        check_int("slots", slots, 1)
         if not (isinstance(horizon_s, (int, float)) and math.isfinite(horizon_s) and horizon_s > 0):
             raise ValueError(f"horizon_s must be a finite number > 0 (s), got {horizon_s!r}")
         self.slots = slots

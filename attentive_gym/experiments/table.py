@@ -20,6 +20,7 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Mapping, Sequence
 
+from attentive_gym._checks import check_int
 from attentive_gym.experiments.checks import CHECKS, check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES
 from attentive_gym.experiments.runner import _check_config, _check_noise, run_experiment
@@ -62,8 +63,7 @@ def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mappi
     seeds = list(seeds)
     config = _check_config(config)
     _check_noise(noise)
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    check_int("workers", workers, 1)
     jobs = [("exact", name, 0.0, 0, kinematics, None, config) for name in names for kinematics, profile in COLUMNS
             if profile is None]
     jobs += [("rate", name, None if profile else noise, seed, kinematics, profile, config)
