@@ -324,18 +324,26 @@ def static_regions(laser_hits: np.ndarray, sonar_hits: np.ndarray, mover_ids: np
     return echo & ~mover_echo
 
 
-def matched_track_speeds(tracks, mover_xy: np.ndarray) -> np.ndarray:
-    """``(M,)`` speed (m/s) of the confirmed track nearest to each mover's robot-frame
-    position ``mover_xy`` (M, 2), NaN where none lies within ``TRACK_MATCH_M``."""
-    confirmed = np.asarray(tracks.confirmed, bool)
-    positions = np.asarray(tracks.position_m, float).reshape(-1, 2)[confirmed]
-    speeds = np.asarray(tracks.speed_mps, float)[confirmed]
-    matched = np.full(len(mover_xy), np.nan)
-    if len(speeds):
-        distance = np.linalg.norm(mover_xy[:, None, :] - positions[None, :, :], axis=-1)
+def nearest_tracks(tracks, xy: np.ndarray) -> np.ndarray:
+    """``(M,)`` row in ``tracks`` of the confirmed track nearest to each robot-frame position
+    ``xy`` (M, 2) (m), −1 where none lies within ``TRACK_MATCH_M``."""
+    confirmed = np.flatnonzero(np.asarray(tracks.confirmed, bool))
+    rows = np.full(len(xy), -1)
+    if confirmed.size:
+        positions = np.asarray(tracks.position_m, float).reshape(-1, 2)[confirmed]
+        distance = np.linalg.norm(xy[:, None, :] - positions[None, :, :], axis=-1)
         nearest = distance.argmin(axis=1)
-        close = distance[np.arange(len(mover_xy)), nearest] <= TRACK_MATCH_M
-        matched[close] = speeds[nearest[close]]
+        close = distance[np.arange(len(xy)), nearest] <= TRACK_MATCH_M
+        rows[close] = confirmed[nearest[close]]
+    return rows
+
+
+def matched_track_speeds(tracks, mover_xy: np.ndarray) -> np.ndarray:
+    """``(M,)`` speed (m/s) of each mover's track (``nearest_tracks`` of its robot-frame
+    position ``mover_xy`` (M, 2)), NaN where it has none."""
+    rows = nearest_tracks(tracks, mover_xy)
+    matched = np.full(len(mover_xy), np.nan)
+    matched[rows >= 0] = np.asarray(tracks.speed_mps, float)[rows[rows >= 0]]
     return matched
 
 
@@ -352,12 +360,9 @@ TARGET_CASES = ("on target", "hidden from the laser", "seen, no track", "young t
 
 
 def nearest_track(tracks, xy: np.ndarray) -> int | None:
-    """The row in ``tracks`` of the confirmed track nearest to the robot-frame position
-    ``xy`` (2,) (m), None when none lies within ``TRACK_MATCH_M``."""
-    confirmed = np.asarray(tracks.confirmed, bool)
-    distance = np.linalg.norm(np.asarray(tracks.position_m, float).reshape(-1, 2) - xy, axis=1)
-    near = np.flatnonzero(confirmed & (distance <= TRACK_MATCH_M))
-    return int(near[np.argmin(distance[near])]) if near.size else None
+    """``nearest_tracks`` of one position ``xy`` (2,) (m): a row, or None."""
+    row = int(nearest_tracks(tracks, np.reshape(xy, (1, 2)))[0])
+    return None if row < 0 else row
 
 
 def target_case(output, target_xy: np.ndarray, target_laser_beams: int) -> int:
