@@ -119,11 +119,21 @@ def _stop_signal_handler(handler: Any) -> Iterator[None]:
 @contextlib.contextmanager
 def raise_on_stop_signals() -> Iterator[None]:
     """Inside the block SIGINT and SIGTERM raise ``Interrupted`` (main thread only) and are recorded for
-    ``raise_if_stopped``; the record is cleared on entry and exit."""
+    ``raise_if_stopped``; the record is cleared on entry and exit.
+
+    A compiled callee can wrap the handler's exception in its own (numba raises ``SystemError``
+    "returned a result with an exception set"): any ``Exception`` that leaves the block after a
+    stop signal arrived leaves it as that signal's ``Interrupted``.
+    """
     _received.clear()
     try:
         with _stop_signal_handler(_raise_interrupted), _lost_interrupts_quiet():
-            yield
+            try:
+                yield
+            except Exception as err:
+                if _received:
+                    raise Interrupted(_received[0]) from err
+                raise
     finally:
         _received.clear()
 
@@ -177,6 +187,8 @@ def run_job(spec_dict: dict[str, Any], run_dir: str) -> JobOutcome:
         error_file.unlink(missing_ok=True)
         return JobOutcome(run_dir, True, int(metrics["env_steps"]), wall_s=time.perf_counter() - start_s)
     except Exception as err:  # noqa: BLE001 - isolate the run, report it
+        if _received:  # a stop signal's Interrupted that a compiled callee wrapped (see raise_on_stop_signals)
+            raise Interrupted(_received[0]) from err
         text = "".join(traceback.format_exception(err))
         try:
             write_text_atomic(Path(run_dir) / "error.txt", text)

@@ -192,11 +192,11 @@ def _run_train(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"train-{RunSpec(variant=args.variant, seed=args.seed).run_name}"
     spec = _spec_from_args(args, args.variant, args.seed,
                            stored=_trained_settings(out / "spec.json", holds_progress(out)))
-    with raise_on_stop_signals():
-        try:
+    try:
+        with raise_on_stop_signals():
             metrics = train(spec, out, progress_bar=not args.no_progress, extend=args.extend)
-        except Interrupted as stop:
-            raise Interrupted(stop.signum, _train_resume_hint(out, spec)) from None
+    except Interrupted as stop:
+        raise Interrupted(stop.signum, _train_resume_hint(out, spec)) from None
     final = metrics.get("final") or {}
     print(f"{spec.run_name}: {metrics['env_steps']} env steps; final success rate {final.get('success_rate', float('nan')):.2f}, "
           f"return {final.get('mean_return', float('nan')):.2f}; wrote {out}")

@@ -156,6 +156,24 @@ def test_a_stop_signal_dropped_by_a_finalizer_is_raised_at_the_next_check(monkey
     raise_if_stopped()  # the record ends with the block
 
 
+def test_a_stop_signal_wrapped_by_a_compiled_callee_leaves_as_interrupted():
+    """numba turns a handler's exception raised inside a compiled call into a SystemError."""
+    from attentive_gym.agents.backends import Interrupted, raise_on_stop_signals
+
+    def compiled_call():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(1.0)
+        except Interrupted as err:
+            raise SystemError("CPUDispatcher(...) returned a result with an exception set") from err
+
+    with pytest.raises(Interrupted) as stopped, raise_on_stop_signals():
+        compiled_call()
+    assert stopped.value.signum == signal.SIGTERM
+    with pytest.raises(SystemError), raise_on_stop_signals():  # without a stop signal an error stays itself
+        raise SystemError("a real failure")
+
+
 # --- validation before anything is written ---------------------------------------------
 @pytest.mark.parametrize("options, message", [
     (["--env-kwargs", '{"time_limit_s": 2, "bogus": 1}'], "env_kwargs: unknown keyword argument(s) ['bogus']"),

@@ -1,6 +1,7 @@
 """The comparison: CI smoke test of its outputs, rerun after a kill, crash isolation, Ray."""
 
 import json
+import signal
 import struct
 from pathlib import Path
 
@@ -107,6 +108,25 @@ def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
     assert not failed.ok and "bogus_knob" in failed.error
     assert "Traceback" in (tmp_path / "bad" / "error.txt").read_text()
     assert not (tmp_path / "bad" / "done").exists()
+
+
+def test_a_run_stopped_inside_a_compiled_call_is_stopped_not_failed(tmp_path, tiny, monkeypatch):
+    """A stop signal's exception that numba wrapped in a SystemError must not be reported as the run's error."""
+    from attentive_gym.agents import backends, training
+
+    def fails_inside_numba(*_args, signalled: bool, **_kwargs):
+        if signalled:
+            backends._received.append(signal.SIGTERM)  # what the SIGTERM handler records before it raises
+        raise SystemError("CPUDispatcher(...) returned a result with an exception set")
+
+    monkeypatch.setattr(training, "train", lambda *a, **k: fails_inside_numba(*a, signalled=True, **k))
+    with pytest.raises(backends.Interrupted) as stopped:
+        backends.run_job(tiny().to_dict(), str(tmp_path / "run"))
+    assert stopped.value.signum == signal.SIGTERM and not (tmp_path / "run" / "error.txt").exists()
+    backends._received.clear()
+    monkeypatch.setattr(training, "train", lambda *a, **k: fails_inside_numba(*a, signalled=False, **k))
+    failed = backends.run_job(tiny().to_dict(), str(tmp_path / "run"))  # no signal: a real failure, recorded
+    assert not failed.ok and failed.error.startswith("SystemError") and (tmp_path / "run" / "error.txt").is_file()
 
 
 def _run_processes_of(parent_pid):
