@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from attentive_gym.agents.backends import BACKENDS, Interrupted, raise_on_stop_signals
-from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS, VEC_ENVS, RunSpec
+from attentive_gym.agents.config import ALGO_DEFAULTS, ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS, VEC_ENVS, RunSpec
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_json_object"]
@@ -131,7 +131,9 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
     ``stored``: the settings of the trained run (or comparison) in the output folder. When
     ``--steps`` asks for at least what it has, their evaluation and checkpoint cadence stands
     in for the defaults that depend on ``--steps`` (steps/10, steps/5): resuming a run needs
-    none of those flags, and extending it only ``--extend`` and the new ``--steps``.
+    none of those flags, and extending it only ``--extend`` and the new ``--steps``. Their
+    ``algo_defaults`` (1 where they have none) always stands: a folder keeps the default
+    hyper-parameters it was trained with.
     """
     defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
@@ -146,6 +148,7 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
                     else dict(defaults.get("env_kwargs", {}))),
         algo_kwargs=parse_json_object(args.algo_kwargs, "--algo-kwargs"),
         torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads), obs_scaling=args.obs_scaling,
+        algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
     )
 
 

@@ -17,7 +17,7 @@ from typing import Any, Mapping, Sequence
 from attentive_gym._checks import check_int
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule", "parse_variants",
+__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule", "parse_variants",
            "parse_seeds"]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
@@ -33,6 +33,14 @@ VEC_ENVS = ("native", "dummy", "subproc")
 #: units (metres, seconds, flags), as runs did before normalisation existed (their
 #: ``spec.json`` has no ``obs_scaling`` and reads as ``"none"``).
 OBS_SCALINGS = ("running", "none")
+
+#: Versions of ``RunSpec.default_algo_kwargs`` (``RunSpec.algo_defaults``), so that a run
+#: folder keeps the hyper-parameters it was trained with: 1, PPO's and RecurrentPPO's
+#: learning rate constant at 3e-4 (SB3's default; runs written before 2026-12-03, whose
+#: ``spec.json`` has no ``algo_defaults``); 2 (the current one), the rate decayed linearly
+#: from 3e-4 to 0 over the budget (``"lin_3e-4"``), which keeps the focus policies from
+#: falling back late in long runs (README, "The measured answer").
+ALGO_DEFAULTS = (1, 2)
 
 #: ``algo_kwargs`` that take a schedule: a number, or ``"lin_<number>"`` (as in rl-zoo's
 #: hyper-parameter files), a linear decay from that number to 0 over the run's budget.
@@ -72,6 +80,8 @@ class RunSpec:
             at most this many steps).
         env_kwargs: keyword arguments of ``make_env`` (``arena_size_m``, ``num_distractors``, ...).
         algo_kwargs: keyword arguments of the SB3 algorithm (override ``default_algo_kwargs``).
+        algo_defaults: which version of ``default_algo_kwargs`` (one of ``ALGO_DEFAULTS``;
+            the latest unless a stored spec says otherwise).
         torch_threads: threads of torch and of the compiled sensor sweep (numba) in the
             training process (1 suits a pool of runs).
         obs_scaling: one of ``OBS_SCALINGS``: how the observation reaches the policy.
@@ -88,6 +98,7 @@ class RunSpec:
     checkpoint_every: int = 20_000
     env_kwargs: Mapping[str, Any] = field(default_factory=dict)
     algo_kwargs: Mapping[str, Any] = field(default_factory=dict)
+    algo_defaults: int = ALGO_DEFAULTS[-1]
     torch_threads: int = 1
     obs_scaling: str = "running"
 
@@ -107,6 +118,8 @@ class RunSpec:
         check_int("eval_episodes", self.eval_episodes, 1)
         check_int("checkpoint_every", self.checkpoint_every, 1)
         check_int("torch_threads", self.torch_threads, 1)
+        if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
+            raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
         for name in ("env_kwargs", "algo_kwargs"):
             value = getattr(self, name)
             if not isinstance(value, Mapping):
@@ -126,13 +139,15 @@ class RunSpec:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.
 
         PPO and RecurrentPPO: rollouts of 256 steps per env, minibatch 256, 5 epochs,
-        lr 3e-4, gamma 0.99, a small ent_coef for exploration. RecurrentPPO's LSTM has
+        lr 3e-4 decayed linearly to 0 over the budget (``"lin_3e-4"``; constant 3e-4 with
+        ``algo_defaults`` 1), gamma 0.99, a small ent_coef for exploration. RecurrentPPO's LSTM has
         one layer of 64 units (sb3-contrib's default is 256): the observations hold at
         most a few hundred numbers, and 64 units train ≈ 3× faster on a CPU. SAC: SB3's
         defaults with a 100 000-step buffer and 1 000 warm-up steps.
         """
         if self.algo in ("ppo", "recurrent-ppo"):
-            ppo = {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4, "gamma": 0.99,
+            learning_rate = 3e-4 if self.algo_defaults == 1 else "lin_3e-4"
+            ppo = {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": learning_rate, "gamma": 0.99,
                    "ent_coef": 0.005}
             return ppo if self.algo == "ppo" else {**ppo, "policy_kwargs": {"lstm_hidden_size": 64}}
         return {"buffer_size": 100_000, "learning_starts": 1_000, "batch_size": 256}
@@ -157,12 +172,13 @@ class RunSpec:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> "RunSpec":
         """Build from ``to_dict``'s output; unknown keys raise ``ValueError``. A spec without
-        ``obs_scaling`` was written before observations were scaled: it reads as ``"none"``."""
+        ``obs_scaling`` was written before observations were scaled: it reads as ``"none"``;
+        one without ``algo_defaults`` before the learning rate decayed by default: it reads as 1."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(data) - names)
         if unknown:
             raise ValueError(f"unknown RunSpec field(s) {unknown}; allowed: {sorted(names)}")
-        return cls(**{"obs_scaling": "none", **data})
+        return cls(**{"obs_scaling": "none", "algo_defaults": 1, **data})
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)

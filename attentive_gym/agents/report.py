@@ -33,14 +33,14 @@ import sys
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from attentive_gym.agents.config import ALGOS, OBS_SCALINGS
+from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, RunSpec
 from attentive_gym.agents.plots import (curve_stats, plot_learning_curves, plot_success_vs_distractors, split_label,
                                         steps_label)
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown, write_csv_atomic, write_text_atomic
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "merge_rows", "labelled", "budgets", "targets", "render_block",
+__all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "algo_tag", "merge_rows", "labelled", "budgets", "targets", "render_block",
            "main"]
 
 COMPARISON_COLUMNS = ("algo", "obs_scaling", *EVAL_COLUMNS)
@@ -262,8 +262,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     add.add_argument("csv", type=Path)
     add.add_argument("--algo", metavar="TAG",
                      help="the rows' algorithm tag: the algorithm the runs trained with (one of "
-                          f"{', '.join(ALGOS)}), optionally followed by ', <note>' (e.g. 'ppo, lr lin_3e-4') "
-                          "(default: the algorithm in the comparison's compare.json beside the file, else ppo)")
+                          f"{', '.join(ALGOS)}), optionally followed by ', <note>' (e.g. 'ppo, lr lin_3e-4, 1M') "
+                          "(default: the comparison's compare.json beside the file tells: its algorithm, with "
+                          "', lr <schedule>' when its learning rate decays, else ppo); a learning-rate note "
+                          "must be the runs' own")
     add.add_argument("--clutter", action="store_true", help="the file is a sweep's sweep.csv (or, with "
                      "--num-distractors, a comparison's results.csv)")
     add.add_argument("--num-distractors", type=int, metavar="N",
@@ -296,15 +298,34 @@ def _trained_with(csv: Path) -> dict[str, Any]:
     return {}
 
 
+def algo_tag(run: Mapping[str, Any]) -> str:
+    """The tag of the rows of a comparison whose run settings (``compare.json``'s ``"run"``)
+    are ``run``: its algorithm, followed by ``", lr <schedule>"`` when its learning rate is a
+    schedule (given in ``algo_kwargs``, or the default since ``algo_defaults`` 2), so that
+    runs with a decayed rate never share a tag with runs at a constant one."""
+    spec = RunSpec.from_dict(run)
+    learning_rate = {**spec.default_algo_kwargs(), **spec.algo_kwargs}.get("learning_rate")
+    return f"{spec.algo}, lr {learning_rate}" if isinstance(learning_rate, str) else spec.algo
+
+
+def _learning_rate_note(tag: str) -> str | None:
+    """The ``"lr ..."`` part of a tag such as ``"ppo, lr lin_3e-4, 1M"``, or None."""
+    return next((part.strip() for part in tag.split(",")[1:] if part.strip().startswith("lr ")), None)
+
+
 def _tags(args) -> tuple[str, str]:
     """``(algo tag, obs_scaling)`` of ``report add``'s rows: the flags, checked against the
-    comparison's own settings where they are beside the file; ``ValueError`` for a tag
-    that does not start with a known algorithm or contradicts them."""
+    comparison's own settings where they are beside the file (``algo_tag``); ``ValueError``
+    for a tag that does not start with a known algorithm or contradicts them."""
     run = _trained_with(args.csv)
-    algo = args.algo if args.algo is not None else run.get("algo", "ppo")
+    trained_tag = algo_tag(run) if run else None
+    algo = args.algo if args.algo is not None else trained_tag or "ppo"
     name = algo.split(",", 1)[0].strip()
     if name not in ALGOS:
         raise ValueError(f"--algo {algo!r} must start with one of {', '.join(ALGOS)} (e.g. 'ppo' or 'ppo, lr lin_3e-4')")
+    if trained_tag is not None and _learning_rate_note(algo) != _learning_rate_note(trained_tag):
+        raise ValueError(f"--algo {algo!r} does not name the runs' learning rate: the comparison beside {args.csv} "
+                         f"trained with the tag {trained_tag!r}; start the tag with it")
     scaling = args.obs_scaling if args.obs_scaling is not None else run.get("obs_scaling", SCALED)
     for flag, given, trained in (("--algo", name, run.get("algo")), ("--obs-scaling", scaling, run.get("obs_scaling"))):
         if trained is not None and given != trained:

@@ -263,6 +263,24 @@ def test_extending_needs_only_the_new_budget_and_a_mismatch_names_the_field(tmp_
     assert "(eval_episodes 1 → 2)" in capsys.readouterr().err.replace(str(out / "spec.json") + ": ", "")
 
 
+def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends_with_its_constant_rate(tmp_path, tiny):
+    out = tmp_path / "run"
+    options = ["train", "--variant", "raw", "--no-progress", "--out", str(out), "--n-envs", "2", "--eval-episodes", "1",
+               "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    assert main([*options, "--steps", "128"]) == 0
+    stored = json.loads((out / "spec.json").read_text())
+    assert stored["algo_defaults"] == 2
+    del stored["algo_defaults"]  # as train wrote it before 2026-12-03
+    (out / "spec.json").write_text(json.dumps(stored))
+    assert main([*options, "--steps", "256", "--extend"]) == 0
+    spec = RunSpec.from_dict(json.loads((out / "spec.json").read_text()))
+    assert spec.algo_defaults == 1 and spec.merged_algo_kwargs()["learning_rate"] == 3e-4
+    assert main(["train", "--variant", "raw", "--no-progress", "--out", str(tmp_path / "new"), "--steps", "128",
+                 "--n-envs", "2", "--eval-episodes", "1", "--env-kwargs", json.dumps(tiny.env_kwargs),
+                 "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]) == 0
+    assert json.loads((tmp_path / "new" / "spec.json").read_text())["algo_defaults"] == 2  # a new folder: the latest
+
+
 def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_does_not_lock_the_folder(tmp_path, tiny,
                                                                                                     capsys):
     out = tmp_path / "cmp"

@@ -30,6 +30,24 @@ def test_roundtrip_and_names():
         RunSpec.from_dict({**spec.to_dict(), "colour": 1})
 
 
+def test_the_default_learning_rate_decays_and_older_specs_keep_their_constant_rate():
+    from stable_baselines3.common.utils import LinearSchedule
+
+    for algo in ("ppo", "recurrent-ppo"):
+        spec = RunSpec(algo=algo)
+        assert spec.algo_defaults == 2 and spec.default_algo_kwargs()["learning_rate"] == "lin_3e-4"
+        schedule = spec.merged_algo_kwargs()["learning_rate"]
+        assert isinstance(schedule, LinearSchedule) and schedule(1.0) == 3e-4 and schedule(0.0) == 0.0
+        old = {key: value for key, value in spec.to_dict().items() if key != "algo_defaults"}  # a spec.json of before
+        assert RunSpec.from_dict(old).algo_defaults == 1 and RunSpec.from_dict(old).merged_algo_kwargs()["learning_rate"] == 3e-4
+        assert RunSpec.from_dict(spec.to_dict()) == spec
+    assert "learning_rate" not in RunSpec(algo="sac").default_algo_kwargs()
+    assert RunSpec(algo_kwargs={"learning_rate": 1e-4}).merged_algo_kwargs()["learning_rate"] == 1e-4
+    for bad in (0, 3, True, "2", 2.0):
+        with pytest.raises(ValueError, match=r"unknown algo_defaults .*; allowed: \[1, 2\]"):
+            RunSpec(algo_defaults=bad)
+
+
 def test_recurrent_policy_kwargs_merge_key_by_key():
     """RecurrentPPO's 64-unit LSTM stays when other policy keywords are given, and goes
     when the size itself is; PPO has no default policy keywords to merge."""

@@ -158,8 +158,27 @@ def test_added_rows_are_tagged_with_the_comparisons_own_algorithm_and_a_wrong_ta
         assert message in capsys.readouterr().err and not (tmp_path / "rl.csv").exists()
     assert main(["add", str(results), *target]) == 0
     assert {(r["algo"], r["obs_scaling"]) for r in read_csv(tmp_path / "rl.csv")} == {("recurrent-ppo", "none")}
-    assert main(["add", str(results), "--algo", "recurrent-ppo, lr lin_3e-4", *target]) == 0
-    assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {"recurrent-ppo", "recurrent-ppo, lr lin_3e-4"}
+    assert main(["add", str(results), "--algo", "recurrent-ppo, lr lin_3e-4", *target]) == 2  # not these runs' rate
+    assert "does not name the runs' learning rate" in capsys.readouterr().err
+
+
+def test_runs_with_a_decayed_learning_rate_are_tagged_with_it(tmp_path, capsys):
+    """The default decays the rate (algo_defaults 2): such rows never share the plain 'ppo' tag of constant-rate runs."""
+    target = ["--comparison", str(tmp_path / "rl.csv")]
+    for folder, run in (("old", {"algo": "ppo"}),  # written before algo_defaults: constant 3e-4
+                        ("new", {"algo": "ppo", "algo_defaults": 2}),
+                        ("constant", {"algo": "ppo", "algo_defaults": 2, "algo_kwargs": {"learning_rate": 3e-4}}),
+                        ("given", {"algo": "ppo", "algo_kwargs": {"learning_rate": "lin_1e-3"}})):
+        results = tmp_path / folder / "results.csv"
+        write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
+        (tmp_path / folder / "compare.json").write_text(json.dumps({"run": run}))
+    assert main(["add", str(tmp_path / "new" / "results.csv"), "--algo", "ppo", *target]) == 2
+    assert "start the tag with it" in capsys.readouterr().err and not (tmp_path / "rl.csv").exists()
+    assert main(["add", str(tmp_path / "new" / "results.csv"), "--algo", "ppo, lr lin_3e-4, 1M", *target]) == 0
+    for folder in ("old", "new", "constant", "given"):
+        assert main(["add", str(tmp_path / folder / "results.csv"), *target]) == 0
+    assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {"ppo", "ppo, lr lin_3e-4", "ppo, lr lin_3e-4, 1M",
+                                                                    "ppo, lr lin_1e-3"}
 
 
 def test_render_writes_no_figure_when_the_readme_is_missing(tmp_path, capsys):

@@ -14,7 +14,7 @@ import gymnasium as gym
 import pytest
 
 import attentive_gym  # noqa: F401  (registers the ids)
-from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.config import SCHEDULE_KEYS, RunSpec, parse_schedule
 from attentive_gym.agents.normalization import CLIP
 from attentive_gym.agents.rl_zoo import ZOO_ALGOS, conf_file, load_hyperparams
 
@@ -83,7 +83,9 @@ def test_every_entry_builds_on_its_environment(algo):
     for env_id, entry in load_hyperparams(algo).items():
         env = gym.make(env_id)
         try:
-            model = ALGOS[algo](entry["policy"], env, device="cpu", **algorithm_kwargs(entry))
+            kwargs = {key: parse_schedule(key, value) if key in SCHEDULE_KEYS and isinstance(value, str) else value
+                      for key, value in algorithm_kwargs(entry).items()}  # "lin_3e-4", as rl-zoo3 reads it
+            model = ALGOS[algo](entry["policy"], env, device="cpu", **kwargs)
             assert model.observation_space == env.observation_space, env_id
         finally:
             env.close()
