@@ -17,8 +17,8 @@ from typing import Any, Mapping, Sequence
 from attentive_gym._checks import check_int
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule", "parse_variants",
-           "parse_seeds"]
+__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule",
+           "parse_variants", "parse_seeds"]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).

@@ -40,8 +40,8 @@ from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summ
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "algo_tag", "merge_rows", "labelled", "budgets", "targets", "render_block",
-           "main"]
+__all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "algo_tag", "merge_rows", "labelled", "budgets", "targets",
+           "render_block", "main"]
 
 COMPARISON_COLUMNS = ("algo", "obs_scaling", *EVAL_COLUMNS)
 CLUTTER_COLUMNS = ("algo", "obs_scaling", "num_distractors", *EVAL_COLUMNS)
