@@ -17,8 +17,8 @@ from typing import Any, Mapping, Sequence
 from attentive_gym._checks import check_int
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "RunSpec", "parse_schedule",
-           "parse_variants", "parse_seeds"]
+__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "SB3_LEARNING_RATE",
+           "RunSpec", "canonical_rate", "parse_schedule", "parse_variants", "parse_seeds"]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
@@ -46,6 +46,8 @@ ALGO_DEFAULTS = (1, 2)
 #: hyper-parameter files), a linear decay from that number to 0 over the run's budget.
 SCHEDULE_KEYS = ("learning_rate", "clip_range", "clip_range_vf")
 _LINEAR_PREFIX = "lin_"
+#: The learning rate of PPO, RecurrentPPO and SAC when none is given (SB3's).
+SB3_LEARNING_RATE = 3e-4
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 150 000 PPO steps, 10 eval episodes every 30 000 steps, in the main
@@ -152,18 +154,40 @@ class RunSpec:
             return ppo if self.algo == "ppo" else {**ppo, "policy_kwargs": {"lstm_hidden_size": 64}}
         return {"buffer_size": 100_000, "learning_starts": 1_000, "batch_size": 256}
 
+    def hyper_parameters(self) -> dict[str, Any]:
+        """``default_algo_kwargs`` updated with ``algo_kwargs``, schedules still as their
+        ``"lin_<number>"`` text; ``policy_kwargs`` are merged key by key
+        (``{"policy_kwargs": {"net_arch": [32]}}`` keeps the LSTM's size)."""
+        defaults = self.default_algo_kwargs()
+        merged = {**defaults, **self.algo_kwargs}
+        if "policy_kwargs" in defaults and isinstance(self.algo_kwargs.get("policy_kwargs"), Mapping):
+            merged["policy_kwargs"] = {**defaults["policy_kwargs"], **self.algo_kwargs["policy_kwargs"]}
+        return merged
+
     def merged_algo_kwargs(self) -> dict[str, Any]:
-        """``default_algo_kwargs`` updated with ``algo_kwargs``; ``policy_kwargs`` are merged
-        key by key (``{"policy_kwargs": {"net_arch": [32]}}`` keeps the LSTM's size), and
-        ``"lin_<number>"`` schedules (``SCHEDULE_KEYS``) become SB3 ``LinearSchedule``s."""
-        merged = {**self.default_algo_kwargs(), **self.algo_kwargs}
+        """``hyper_parameters`` with the ``"lin_<number>"`` schedules (``SCHEDULE_KEYS``) as
+        SB3 ``LinearSchedule``s: the algorithm's keyword arguments."""
+        merged = self.hyper_parameters()
         for key in SCHEDULE_KEYS:
             if isinstance(merged.get(key), str):
                 merged[key] = parse_schedule(key, merged[key])
-        default_policy = self.default_algo_kwargs().get("policy_kwargs")
-        if default_policy is not None and isinstance(self.algo_kwargs.get("policy_kwargs"), Mapping):
-            merged["policy_kwargs"] = {**default_policy, **self.algo_kwargs["policy_kwargs"]}
         return merged
+
+    def learning_rate(self) -> float | str:
+        """The run's learning rate as ``canonical_rate`` writes it (``SB3_LEARNING_RATE`` when
+        neither the defaults nor ``algo_kwargs`` give one)."""
+        return canonical_rate("learning_rate", self.hyper_parameters().get("learning_rate", SB3_LEARNING_RATE))
+
+    def settings(self) -> dict[str, Any]:
+        """What the run's numbers depend on, for telling runs apart: ``to_dict`` with
+        ``algo_kwargs`` replaced by ``hyper_parameters`` (schedules as ``canonical_rate``
+        writes them) and without ``algo_defaults``, so that a folder trained with earlier
+        defaults and a command asking for the same hyper-parameters agree."""
+        data = self.to_dict()
+        del data["algo_defaults"]
+        data["algo_kwargs"] = {key: canonical_rate(key, value) if key in SCHEDULE_KEYS else value
+                               for key, value in self.hyper_parameters().items()}
+        return data
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-serialisable dict (``from_dict`` inverts it)."""
@@ -187,11 +211,19 @@ class RunSpec:
         """A copy with ``changes`` applied (validated again)."""
         return dataclasses.replace(self, **changes)
 
+    def same_settings(self, other: "RunSpec") -> bool:
+        """Whether ``other`` has the same ``settings``."""
+        return self.settings() == other.settings()
+
     def differences(self, other: "RunSpec") -> str:
-        """The fields where ``other`` differs, as ``"eval_every 25 → 51, total_steps 256 → 512"``."""
-        mine, theirs = self.to_dict(), other.to_dict()
-        return ", ".join(f"{key} {json.dumps(mine[key])} → {json.dumps(theirs[key])}"
-                         for key in mine if mine[key] != theirs[key])
+        """The ``settings`` where ``other`` differs, as ``"eval_every 25 → 51, total_steps 256 → 512"``;
+        within ``algo_kwargs`` the entries that differ (``"algo_kwargs.n_epochs 1 → 2"``)."""
+        mine, theirs = self.settings(), other.settings()
+        hyper = (mine.pop("algo_kwargs"), theirs.pop("algo_kwargs"))
+        changed = [(key, mine[key], theirs[key]) for key in mine if mine[key] != theirs[key]]
+        changed += [(f"algo_kwargs.{key}", hyper[0].get(key), hyper[1].get(key))
+                    for key in dict.fromkeys([*hyper[0], *hyper[1]]) if hyper[0].get(key) != hyper[1].get(key)]
+        return ", ".join(f"{key} {json.dumps(old)} → {json.dumps(new)}" for key, old, new in changed)
 
 
 def _check_finite(name: str, value: Any) -> None:
@@ -202,6 +234,18 @@ def _check_finite(name: str, value: Any) -> None:
     items = value.items() if isinstance(value, Mapping) else enumerate(value) if isinstance(value, (list, tuple)) else ()
     for key, item in items:
         _check_finite(f"{name}[{key!r}]", item)
+
+
+def canonical_rate(key: str, value: Any) -> Any:
+    """A schedule setting (``algo_kwargs[key]``, ``key`` in ``SCHEDULE_KEYS``) in one spelling
+    per value, so that ``"lin_3e-4"`` and ``"lin_0.0003"`` (or ``3e-4`` and ``0.0003``) compare
+    equal: ``"lin_" + repr(start)`` for a schedule, a float for a number, anything else as
+    given; ``ValueError`` for text that is no schedule (``parse_schedule``)."""
+    if isinstance(value, str):
+        return _LINEAR_PREFIX + repr(parse_schedule(key, value).start)
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(value)
+    return value
 
 
 def parse_schedule(key: str, text: str):

@@ -33,7 +33,7 @@ import sys
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, RunSpec
+from attentive_gym.agents.config import ALGOS, OBS_SCALINGS, SB3_LEARNING_RATE, RunSpec, canonical_rate
 from attentive_gym.agents.plots import (curve_stats, plot_learning_curves, plot_success_vs_distractors, split_label,
                                         steps_label)
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown, write_csv_atomic, write_text_atomic
@@ -290,27 +290,45 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _trained_with(csv: Path) -> dict[str, Any]:
-    """The run settings of the comparison that wrote ``csv`` (its ``compare.json``, or the
-    first point's of a sweep); {} when there is none."""
-    for settings in [csv.parent / "compare.json", *sorted(csv.parent.glob("distractors-*/compare.json"))]:
-        if settings.is_file():
-            return json.loads(settings.read_text()).get("run", {})
-    return {}
+    """The run settings of the comparison that wrote ``csv`` (its ``compare.json``, or those
+    of a sweep's points, which must share their algorithm, learning rate and scaling); {} when
+    there is none."""
+    if (csv.parent / "compare.json").is_file():
+        return json.loads((csv.parent / "compare.json").read_text()).get("run", {})
+    points = {path.parent.name: json.loads(path.read_text()).get("run", {})
+              for path in sorted(csv.parent.glob("distractors-*/compare.json"))}
+    kinds = {name: (algo_tag(run), run.get("obs_scaling")) for name, run in points.items()}
+    if len(set(kinds.values())) > 1:
+        raise ValueError(f"the points of the sweep beside {csv} were trained with different settings "
+                         f"({', '.join(f'{name}: {tag!r}, {scaling}' for name, (tag, scaling) in kinds.items())}); "
+                         "add each point's results.csv with --clutter --num-distractors N")
+    return next(iter(points.values()), {})
 
 
 def algo_tag(run: Mapping[str, Any]) -> str:
     """The tag of the rows of a comparison whose run settings (``compare.json``'s ``"run"``)
-    are ``run``: its algorithm, followed by ``", lr <schedule>"`` when its learning rate is a
-    schedule (given in ``algo_kwargs``, or the default since ``algo_defaults`` 2), so that
-    runs with a decayed rate never share a tag with runs at a constant one."""
+    are ``run``: its algorithm, followed by ``", lr <rate>"`` unless its learning rate is
+    SB3's constant ``SB3_LEARNING_RATE`` (a schedule, the default since ``algo_defaults`` 2,
+    or another number given in ``algo_kwargs``), so that runs at different rates never
+    share a tag."""
     spec = RunSpec.from_dict(run)
-    learning_rate = {**spec.default_algo_kwargs(), **spec.algo_kwargs}.get("learning_rate")
-    return f"{spec.algo}, lr {learning_rate}" if isinstance(learning_rate, str) else spec.algo
+    if spec.learning_rate() == SB3_LEARNING_RATE:
+        return spec.algo
+    return f"{spec.algo}, lr {spec.hyper_parameters()['learning_rate']}"
 
 
-def _learning_rate_note(tag: str) -> str | None:
-    """The ``"lr ..."`` part of a tag such as ``"ppo, lr lin_3e-4, 1M"``, or None."""
-    return next((part.strip() for part in tag.split(",")[1:] if part.strip().startswith("lr ")), None)
+def _tagged_rate(tag: str) -> float | str:
+    """The learning rate a tag names (its ``"lr <rate>"`` part, as ``canonical_rate`` writes
+    it), ``SB3_LEARNING_RATE`` for none; ``ValueError`` for a rate that is no number or schedule."""
+    note = next((part.strip() for part in tag.split(",")[1:] if part.strip().startswith("lr ")), None)
+    if note is None:
+        return SB3_LEARNING_RATE
+    text = note[len("lr "):].strip()
+    try:
+        return canonical_rate("learning_rate", text if text.startswith("lin_") else float(text))
+    except ValueError:
+        raise ValueError(f"--algo {tag!r}: {note!r} names no learning rate; write e.g. 'lr lin_3e-4' or "
+                         "'lr 1e-4'") from None
 
 
 def _tags(args) -> tuple[str, str]:
@@ -319,11 +337,14 @@ def _tags(args) -> tuple[str, str]:
     for a tag that does not start with a known algorithm or contradicts them."""
     run = _trained_with(args.csv)
     trained_tag = algo_tag(run) if run else None
+    if trained_tag is None and args.algo is None:
+        print(f"report add: note: no compare.json beside {args.csv}: its rows are tagged 'ppo' (PPO at a constant "
+              "learning rate 3e-4); pass --algo (e.g. 'ppo, lr lin_3e-4') if they were trained otherwise")
     algo = args.algo if args.algo is not None else trained_tag or "ppo"
     name = algo.split(",", 1)[0].strip()
     if name not in ALGOS:
         raise ValueError(f"--algo {algo!r} must start with one of {', '.join(ALGOS)} (e.g. 'ppo' or 'ppo, lr lin_3e-4')")
-    if trained_tag is not None and _learning_rate_note(algo) != _learning_rate_note(trained_tag):
+    if trained_tag is not None and _tagged_rate(algo) != _tagged_rate(trained_tag):
         raise ValueError(f"--algo {algo!r} does not name the runs' learning rate: the comparison beside {args.csv} "
                          f"trained with the tag {trained_tag!r}; start the tag with it")
     scaling = args.obs_scaling if args.obs_scaling is not None else run.get("obs_scaling", SCALED)

@@ -34,7 +34,6 @@ trained straight to the larger budget (the envs restart, the random seed is re-d
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import inspect
 import json
@@ -271,10 +270,11 @@ def holds_progress(run_dir: Path) -> bool:
 
 
 def budget_grows(old: RunSpec, new: RunSpec) -> bool:
-    """Whether ``new`` is ``old`` with a larger ``total_steps`` (and any vectorisation, which
-    changes no number): a run of ``old`` can be extended to ``new``."""
-    return new.total_steps > old.total_steps and dataclasses.replace(
-        old, vec_env=new.vec_env, total_steps=new.total_steps) == new
+    """Whether ``new`` has ``old``'s settings (``RunSpec.same_settings``) with a larger
+    ``total_steps`` (and any vectorisation, which changes no number): a run of ``old`` can be
+    extended to ``new``."""
+    stretched = old.replace(vec_env=new.vec_env, total_steps=new.total_steps)
+    return new.total_steps > old.total_steps and stretched.same_settings(new)
 
 
 def _bind_spec(spec: RunSpec, run_dir: Path, extend: bool) -> None:
@@ -289,7 +289,7 @@ def _bind_spec(spec: RunSpec, run_dir: Path, extend: bool) -> None:
     path = run_dir / "spec.json"
     if path.is_file() and holds_progress(run_dir):
         old = RunSpec.from_dict(json.loads(path.read_text()))
-        if dataclasses.replace(old, vec_env=spec.vec_env) == spec:  # the vectorisation changes no number
+        if old.replace(vec_env=spec.vec_env).same_settings(spec):  # the vectorisation changes no number
             return
         if not budget_grows(old, spec):
             raise ValueError(f"{run_dir} holds a run with a different spec ({path}: {old.differences(spec)}); "

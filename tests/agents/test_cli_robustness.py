@@ -275,6 +275,10 @@ def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends
     assert main([*options, "--steps", "256", "--extend"]) == 0
     spec = RunSpec.from_dict(json.loads((out / "spec.json").read_text()))
     assert spec.algo_defaults == 1 and spec.merged_algo_kwargs()["learning_rate"] == 3e-4
+    constant = {**tiny.ppo_kwargs, "learning_rate": 3e-4}  # the same rate asked for in words: the same run
+    assert main([*options[:-1], json.dumps(constant), "--steps", "384", "--extend"]) == 0
+    assert main([*options, "--steps", "512", "--algo-kwargs", json.dumps({**tiny.ppo_kwargs, "learning_rate": 1e-3}),
+                 "--extend"]) == 2
     assert main(["train", "--variant", "raw", "--no-progress", "--out", str(tmp_path / "new"), "--steps", "128",
                  "--n-envs", "2", "--eval-episodes", "1", "--env-kwargs", json.dumps(tiny.env_kwargs),
                  "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]) == 0
@@ -294,7 +298,7 @@ def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_do
     assert json.loads((out / "compare.json").read_text())["threshold"] == 0.3
     assert main([*options, "--algo-kwargs", json.dumps({**tiny.ppo_kwargs, "n_epochs": 2})]) == 2
     err = capsys.readouterr().err
-    assert "holds a comparison with other settings" in err and '"n_epochs": 1, "n_steps": 64} → {' in err
+    assert "holds a comparison with other settings" in err and "algo_kwargs.n_epochs 1 → 2" in err
     assert err.count("→") == 1  # only algo_kwargs differs
 
 

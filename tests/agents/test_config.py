@@ -48,6 +48,18 @@ def test_the_default_learning_rate_decays_and_older_specs_keep_their_constant_ra
             RunSpec(algo_defaults=bad)
 
 
+def test_runs_are_told_apart_by_their_hyper_parameters_not_by_how_they_were_asked_for():
+    from attentive_gym.agents.training import budget_grows
+
+    old = RunSpec(algo_defaults=1)  # a folder trained before the rate decayed by default
+    assert old.same_settings(RunSpec(algo_kwargs={"learning_rate": 0.0003}))
+    assert budget_grows(old, RunSpec(algo_kwargs={"learning_rate": 3e-4}, total_steps=old.total_steps * 2))
+    assert RunSpec(algo_kwargs={"learning_rate": "lin_0.0003"}).same_settings(RunSpec())
+    assert not old.same_settings(RunSpec()) and not budget_grows(old, RunSpec(total_steps=old.total_steps * 2))
+    assert old.differences(RunSpec(eval_every=5)) == 'eval_every 10000 → 5, algo_kwargs.learning_rate 0.0003 → "lin_0.0003"'
+    assert RunSpec().learning_rate() == "lin_0.0003" and RunSpec(algo="sac").learning_rate() == 3e-4
+
+
 def test_recurrent_policy_kwargs_merge_key_by_key():
     """RecurrentPPO's 64-unit LSTM stays when other policy keywords are given, and goes
     when the size itself is; PPO has no default policy keywords to merge."""

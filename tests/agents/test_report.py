@@ -181,6 +181,38 @@ def test_runs_with_a_decayed_learning_rate_are_tagged_with_it(tmp_path, capsys):
                                                                     "ppo, lr lin_1e-3"}
 
 
+def test_a_tags_rate_is_compared_by_value_and_a_sweep_of_mixed_rates_is_refused(tmp_path, capsys):
+    target = ["--comparison", str(tmp_path / "rl.csv")]
+    results = tmp_path / "slow" / "results.csv"
+    write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
+    (tmp_path / "slow" / "compare.json").write_text(json.dumps({"run": {"algo": "ppo", "algo_defaults": 2,
+                                                                        "algo_kwargs": {"learning_rate": 1e-4}}}))
+    assert main(["add", str(results), "--algo", "ppo", *target]) == 2  # would merge with the constant-3e-4 rows
+    assert "trained with the tag 'ppo, lr 0.0001'" in capsys.readouterr().err
+    assert main(["add", str(results), "--algo", "ppo, lr 1e-4, short", *target]) == 0  # the same rate, spelt otherwise
+    assert main(["add", str(results), "--algo", "ppo, lr fast", *target]) == 2
+    assert "'lr fast' names no learning rate" in capsys.readouterr().err
+    assert main(["add", str(results), *target]) == 0
+    assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {"ppo, lr 1e-4, short", "ppo, lr 0.0001"}
+
+    sweep = tmp_path / "sweep"
+    write_csv_atomic(sweep / "sweep.csv", [{"num_distractors": n, **r} for n in (1, 5) for r in _rows({"raw": [0.9]})],
+                     ("num_distractors", *EVAL_COLUMNS))
+    for n, run in ((1, {"algo": "ppo"}), (5, {"algo": "ppo", "algo_defaults": 2})):
+        (sweep / f"distractors-{n}").mkdir()
+        (sweep / f"distractors-{n}" / "compare.json").write_text(json.dumps({"run": run}))
+    clutter = ["--clutter-csv", str(tmp_path / "clutter.csv")]
+    assert main(["add", str(sweep / "sweep.csv"), "--clutter", *clutter]) == 2
+    assert ("distractors-1: 'ppo', None, distractors-5: 'ppo, lr lin_3e-4', None); add each point's results.csv "
+            "with --clutter --num-distractors N") in capsys.readouterr().err
+    assert not (tmp_path / "clutter.csv").exists()
+
+    loose = tmp_path / "loose" / "results.csv"  # no compare.json beside it
+    write_csv_atomic(loose, _rows({"raw": [0.4]}), EVAL_COLUMNS)
+    assert main(["add", str(loose), "--comparison", str(tmp_path / "loose.csv")]) == 0
+    assert "no compare.json beside" in capsys.readouterr().out
+
+
 def test_render_writes_no_figure_when_the_readme_is_missing(tmp_path, capsys):
     write_csv_atomic(tmp_path / "rl.csv", [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})], ("algo", *EVAL_COLUMNS))
     figures = tmp_path / "figures"
