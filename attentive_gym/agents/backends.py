@@ -69,6 +69,14 @@ def _raise_interrupted(signum: int, _frame: Any) -> None:
     raise Interrupted(signum)
 
 
+def _raise_stop_behind(err: Exception) -> None:
+    """Raise the received stop signal's ``Interrupted`` from ``err`` if a stop signal arrived:
+    ``err`` is then the handler's exception as a compiled callee wrapped it (numba raises
+    ``SystemError`` "returned a result with an exception set")."""
+    if _received:
+        raise Interrupted(_received[0]) from err
+
+
 def raise_if_stopped() -> None:
     """Raise ``Interrupted`` if a stop signal was received, in case its own exception got lost.
 
@@ -121,9 +129,8 @@ def raise_on_stop_signals() -> Iterator[None]:
     """Inside the block SIGINT and SIGTERM raise ``Interrupted`` (main thread only) and are recorded for
     ``raise_if_stopped``; the record is cleared on entry and exit.
 
-    A compiled callee can wrap the handler's exception in its own (numba raises ``SystemError``
-    "returned a result with an exception set"): any ``Exception`` that leaves the block after a
-    stop signal arrived leaves it as that signal's ``Interrupted``.
+    Any ``Exception`` that leaves the block after a stop signal arrived leaves it as that
+    signal's ``Interrupted`` (``_raise_stop_behind``).
     """
     _received.clear()
     try:
@@ -131,8 +138,7 @@ def raise_on_stop_signals() -> Iterator[None]:
             try:
                 yield
             except Exception as err:
-                if _received:
-                    raise Interrupted(_received[0]) from err
+                _raise_stop_behind(err)
                 raise
     finally:
         _received.clear()
@@ -187,8 +193,7 @@ def run_job(spec_dict: dict[str, Any], run_dir: str) -> JobOutcome:
         error_file.unlink(missing_ok=True)
         return JobOutcome(run_dir, True, int(metrics["env_steps"]), wall_s=time.perf_counter() - start_s)
     except Exception as err:  # noqa: BLE001 - isolate the run, report it
-        if _received:  # a stop signal's Interrupted that a compiled callee wrapped (see raise_on_stop_signals)
-            raise Interrupted(_received[0]) from err
+        _raise_stop_behind(err)
         text = "".join(traceback.format_exception(err))
         try:
             write_text_atomic(Path(run_dir) / "error.txt", text)

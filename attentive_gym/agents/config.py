@@ -148,7 +148,7 @@ class RunSpec:
         defaults with a 100 000-step buffer and 1 000 warm-up steps.
         """
         if self.algo in ("ppo", "recurrent-ppo"):
-            learning_rate = 3e-4 if self.algo_defaults == 1 else "lin_3e-4"
+            learning_rate = SB3_LEARNING_RATE if self.algo_defaults == 1 else "lin_3e-4"
             ppo = {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": learning_rate, "gamma": 0.99,
                    "ent_coef": 0.005}
             return ppo if self.algo == "ppo" else {**ppo, "policy_kwargs": {"lstm_hidden_size": 64}}
