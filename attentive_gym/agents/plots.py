@@ -12,6 +12,7 @@ import numpy as np
 
 from attentive_gym._atomic import save_figure
 from attentive_gym.agents.statistics import bootstrap_ci
+from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["curve_stats", "plot_learning_curves", "plot_success_vs_distractors", "split_label", "steps_label",
            "METRIC_BOUNDS"]
@@ -64,10 +65,11 @@ def split_label(label: str) -> tuple[str, str]:
 
 
 def _line_styles(labels: Sequence[str]) -> dict[str, dict[str, str]]:
-    """matplotlib ``color`` and ``linestyle`` of each label: one colour per variant, one line
-    style per setting (both cycling when there are more than they have)."""
+    """matplotlib ``color`` and ``linestyle`` of each label: one colour per variant, the same
+    in every figure for the project's variants (their order in ``VARIANTS``; others after
+    them), one line style per setting (both cycling when there are more than they have)."""
     parts = {label: split_label(label) for label in labels}
-    variants = list(dict.fromkeys(variant for variant, _ in parts.values()))
+    variants = list(dict.fromkeys([*VARIANTS, *(variant for variant, _ in parts.values())]))
     settings = list(dict.fromkeys(setting for _, setting in parts.values()))
     return {label: {"color": f"C{variants.index(variant) % 10}",
                     "linestyle": _SETTING_STYLES[settings.index(setting) % len(_SETTING_STYLES)]}

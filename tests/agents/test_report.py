@@ -271,7 +271,7 @@ def test_the_clutter_figure_draws_the_normalised_runs_when_there_are_some(tmp_pa
 
     drawn = []
     monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path, budget: drawn.append(summary))
-    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path: None)
+    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path, title=None: None)
     rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
     clutter = ([{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in rows]
                + [{"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r} for r in rows])
@@ -289,7 +289,7 @@ def test_the_clutter_figure_names_its_budget_when_runs_were_trained_further(tmp_
 
     budgets_drawn = []
     monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path, budget: budgets_drawn.append(budget))
-    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path: None)
+    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path, title=None: None)
     short, long = _rows({"raw": [0.5, 0.5]}), _rows({"focus": [0.7, 0.7]}, steps=(0, 100, 200, 300))
     clutter = [{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in short + long]
     comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in short]
@@ -297,3 +297,35 @@ def test_the_clutter_figure_names_its_budget_when_runs_were_trained_further(tmp_
     assert budgets_drawn == [200]  # the figure shows the first budget, and says so
     render_block(comparison, clutter[:6], tmp_path, [tmp_path / "a.csv"], tmp_path)
     assert budgets_drawn[1] is None  # one budget: the title needs none
+
+
+def test_each_training_setting_gets_a_learning_curve_figure_of_its_own_defaults_first(tmp_path, monkeypatch):
+    import attentive_gym.agents.report as report
+
+    drawn = {}
+    monkeypatch.setattr(report, "plot_learning_curves",
+                        lambda rows, path, title=None: drawn.setdefault(path.name, ({r["variant"] for r in rows}, title)))
+    rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
+    comparison = ([{"algo": "recurrent-ppo", "obs_scaling": "running", **r} for r in rows]
+                  + [{"algo": "ppo, lr lin_3e-4", "obs_scaling": "running", **r} for r in rows]
+                  + [{"algo": "ppo", "obs_scaling": "none", **r} for r in rows])  # unscaled: in the tables only
+    block = render_block(comparison, [], tmp_path, [tmp_path / "a.csv"], tmp_path)
+    assert set(drawn) == {"rl_learning_curves.png", "rl_learning_curves_recurrent-ppo.png"}
+    variants, title = drawn["rl_learning_curves.png"]  # RunSpec's default setting takes the plain name
+    assert variants == {"raw (ppo, lr lin_3e-4)", "focus (ppo, lr lin_3e-4)"} and "today's defaults" in title
+    assert drawn["rl_learning_curves_recurrent-ppo.png"][0] == {"raw (recurrent-ppo)", "focus (recurrent-ppo)"}
+    assert block.index("rl_learning_curves.png") < block.index("rl_learning_curves_recurrent-ppo.png")
+    assert "| focus (unscaled) |" in block
+    drawn.clear()
+    render_block(comparison[-len(rows):], [], tmp_path, [tmp_path / "a.csv"], tmp_path)
+    assert set(drawn) == {"rl_learning_curves.png"}  # no normalised runs: the unscaled ones, under the plain name
+
+
+def test_a_variant_has_the_same_colour_in_every_figure():
+    from attentive_gym.agents.plots import _line_styles
+
+    alone = _line_styles(["focus (recurrent-ppo)", "oracle (recurrent-ppo)", "my-variant"])
+    together = _line_styles(["raw", "raw-stack", "focus", "oracle", "my-variant (unscaled)"])
+    assert alone["focus (recurrent-ppo)"]["color"] == together["focus"]["color"]
+    assert alone["oracle (recurrent-ppo)"]["color"] == together["oracle"]["color"] != together["focus"]["color"]
+    assert alone["my-variant"]["color"] == together["my-variant (unscaled)"]["color"]  # after the project's variants
