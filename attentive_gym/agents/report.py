@@ -46,7 +46,7 @@ __all__ = ["COMPARISON_COLUMNS", "CLUTTER_COLUMNS", "algo_tag", "merge_rows", "l
 
 COMPARISON_COLUMNS = ("algo", "obs_scaling", *EVAL_COLUMNS)
 CLUTTER_COLUMNS = ("algo", "obs_scaling", "num_distractors", *EVAL_COLUMNS)
-#: The scaling of the runs whose learning curves the figure shows (``RunSpec``'s default).
+#: The scaling of the runs whose learning curves the figures show (``RunSpec``'s default).
 SCALED = "running"
 #: Variants that bound or control attention, and the baselines; the rest are "attended".
 BASELINE, ORACLE = "raw", "oracle"
@@ -253,9 +253,12 @@ def learning_curve_figures(rows: Sequence[Mapping[str, Any]]) -> list[tuple[str,
     when the default's is absent."""
     default = algo_tag(RunSpec().to_dict())
     settings = sorted(dict.fromkeys(row["algo"] for row in rows), key=lambda tag: tag != default)
-    return [(f"rl_learning_curves{'_' + re.sub(r'[^0-9A-Za-z]+', '-', tag).strip('-') if k else ''}.png",
-             f"{tag} (today's defaults)" if tag == default else tag, [row for row in rows if row["algo"] == tag])
-            for k, tag in enumerate(settings)]
+    figures = []
+    for k, tag in enumerate(settings):
+        suffix = "_" + re.sub(r"[^0-9A-Za-z]+", "-", tag).strip("-") if k else ""
+        setting = f"{tag} (today's defaults)" if tag == default else tag
+        figures.append((f"rl_learning_curves{suffix}.png", setting, [row for row in rows if row["algo"] == tag]))
+    return figures
 
 
 def _ordered(rows: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
