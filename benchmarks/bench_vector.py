@@ -10,17 +10,25 @@ Prints:
    torch thread) at N = 16, 64, 256: µs per env-step of each (target: below VMAS's);
 3. a scaling table of the native ``focus`` env for N = 1 … 256: µs per env-step,
    env-steps/s, and memory per env (the resident memory that building and resetting the N
-   envs adds to a fresh process, divided by N; Linux only).
+   envs adds to a fresh process, divided by N; Linux only);
+4. the floor of the native ``focus`` env at N = 16: the µs per env-step of the work no
+   design of the step can skip (the compiled sensor sweep and attentional models, timed
+   inside the running env, and the fewest pymunk calls a step of each world needs, the
+   per-body API being Python), beside the budgets the speed targets leave (BipedalWalker-v3's
+   µs per step / 3, the sync vector env's / 4, measured in the same run).
 
 Random actions, no rendering; resets are part of the stepping (autoreset).
 
-Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-envs 256]``
+Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-envs 256]
+[--sections peers,vmas,scaling,floor]``
+(the compiled kernels run on ``NUMBA_NUM_THREADS`` threads, all cores by default)
 (BipedalWalker needs ``pip install -e ".[bench]"``; VMAS ``pip install vmas``, skipped if absent).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import statistics
 import subprocess
@@ -28,10 +36,14 @@ import sys
 import time
 
 import gymnasium as gym
+import numba
 import numpy as np
 
 import attentive_gym  # noqa: F401  (registers the environments)
+from attentive_gym.attention import batch as model_batch
 from attentive_gym.registration import VARIANT_IDS
+from attentive_gym.sensors import _pymunk_access as body_state
+from attentive_gym.sensors import suite as sensor_suite
 from bench_env import steps_per_second
 
 
@@ -159,16 +171,101 @@ def scaling(seconds: float, sizes) -> None:
         print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory_per_env(n):12.2f}")
 
 
+class _Timed:
+    """A module function wrapped to add up the wall time (s) of its calls."""
+
+    def __init__(self, module, name: str) -> None:
+        self.module, self.name, self.inner, self.seconds = module, name, getattr(module, name), 0.0
+
+    def __call__(self, *args):
+        start = time.perf_counter()
+        result = self.inner(*args)
+        self.seconds += time.perf_counter() - start
+        return result
+
+    def __enter__(self) -> "_Timed":
+        setattr(self.module, self.name, self)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        setattr(self.module, self.name, self.inner)
+
+
+def pymunk_floor_us(envs, steps: int = 300) -> float:
+    """µs per env-step of the fewest pymunk calls one step of each member's world makes:
+    the robot's velocities and the space's step in each physics sub-step, each mover's
+    velocity, and the robot's and movers' poses read back for the sensors."""
+    worlds = [env.unwrapped.world for env in envs]
+    substeps = max(1, math.ceil(envs[0].unwrapped.dt / worlds[0].physics_dt_s - 1e-9))
+    h = envs[0].unwrapped.dt / substeps
+    start = time.perf_counter()
+    for _ in range(steps):
+        for world in worlds:
+            robot = world.robot.body
+            for _ in range(substeps):
+                body_state.set_velocity(robot, 0.1, 0.0)
+                robot.angular_velocity = 0.05
+                world.space.step(h)
+            for mover in world.movers:
+                body_state.set_velocity(mover.body, 0.1, 0.0)
+            body_state.position(robot), robot.angle
+            for mover in world.movers:
+                body_state.position(mover.body), mover.body.angle
+    return (time.perf_counter() - start) / (steps * len(worlds)) * 1e6
+
+
+def floor_at_16(seconds: float, steps: int = 400) -> None:
+    """Section 4: the native ``focus`` env's floor at N = 16 against the targets' budgets."""
+    env = make_vector("focus", 16, "vector_entry_point")
+    whole_us = 1e6 / vector_rate(env, seconds)
+    actions = np.random.default_rng(0).uniform(-1, 1, (32, *env.action_space.shape)).astype(env.action_space.dtype)
+    with _Timed(sensor_suite, "_read_many_kernel") as sensing, _Timed(model_batch, "attend_many") as models:
+        for k in range(steps):
+            env.step(actions[k % len(actions)])
+    env_steps = steps * env.num_envs
+    sensing_us, models_us = sensing.seconds / env_steps * 1e6, models.seconds / env_steps * 1e6
+    pymunk_us = pymunk_floor_us(env.envs)
+    env.close()
+    walker_us = 1e6 / steps_per_second(gym.make("BipedalWalker-v3"), seconds)
+    sync = make_vector("focus", 16, "sync")
+    sync_us = 1e6 / vector_rate(sync, seconds)
+    sync.close()
+    floor = sensing_us + models_us + pymunk_us
+    print(f"== floor of the native focus env, N = 16, {numba.get_num_threads()} numba thread(s), µs per env-step ==")
+    for name, value in (("compiled sensor sweep", sensing_us), ("compiled attentional models", models_us),
+                        ("pymunk's fewest calls", pymunk_us), ("floor (their sum)", floor),
+                        ("the whole step", whole_us), ("budget of >= 3x BipedalWalker-v3", walker_us / 3),
+                        ("budget of >= 4x the sync vector env", sync_us / 4)):
+        print(f"{name:<38} {value:8.1f}")
+    print(f"left above the floor for everything else: {walker_us / 3 - floor:.1f} µs (3x BipedalWalker-v3), "
+          f"{sync_us / 4 - floor:.1f} µs (4x sync); the step spends {whole_us - floor:.1f} µs there today")
+
+
+#: The benchmark's sections, in the order they run.
+SECTIONS = ("peers", "vmas", "scaling", "floor")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--seconds", type=float, default=2.0, help="wall time per measurement (s)")
     parser.add_argument("--rounds", type=int, default=3, help="alternating rounds for the peer comparisons")
     parser.add_argument("--max-envs", type=int, default=256, help="largest N of the VMAS comparison and the scaling table")
+    parser.add_argument("--sections", default=",".join(SECTIONS),
+                        help=f"comma-separated sections to run, of {', '.join(SECTIONS)} (default: all)")
     args = parser.parse_args(argv)
+    sections = args.sections.split(",")
+    unknown = sorted(set(sections) - set(SECTIONS))
+    if unknown:
+        parser.error(f"unknown section(s) {', '.join(unknown)}; allowed: {', '.join(SECTIONS)}")
     sizes = [n for n in (1, 2, 4, 8, 16, 32, 64, 128, 256) if n <= args.max_envs]
-    peers_at_16(args.seconds, args.rounds)
-    against_vmas(args.seconds, args.rounds, [n for n in (16, 64, 256) if n <= args.max_envs])
-    scaling(args.seconds, sizes)
+    if "peers" in sections:
+        peers_at_16(args.seconds, args.rounds)
+    if "vmas" in sections:
+        against_vmas(args.seconds, args.rounds, [n for n in (16, 64, 256) if n <= args.max_envs])
+    if "scaling" in sections:
+        scaling(args.seconds, sizes)
+    if "floor" in sections:
+        floor_at_16(args.seconds)
 
 
 if __name__ == "__main__":
