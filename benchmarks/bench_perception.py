@@ -54,6 +54,7 @@ import numpy as np
 
 from attentive_gym._atomic import atomic_file
 from attentive_gym.attention import ORIGIN_TOP_DOWN, AttentionConfig, AttentionModel, Goal, Grid
+from attentive_gym.attention import model as model_module
 from attentive_gym.attention.goals import Feature
 from attentive_gym.attention.regions import nearest_sonar
 from attentive_gym.attention.tracker import Tracker
@@ -884,16 +885,19 @@ def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:
     return readings, env.goal
 
 
-def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, float]:
-    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first), and per
-    step of a separate ``Tracker`` of the same configuration fed the same readings (the
-    model's tracker runs inside its one compiled step; 0 without a tracker)."""
+def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, float, float]:
+    """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first); of it,
+    per call of the compiled step ``attend_one`` (timed in a second pass, so that timing it
+    does not slow the first); and per step of a separate ``Tracker`` of the same
+    configuration fed the same readings (the model's tracker runs inside its one compiled
+    step; 0 without a tracker)."""
     model.reset()
     start = time.perf_counter()
     outputs = [model.step(t, sonar, laser, odometry) for t, sonar, laser, odometry in readings]
     elapsed = time.perf_counter() - start
+    compiled = _compiled_step_us(model, readings)
     if model.config.kinematics != "tracker":
-        return elapsed / len(readings) * 1e6, 0.0
+        return elapsed / len(readings) * 1e6, compiled, 0.0
     tracker = Tracker(model.config)
     wanted_speed = model._wanted_speed
     channels = outputs[0]._sources[1].shape[0]
@@ -907,7 +911,31 @@ def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, 
         tracker.step(t, dt, (float(odometry[0]), float(odometry[1])), True, True, clipped, valid, rates, speeds,
                      moving, wanted_speed)
         inside += time.perf_counter() - begin
-    return elapsed / len(readings) * 1e6, inside / len(readings) * 1e6
+    return elapsed / len(readings) * 1e6, compiled, inside / len(readings) * 1e6
+
+
+def _compiled_step_us(model: AttentionModel, readings: list[tuple]) -> float:
+    """µs per call of the model's compiled step (``attend_one``, with numba's dispatch of its
+    arguments) over ``readings``, the model reset first: the part of ``model.step`` that no
+    Python around it can save."""
+    compiled = model_module.attend_one
+    seconds = 0.0
+
+    def timed(*args):
+        nonlocal seconds
+        begin = time.perf_counter()
+        result = compiled(*args)
+        seconds += time.perf_counter() - begin
+        return result
+
+    model.reset()
+    model_module.attend_one = timed
+    try:
+        for t, sonar, laser, odometry in readings:
+            model.step(t, sonar, laser, odometry)
+    finally:
+        model_module.attend_one = compiled
+    return seconds / len(readings) * 1e6
 
 
 def time_env_us(env, actions: list[np.ndarray]) -> float:
@@ -924,7 +952,7 @@ def time_env_us(env, actions: list[np.ndarray]) -> float:
 
 
 def print_cost(results: Results, modes, rounds: int) -> None:
-    """Section 5: µs per model step per mode beside a raw env step, medians of alternating rounds."""
+    """Section 4: µs per model step per mode beside a raw env step, medians of alternating rounds."""
     readings, goal = record_readings(COST_RECORD_S)
     models = {}
     for mode in modes:
@@ -933,11 +961,14 @@ def print_cost(results: Results, modes, rounds: int) -> None:
     env = make_raw_env(_noise(COST_NOISE), **PERCEPTION_ARENA)
     env.action_space.seed(0)
     actions = [env.action_space.sample() for _ in readings]
-    times: dict[str, list[float]] = {name: [] for name in (*modes, *(f"{m} tracker" for m in modes), "env")}
+    parts = ("", " compiled", " tracker")
+    times: dict[str, list[float]] = {f"{mode}{part}": [] for mode in modes for part in parts}
+    times["env"] = []
     for round_index in range(rounds + 1):  # round 0 warms up (numba compiles) and is dropped
         figures = {}
         for mode, model in models.items():
-            figures[mode], figures[f"{mode} tracker"] = time_model_us(model, readings)
+            for part, value in zip(parts, time_model_us(model, readings)):
+                figures[f"{mode}{part}"] = value
         figures["env"] = time_env_us(env, actions)
         if round_index:
             for name, value in figures.items():
@@ -945,20 +976,22 @@ def print_cost(results: Results, modes, rounds: int) -> None:
     env_us = statistics.median(times["env"])
     rows = []
     for mode in modes:
-        model_us = statistics.median(times[mode])
-        metrics = {"model_step_us": model_us, "env_step_us": env_us, "model_over_env": model_us / env_us}
+        model_us, compiled_us = statistics.median(times[mode]), statistics.median(times[f"{mode} compiled"])
+        metrics = {"model_step_us": model_us, "env_step_us": env_us, "model_over_env": model_us / env_us,
+                   "compiled_step_us": compiled_us, "compiled_over_env": compiled_us / env_us}
         tracker_cells = ["—", "—"]
         if models[mode]._tracker is not None:
             tracker_us = statistics.median(times[f"{mode} tracker"])
             metrics.update(tracker_step_us=tracker_us, tracker_over_env=tracker_us / env_us)
             tracker_cells = [f"{tracker_us:.1f}", f"{tracker_us / env_us:.2f}"]
         results.add("cost", {"mode": mode, "robot": "driving", "noise": COST_NOISE}, metrics)
-        rows.append([mode, f"{model_us:.1f}", tracker_cells[0], f"{env_us:.1f}", f"{model_us / env_us:.2f}",
-                     tracker_cells[1]])
+        rows.append([mode, f"{model_us:.1f}", f"{compiled_us:.1f}", tracker_cells[0], f"{env_us:.1f}",
+                     f"{model_us / env_us:.2f}", f"{compiled_us / env_us:.2f}", tracker_cells[1]])
     print(f"\n### Model step cost (readings of a {len(readings)}-step driving episode at 5 % noise; "
           f"medians of {rounds} alternating rounds)\n")
-    print(markdown_table(["mode", "model step µs", "of which the tracker µs", "raw env step µs", "model / env step",
-                          "tracker / env step"], rows))
+    print(markdown_table(["mode", "model step µs", "of which the compiled step µs", "the tracker alone µs",
+                          "raw env step µs", "model / env step", "compiled step / env step", "tracker / env step"],
+                         rows))
 
 
 def write_csv(path: Path, rows: list[dict[str, Any]]) -> None:

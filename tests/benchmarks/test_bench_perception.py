@@ -251,3 +251,14 @@ def test_clutter_section_reports_each_distractor_count(tmp_path, monkeypatch, ca
     path = tmp_path / "clutter.csv"
     bench.write_csv(path, results.rows)
     assert path.read_text().splitlines()[1].endswith(",1")  # the distractor count, last column
+
+
+def test_cost_times_the_compiled_step_inside_the_model_step():
+    readings, goal = bench.record_readings(0.5)
+    model = bench.AttentionModel(bench.AttentionConfig(range_noise_rel=0.05))
+    model.set_goals(goal)
+    compiled_step = bench.model_module.attend_one
+    bench.time_model_us(model, readings)  # numba compiles
+    total, compiled, tracker = bench.time_model_us(model, readings)
+    assert bench.model_module.attend_one is compiled_step  # put back after its pass
+    assert 0.0 < compiled < total and tracker > 0.0  # the compiled step was called, and is a part of the step
