@@ -12,7 +12,7 @@ Prints:
    env-steps/s, and memory per env (the resident memory that building and resetting the N
    envs adds to a fresh process, divided by N; Linux only);
 4. the floor of the native ``focus`` env at N = 16: the µs per env-step of the work no
-   design of the step can skip (the compiled sensor sweep and attentional models, timed
+   design of the step around today's kernels can skip (the compiled sensor sweep and attentional models, timed
    inside the running env, and the fewest pymunk calls a step of each world needs, the
    per-body API being Python), beside the budgets the speed targets leave (BipedalWalker-v3's
    µs per step / 3, the sync vector env's / 4, measured in the same run).
