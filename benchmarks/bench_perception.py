@@ -61,6 +61,7 @@ from attentive_gym.attention.tracker import Tracker
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
 from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
+from call_timer import CallTimer
 
 MODES = ("tracker", "window", "literal")
 SECTIONS = ("speed", "focus", "control", "cost", "clutter")
@@ -918,24 +919,11 @@ def _compiled_step_us(model: AttentionModel, readings: list[tuple]) -> float:
     """µs per call of the model's compiled step (``attend_one``, with numba's dispatch of its
     arguments) over ``readings``, the model reset first: the part of ``model.step`` that no
     Python around it can save."""
-    compiled = model_module.attend_one
-    seconds = 0.0
-
-    def timed(*args):
-        nonlocal seconds
-        begin = time.perf_counter()
-        result = compiled(*args)
-        seconds += time.perf_counter() - begin
-        return result
-
     model.reset()
-    model_module.attend_one = timed
-    try:
+    with CallTimer(model_module, "attend_one") as compiled:
         for t, sonar, laser, odometry in readings:
             model.step(t, sonar, laser, odometry)
-    finally:
-        model_module.attend_one = compiled
-    return seconds / len(readings) * 1e6
+    return compiled.seconds / len(readings) * 1e6
 
 
 def time_env_us(env, actions: list[np.ndarray]) -> float:

@@ -45,6 +45,7 @@ from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.sensors import _pymunk_access as body_state
 from attentive_gym.sensors import suite as sensor_suite
 from bench_env import steps_per_second
+from call_timer import CallTimer
 
 
 def vector_rate(env, seconds: float, seed: int = 0) -> float:
@@ -171,26 +172,6 @@ def scaling(seconds: float, sizes) -> None:
         print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory_per_env(n):12.2f}")
 
 
-class _Timed:
-    """A module function wrapped to add up the wall time (s) of its calls."""
-
-    def __init__(self, module, name: str) -> None:
-        self.module, self.name, self.inner, self.seconds = module, name, getattr(module, name), 0.0
-
-    def __call__(self, *args):
-        start = time.perf_counter()
-        result = self.inner(*args)
-        self.seconds += time.perf_counter() - start
-        return result
-
-    def __enter__(self) -> "_Timed":
-        setattr(self.module, self.name, self)
-        return self
-
-    def __exit__(self, *exc) -> None:
-        setattr(self.module, self.name, self.inner)
-
-
 def pymunk_floor_us(envs, steps: int = 300) -> float:
     """µs per env-step of the fewest pymunk calls one step of each member's world makes:
     the robot's velocities and the space's step in each physics sub-step, each mover's
@@ -219,7 +200,7 @@ def floor_at_16(seconds: float, steps: int = 400) -> None:
     env = make_vector("focus", 16, "vector_entry_point")
     whole_us = 1e6 / vector_rate(env, seconds)
     actions = np.random.default_rng(0).uniform(-1, 1, (32, *env.action_space.shape)).astype(env.action_space.dtype)
-    with _Timed(sensor_suite, "_read_many_kernel") as sensing, _Timed(model_batch, "attend_many") as models:
+    with CallTimer(sensor_suite, "_read_many_kernel") as sensing, CallTimer(model_batch, "attend_many") as models:
         for k in range(steps):
             env.step(actions[k % len(actions)])
     env_steps = steps * env.num_envs

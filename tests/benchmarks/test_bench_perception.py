@@ -24,7 +24,11 @@ def _load_script():
     spec = importlib.util.spec_from_file_location("bench_perception", _SCRIPT)
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses resolve their module by name
-    spec.loader.exec_module(module)
+    sys.path.insert(0, str(_SCRIPT.parent))  # the script imports its sibling call_timer
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(_SCRIPT.parent))
     return module
 
 

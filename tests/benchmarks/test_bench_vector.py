@@ -40,11 +40,12 @@ def focus_fleet():
 def test_timed_kernels_are_the_steps_own_and_are_put_back(focus_fleet):
     sensing_kernel, model_kernel = bench.sensor_suite._read_many_kernel, bench.model_batch.attend_many
     actions = np.zeros((2, 2), np.float32)
-    with bench._Timed(bench.sensor_suite, "_read_many_kernel") as sensing, \
-            bench._Timed(bench.model_batch, "attend_many") as models:
+    with bench.CallTimer(bench.sensor_suite, "_read_many_kernel") as sensing, \
+            bench.CallTimer(bench.model_batch, "attend_many") as models:
         for _ in range(3):
             focus_fleet.step(actions)
-    assert sensing.seconds > 0.0 and models.seconds > 0.0  # the env called both through the wrappers
+    assert sensing.calls == models.calls == 3  # one sweep and one batch of models a step, through the timers
+    assert sensing.seconds > 0.0 and models.seconds > 0.0
     assert bench.sensor_suite._read_many_kernel is sensing_kernel
     assert bench.model_batch.attend_many is model_kernel
 
