@@ -18,7 +18,8 @@ markdown tables of:
    track too; the speed of regions whose echoes all come from static structure (should be
    ≈ 0); and how often "the goal holds" judged from the estimate agrees with the truth.
 2. ``focus``: per default task goal, the fraction of the steps with the target in front and
-   within 5 m at which the focus is the target's region (chance: 1/8).
+   within 5 m at which the focus is the target's region (chance: 1/8), and each noisy
+   setting's figure relative to the same mode's noise-free one (what the noise takes away).
 3. ``control``: success rates in the 8 m arena with 2 distractors (seeds 0..N−1) of a
    controller steered by the latest top-down focus, of the same controller steered by the
    first row of the ``focus`` observation's working memory when it matched the goal
@@ -705,6 +706,7 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
     goals = tuple(arena.DEFAULT_TASK_GOALS)
     goal_names = [str(goal) for goal in goals]
     speed_rows, track_rows, focus_rows, case_rows, age_rows = [], [], [], [], []
+    focus_by_setting: dict[tuple[str, str, str], dict[str, float]] = {}  # (mode, robot, noise) → goal → rate
     for mode, noise, robot, records in perception_records(modes, episodes, seconds, goals):
         config = {"mode": mode, "robot": robot, "noise": noise}
         label = [mode, robot, noise]
@@ -720,6 +722,7 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
         if "track_pairs" in metrics:
             track_rows.append(label + _cells(metrics, TRACK_COLUMNS))
         focus = focus_on_target(records)
+        focus_by_setting[(mode, robot, noise)] = {goal: rate for goal, (rate, _) in focus.items()}
         for goal, (rate, steps) in focus.items():
             if "focus" in sections:
                 results.add("focus", config, {"focus_on_target": rate, "target_in_view_steps": steps}, goal=goal)
@@ -757,6 +760,11 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
               f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
               f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}.\n")
         print(markdown_table(header + [f"`{g}`" for g in goal_names], focus_rows))
+        relative_rows = _focus_relative_to_noise_free(results, focus_by_setting, goal_names)
+        if relative_rows:
+            print(f"\nFocus on target relative to the same mode and robot noise-free (`{NOISE_SETTINGS[0].name}`): "
+                  "how much of the model's own noise-free focus each noise setting leaves.\n")
+            print(markdown_table(header + [f"`{g}`" for g in goal_names], relative_rows))
         if case_rows:
             print("\nWhy the focus is or is not on the target, as fractions of the same steps (both goals; "
                   f"`TARGET_CASES`): perception misses it (hidden from the laser; seen but no confirmed track within "
@@ -773,6 +781,27 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
                   f"{TRACK_MATCH_M:g} m), both goals; each group's share of the steps in brackets. A young track's "
                   "speed is not yet known well enough to judge the goal.\n")
             print(markdown_table(header + ["no track"] + bins, age_rows))
+
+
+def _focus_relative_to_noise_free(results: Results, focus_by_setting: Mapping[tuple[str, str, str], Mapping[str, float]],
+                                  goal_names: list[str]) -> list[list[str]]:
+    """Rows of the focus on target of every noisy setting divided by that of the same mode and
+    robot noise-free (NaN where either is undefined), each ratio also added to ``results``
+    as ``focus_over_noise_free``."""
+    rows = []
+    for (mode, robot, noise), rates in focus_by_setting.items():
+        noise_free = focus_by_setting.get((mode, robot, NOISE_SETTINGS[0].name))
+        if noise == NOISE_SETTINGS[0].name or noise_free is None:
+            continue
+        cells = []
+        for goal in goal_names:
+            reference = noise_free.get(goal, math.nan)
+            ratio = rates.get(goal, math.nan) / reference if reference > 0.0 else math.nan
+            results.add("focus", {"mode": mode, "robot": robot, "noise": noise}, {"focus_over_noise_free": ratio},
+                        goal=goal)
+            cells.append(_fmt(ratio))
+        rows.append([mode, robot, noise] + cells)
+    return rows
 
 
 def control_success(env, make_policy: Callable[[Any, int], Policy], seeds: Iterable[int]) -> float:

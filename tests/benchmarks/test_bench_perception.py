@@ -266,3 +266,15 @@ def test_cost_times_the_compiled_step_inside_the_model_step():
     total, compiled, tracker = bench.time_model_us(model, readings)
     assert bench.model_module.attend_one is compiled_step  # put back after its pass
     assert 0.0 < compiled < total and tracker > 0.0  # the compiled step was called, and is a part of the step
+
+
+def test_focus_relative_to_noise_free_divides_by_the_same_mode_and_robot():
+    quiet, noisy = bench.NOISE_SETTINGS[0].name, bench.NOISE_SETTINGS[2].name
+    focus = {("tracker", "still", quiet): {"a": 0.8, "b": 0.0},
+             ("tracker", "still", noisy): {"a": 0.6, "b": 0.1},
+             ("tracker", "driving", noisy): {"a": 0.5, "b": 0.5}}  # no noise-free row: no ratio
+    results = bench.Results()
+    rows = bench._focus_relative_to_noise_free(results, focus, ["a", "b"])
+    assert rows == [["tracker", "still", noisy, "0.750", "—"]]  # 0.6 / 0.8; b has no noise-free focus to divide by
+    ratios = {row["goal"]: row["value"] for row in results.rows}
+    assert ratios["a"] == pytest.approx(0.75) and math.isnan(ratios["b"])
