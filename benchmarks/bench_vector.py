@@ -12,10 +12,11 @@ Prints:
    env-steps/s, and memory per env (the resident memory that building and resetting the N
    envs adds to a fresh process, divided by N; Linux only);
 4. the floor of the native ``focus`` env at N = 16: the µs per env-step of the work no
-   design of the step around today's kernels can skip (the compiled sensor sweep and attentional models, timed
-   inside the running env, and the fewest pymunk calls a step of each world needs, the
-   per-body API being Python), beside the budgets the speed targets leave (BipedalWalker-v3's
-   µs per step / 3, the sync vector env's / 4, measured in the same run).
+   design of the step around today's kernels can skip (the compiled sensor sweep and
+   attentional models, timed inside the running env, and the fewest pymunk calls a step of
+   each world needs, the per-body API being Python), beside the budgets the speed targets
+   leave (BipedalWalker-v3's µs per step / 3, the sync vector env's / 4, measured in the
+   same run).
 
 Random actions, no rendering; resets are part of the stepping (autoreset).
 
@@ -28,7 +29,6 @@ Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-env
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import statistics
 import subprocess
@@ -177,8 +177,9 @@ def pymunk_floor_us(envs, steps: int = 300) -> float:
     the robot's velocities and the space's step in each physics sub-step, each mover's
     velocity, and the robot's and movers' poses read back for the sensors."""
     worlds = [env.unwrapped.world for env in envs]
-    substeps = max(1, math.ceil(envs[0].unwrapped.dt / worlds[0].physics_dt_s - 1e-9))
-    h = envs[0].unwrapped.dt / substeps
+    dt_s = envs[0].unwrapped.dt
+    substeps = worlds[0].substeps(dt_s)
+    h = dt_s / substeps
     start = time.perf_counter()
     for _ in range(steps):
         for world in worlds:

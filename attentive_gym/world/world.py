@@ -233,7 +233,7 @@ class World:
             raise ValueError(f"dt_s must be a finite number of seconds > 0, got {dt_s!r}")
         if dt_s != self._clock_dt_s:
             self._clock_start_s, self._clock_dt_s, self._steps_taken = self.time_s, dt_s, 0
-        substeps = max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
+        substeps = self.substeps(dt_s)
         h = dt_s / substeps
         robot = self.robot
         robot.command(linear_mps, angular_rps)
@@ -251,6 +251,11 @@ class World:
         self._steps_taken += 1
         self.time_s = self._clock_start_s + self._steps_taken * dt_s
         return touched[0]
+
+    def substeps(self, dt_s: float) -> int:
+        """How many equal physics sub-steps, none longer than ``physics_dt_s``, a ``step`` of
+        ``dt_s`` seconds takes."""
+        return max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
 
     def geometry(self) -> SceneGeometry:
         """The scene's world-frame geometry now, with owners = entity ids."""

@@ -4,35 +4,20 @@ metrics tell a corrupted estimate, a perfect focus and a still robot apart."""
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import load_benchmark
 
 from attentive_gym.attention import Goal
 
-_SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_perception.py"
 SEED = 0  # a seed whose first 2 s show a mover in front within 5 m for over 1 s
 SECONDS = 2.0
 GOAL = Goal.between("speed", 0.5, 0.9)  # a speed goal: goal agreement is defined
 
 
-def _load_script():
-    spec = importlib.util.spec_from_file_location("bench_perception", _SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses resolve their module by name
-    sys.path.insert(0, str(_SCRIPT.parent))  # the script imports its sibling call_timer
-    try:
-        spec.loader.exec_module(module)
-    finally:
-        sys.path.remove(str(_SCRIPT.parent))
-    return module
-
-
-bench = _load_script()
+bench = load_benchmark("bench_perception")
 
 
 @pytest.fixture(scope="module")

@@ -4,29 +4,13 @@ section name it does not know is refused before anything runs."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from support import load_benchmark
 
-_BENCHMARKS = Path(__file__).resolve().parents[2] / "benchmarks"
-
-
-def _load_script():
-    sys.path.insert(0, str(_BENCHMARKS))  # the script imports its sibling bench_env
-    try:
-        spec = importlib.util.spec_from_file_location("bench_vector", _BENCHMARKS / "bench_vector.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-    finally:
-        sys.path.remove(str(_BENCHMARKS))
-    return module
-
-
-bench = _load_script()
+bench = load_benchmark("bench_vector")
 
 
 @pytest.fixture(scope="module")

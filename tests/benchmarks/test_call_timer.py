@@ -3,17 +3,12 @@ function's results pass through, and the module gets its function back, also aft
 
 from __future__ import annotations
 
-import sys
 import types
-from pathlib import Path
 
 import pytest
+from support import load_benchmark
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-try:
-    from call_timer import CallTimer
-finally:
-    sys.path.pop(0)
+CallTimer = load_benchmark("call_timer").CallTimer
 
 
 def _module():

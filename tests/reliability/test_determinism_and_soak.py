@@ -9,7 +9,6 @@ async against sync vector envs on every output, across episode boundaries.
 import multiprocessing
 import pickle
 import sys
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -19,7 +18,7 @@ import attentive_gym  # noqa: F401  (registers the environments)
 from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
 from attentive_gym.envs.invariants import check_invariants
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
-from support import assert_same
+from support import BENCHMARKS, assert_same
 
 
 def trajectory(scenario: str, seed: int, steps: int) -> list:
@@ -152,7 +151,7 @@ def test_invariants_hold_on_a_normal_episode_and_catch_planted_faults():
 
 
 def test_short_soak_has_no_violations():
-    benchmarks = str(Path(__file__).resolve().parents[2] / "benchmarks")
+    benchmarks = str(BENCHMARKS)
     sys.path.insert(0, benchmarks)  # the spawned workers import ``soak`` too: keep it on the path
     try:
         import soak
