@@ -27,7 +27,7 @@ import sys
 from pathlib import Path
 from typing import Callable, Sequence
 
-from attentive_gym.agents.backends import Interrupted
+from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.experiments.cli import add_experiment_parser
 

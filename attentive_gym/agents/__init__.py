@@ -6,6 +6,8 @@
 - ``evaluate_policy`` (``evaluation``): success rate, return, collisions, episode length.
 - ``compare.compare``: every (variant, seed) pair in parallel processes or on Ray, then
   ``results.csv``, ``learning_curves.png`` and ``summary.md``/``summary.csv``.
+- ``backends.run_many``: the runs in spawned processes or Ray tasks; ``stopping``: Ctrl-C and
+  SIGTERM (``Interrupted``), which both ``backends`` and ``training`` stop on.
 - ``results``: atomic writes and summaries; ``statistics``: IQM, bootstrap CIs, probability of
   improvement (as ``rliable``); ``plots``: the figures; ``sweep``: the clutter sweep;
   ``report``: the README's results from the shipped CSVs.

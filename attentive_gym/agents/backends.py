@@ -12,155 +12,45 @@ processes ignore SIGINT themselves (Ctrl-C reaches the whole process group; the 
 decides) and stop quietly on SIGTERM. Every file of a run is written atomically, so a
 stopped run's folder keeps its last checkpoint and running the same jobs again resumes it.
 A signal whose exception a finalizer dropped is not lost: the wait loops here and the
-training loop (every env step) call ``raise_if_stopped``.
+training loop (every env step) call ``raise_if_stopped`` (``stopping``, where the signal
+handling lives).
 """
 
 from __future__ import annotations
 
-import contextlib
 import multiprocessing
 import multiprocessing.connection
 import os
-import signal
 import sys
-import threading
 import time
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterable, Iterator, Sequence
+from typing import Any, Iterable, Iterator, Sequence
 
 from attentive_gym._checks import check_int
+from attentive_gym.agents.stopping import (
+    STOP_SIGNALS,
+    Interrupted,
+    raise_if_stopped,
+    raise_if_stopped_from,
+    raise_on_stop_signals,
+    signals_blocked,
+    stop_on_sigterm_only,
+    stop_signals_ignored,
+)
 
+# STOP_SIGNALS, Interrupted, raise_on_stop_signals, raise_if_stopped and signals_blocked live in
+# ``stopping`` (which ``training`` imports too); they stay importable from here.
 __all__ = ["BACKENDS", "STOP_SIGNALS", "STOP_GRACE_S", "Interrupted", "JobOutcome", "raise_on_stop_signals",
            "raise_if_stopped", "signals_blocked", "run_job", "run_many", "ray_available"]
 
 #: Backends of ``run_many``.
 BACKENDS = ("process", "ray")
-#: Signals that stop ``run_many`` (and ``attentive-gym train``).
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 #: Seconds a stopped run's process gets to exit after SIGTERM before it is killed.
 STOP_GRACE_S = 10.0
-#: Seconds between two looks at the stop signals while waiting for runs (see ``raise_if_stopped``).
+#: Seconds between two looks at the stop signals while waiting for runs (see ``stopping.raise_if_stopped``).
 _POLL_S = 0.5
-#: Stop signals received in this process (inside ``raise_on_stop_signals``, or in a run process), oldest first.
-_received: list[int] = []
-
-
-class Interrupted(KeyboardInterrupt):
-    """A stop signal arrived. ``signum``: which one; ``exit_status``: the shell's ``128 + signum``.
-
-    ``str()`` is one line: ``"interrupted by SIGINT"`` plus ``detail`` (what finished, how to resume).
-    """
-
-    def __init__(self, signum: int, detail: str = ""):
-        self.signum = int(signum)
-        self.detail = detail
-        message = f"interrupted by {signal.Signals(self.signum).name}"
-        super().__init__(f"{message}; {detail}" if detail else message)
-
-    @property
-    def exit_status(self) -> int:
-        return 128 + self.signum
-
-
-def _raise_interrupted(signum: int, _frame: Any) -> None:
-    _received.append(signum)
-    raise Interrupted(signum)
-
-
-def _raise_stop_behind(err: Exception) -> None:
-    """Raise the received stop signal's ``Interrupted`` from ``err`` if a stop signal arrived:
-    ``err`` is then the handler's exception as a compiled callee wrapped it (numba raises
-    ``SystemError`` "returned a result with an exception set")."""
-    if _received:
-        raise Interrupted(_received[0]) from err
-
-
-def raise_if_stopped() -> None:
-    """Raise ``Interrupted`` if a stop signal was received, in case its own exception got lost.
-
-    A signal handler runs between any two bytecodes, also inside a finalizer or a C
-    library's callback (pymunk frees its spaces in one), where Python drops the exception;
-    long loops call this to stop all the same.
-    """
-    if _received:
-        raise Interrupted(_received[0])
-
-
-def _quiet_about_lost_interrupts(passed_on: Callable[[Any], None]) -> Callable[[Any], None]:
-    """A ``sys.unraisablehook`` silent about an ``Interrupted`` that a finalizer dropped (``raise_if_stopped``
-    raises it again), passing anything else on to ``passed_on``."""
-
-    def hook(unraisable: Any) -> None:
-        if not isinstance(unraisable.exc_value, Interrupted):
-            passed_on(unraisable)
-
-    return hook
-
-
-@contextlib.contextmanager
-def _lost_interrupts_quiet() -> Iterator[None]:
-    """Inside the block a dropped ``Interrupted`` is not reported (no "Exception ignored ... Traceback")."""
-    previous = sys.unraisablehook
-    sys.unraisablehook = _quiet_about_lost_interrupts(previous)
-    try:
-        yield
-    finally:
-        sys.unraisablehook = previous
-
-
-@contextlib.contextmanager
-def _stop_signal_handler(handler: Any) -> Iterator[None]:
-    """``handler`` for SIGINT and SIGTERM inside the block (main thread only; elsewhere a no-op)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = {signum: signal.signal(signum, handler) for signum in STOP_SIGNALS}
-    try:
-        yield
-    finally:
-        for signum, old in previous.items():
-            signal.signal(signum, old)
-
-
-@contextlib.contextmanager
-def raise_on_stop_signals() -> Iterator[None]:
-    """Inside the block SIGINT and SIGTERM raise ``Interrupted`` (main thread only) and are recorded for
-    ``raise_if_stopped``; the record is cleared on entry and exit.
-
-    Any ``Exception`` that leaves the block after a stop signal arrived leaves it as that
-    signal's ``Interrupted`` (``_raise_stop_behind``).
-    """
-    _received.clear()
-    try:
-        with _stop_signal_handler(_raise_interrupted), _lost_interrupts_quiet():
-            try:
-                yield
-            except Exception as err:
-                _raise_stop_behind(err)
-                raise
-    finally:
-        _received.clear()
-
-
-def _stop_signals_ignored() -> contextlib.AbstractContextManager[None]:
-    """SIGINT and SIGTERM ignored inside the block (main thread only), so that stopping is not cut short."""
-    return _stop_signal_handler(signal.SIG_IGN)
-
-
-@contextlib.contextmanager
-def signals_blocked(signals: Iterable[int] = STOP_SIGNALS) -> Iterator[None]:
-    """Block ``signals`` in this thread inside the block; one that arrives is delivered at its end.
-
-    Processes started inside the block inherit the blocked mask, so they never see those
-    signals unless they unblock them (SB3's ``SubprocVecEnv`` workers do not).
-    """
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, signals)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 @dataclass(frozen=True)
@@ -193,7 +83,7 @@ def run_job(spec_dict: dict[str, Any], run_dir: str) -> JobOutcome:
         error_file.unlink(missing_ok=True)
         return JobOutcome(run_dir, True, int(metrics["env_steps"]), wall_s=time.perf_counter() - start_s)
     except Exception as err:  # noqa: BLE001 - isolate the run, report it
-        _raise_stop_behind(err)
+        raise_if_stopped_from(err)
         text = "".join(traceback.format_exception(err))
         try:
             write_text_atomic(Path(run_dir) / "error.txt", text)
@@ -247,10 +137,7 @@ class _RunProcess:
 
 def _job_process(spec_dict: dict[str, Any], run_dir: str, outcome: multiprocessing.connection.Connection) -> None:
     """A run process's entry: SIGINT ignored, SIGTERM stops the run quietly (exit status 143)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, _raise_interrupted)
-    sys.unraisablehook = _quiet_about_lost_interrupts(sys.unraisablehook)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)  # blocked by the parent from birth
+    stop_on_sigterm_only()
     try:
         outcome.send(run_job(spec_dict, run_dir))
     except Interrupted as stop:
@@ -281,7 +168,7 @@ def _collect(run: _RunProcess) -> JobOutcome:
 def _stop(runs: Iterable[_RunProcess], grace_s: float = STOP_GRACE_S) -> None:
     """SIGTERM every run's process, SIGKILL those still alive after ``grace_s`` seconds."""
     runs = list(runs)
-    with _stop_signals_ignored():
+    with stop_signals_ignored():
         for run in runs:
             run.process.terminate()
         deadline = time.monotonic() + grace_s
@@ -339,7 +226,7 @@ def _run_ray(jobs: Sequence[tuple[dict[str, Any], str]], workers: int) -> Iterat
                 raise_if_stopped()  # ray.wait turns our Interrupted into a plain KeyboardInterrupt
                 raise
     finally:
-        with _stop_signals_ignored():
+        with stop_signals_ignored():
             for ref in not_done:
                 ray.cancel(ref, force=True)
             if started:

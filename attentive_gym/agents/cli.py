@@ -2,7 +2,7 @@
 
 Each ``add_*`` adds one subcommand to an argparse sub-parser collection; the handlers raise
 ``ValueError`` for invalid input, which ``attentive_gym.cli.main`` prints as one line on
-stderr with exit status 2, and ``backends.Interrupted`` on Ctrl-C or SIGTERM (one line
+stderr with exit status 2, and ``stopping.Interrupted`` on Ctrl-C or SIGTERM (one line
 saying what is kept and how to resume; exit status 130 or 143).
 """
 
@@ -14,8 +14,9 @@ import os
 from pathlib import Path
 from typing import Any, Callable
 
-from attentive_gym.agents.backends import BACKENDS, Interrupted, raise_on_stop_signals
+from attentive_gym.agents.backends import BACKENDS
 from attentive_gym.agents.config import ALGO_DEFAULTS, ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS, VEC_ENVS, RunSpec
+from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_json_object"]

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from attentive_gym.agents.backends import Interrupted, JobOutcome, run_many
+from attentive_gym.agents.backends import JobOutcome, run_many
 from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.plots import plot_learning_curves
 from attentive_gym.agents.results import (
@@ -41,6 +41,7 @@ from attentive_gym.agents.results import (
     write_json_atomic,
     write_text_atomic,
 )
+from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.agents.training import budget_grows, holds_progress, is_done, validate_spec
 from attentive_gym.progress import Progress, format_duration
 

@@ -47,11 +47,11 @@ from typing import Any, Callable, Sequence
 
 import gymnasium as gym
 
-from attentive_gym.agents.backends import raise_if_stopped, signals_blocked
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
 from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, load_stats, normalize, save_stats
+from attentive_gym.agents.stopping import raise_if_stopped, signals_blocked
 from attentive_gym.wrappers.variants import make_env
 
 __all__ = ["train", "validate_spec", "load_model", "load_policy", "env_factory", "eval_seed", "is_done", "budget_grows",

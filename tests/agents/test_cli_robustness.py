@@ -138,7 +138,7 @@ def test_ctrl_c_stops_train_keeping_its_checkpoint(tmp_path, tiny):
 
 def test_a_stop_signal_dropped_by_a_finalizer_is_raised_at_the_next_check(monkeypatch):
     """pymunk frees its spaces in a cffi callback: a handler's exception raised there is dropped."""
-    from attentive_gym.agents.backends import Interrupted, raise_if_stopped, raise_on_stop_signals
+    from attentive_gym.agents.stopping import Interrupted, raise_if_stopped, raise_on_stop_signals
 
     reported = []
     monkeypatch.setattr(sys, "unraisablehook", reported.append)  # what would print "Exception ignored ..."
@@ -158,7 +158,7 @@ def test_a_stop_signal_dropped_by_a_finalizer_is_raised_at_the_next_check(monkey
 
 def test_a_stop_signal_wrapped_by_a_compiled_callee_leaves_as_interrupted():
     """numba turns a handler's exception raised inside a compiled call into a SystemError."""
-    from attentive_gym.agents.backends import Interrupted, raise_on_stop_signals
+    from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 
     def compiled_call():
         try:

@@ -112,18 +112,18 @@ def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
 
 def test_a_run_stopped_inside_a_compiled_call_is_stopped_not_failed(tmp_path, tiny, monkeypatch):
     """A stop signal's exception that numba wrapped in a SystemError must not be reported as the run's error."""
-    from attentive_gym.agents import backends, training
+    from attentive_gym.agents import backends, stopping, training
 
     def fails_inside_numba(*_args, signalled: bool, **_kwargs):
         if signalled:
-            backends._received.append(signal.SIGTERM)  # what the SIGTERM handler records before it raises
+            stopping._received.append(signal.SIGTERM)  # what the SIGTERM handler records before it raises
         raise SystemError("CPUDispatcher(...) returned a result with an exception set")
 
     monkeypatch.setattr(training, "train", lambda *a, **k: fails_inside_numba(*a, signalled=True, **k))
-    with pytest.raises(backends.Interrupted) as stopped:
+    with pytest.raises(stopping.Interrupted) as stopped:
         backends.run_job(tiny().to_dict(), str(tmp_path / "run"))
     assert stopped.value.signum == signal.SIGTERM and not (tmp_path / "run" / "error.txt").exists()
-    backends._received.clear()
+    stopping._received.clear()
     monkeypatch.setattr(training, "train", lambda *a, **k: fails_inside_numba(*a, signalled=False, **k))
     failed = backends.run_job(tiny().to_dict(), str(tmp_path / "run"))  # no signal: a real failure, recorded
     assert not failed.ok and failed.error.startswith("SystemError") and (tmp_path / "run" / "error.txt").is_file()
