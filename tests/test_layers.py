@@ -1,0 +1,202 @@
+"""The package's import graph, read from its sources with ``ast``: no import circle, and the
+layer rule of ``attentive_gym/__init__.py`` (the attention library stands alone).
+
+Every import statement counts, at module level or inside a function: a lazy import inside a
+function runs as soon as the function does, and one that goes up a layer is how a circle
+hides (the module level stays acyclic while the program is not). Only imports under
+``if TYPE_CHECKING:`` are left out, since they never run.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import attentive_gym
+
+PACKAGE = "attentive_gym"
+ROOT = Path(attentive_gym.__file__).parent
+#: Third-party packages the attention library must not import (``attentive_gym/__init__.py``: pure numpy).
+ATTENTION_FORBIDS_EXTERNAL = ("gymnasium", "pymunk", "pygame", "torch")
+#: Subpackages above the attention library, which it must not import.
+ATTENTION_FORBIDS_INTERNAL = tuple(f"{PACKAGE}.{name}" for name in ("world", "sensors", "envs", "wrappers", "agents"))
+
+
+def module_name(path: Path) -> str:
+    """``attentive_gym/agents/training.py`` → ``attentive_gym.agents.training``; a package's
+    ``__init__.py`` → the package."""
+    parts = path.relative_to(ROOT.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def package_modules() -> dict[str, Path]:
+    """Every module of the package, by dotted name."""
+    return {module_name(path): path for path in sorted(ROOT.rglob("*.py"))}
+
+
+def _is_type_checking_block(node: ast.AST) -> bool:
+    return isinstance(node, ast.If) and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING")
+
+
+def _import_nodes(tree: ast.AST):
+    """The ``Import`` and ``ImportFrom`` nodes of ``tree`` at any depth, but not under ``if TYPE_CHECKING:``."""
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            yield node
+        elif _is_type_checking_block(node):
+            stack.extend(node.orelse)
+        else:
+            stack.extend(ast.iter_child_nodes(node))
+
+
+def imported_names(name: str, path: Path) -> set[str]:
+    """The dotted names module ``name`` (at ``path``) imports: ``import a.b`` → ``a.b``;
+    ``from a import b`` → ``a.b`` (``b`` may be a submodule or an attribute of ``a``: ``_resolve``
+    tells); ``from a import *`` → ``a``; relative imports resolved against the module's package."""
+    is_package = path.name == "__init__.py"
+    names = set()
+    for node in _import_nodes(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+            continue
+        base = node.module or ""
+        if node.level:
+            package = name.split(".") if is_package else name.split(".")[:-1]
+            anchor = package[: len(package) - (node.level - 1)]
+            base = ".".join([*anchor, base] if base else anchor)
+        names.update(base if alias.name == "*" else f"{base}.{alias.name}" for alias in node.names)
+    return names
+
+
+def _resolve(imported: str, modules: dict[str, Path]) -> str | None:
+    """The package module that importing ``imported`` loads itself (its longest prefix that is one), or None."""
+    parts = imported.split(".")
+    for end in range(len(parts), 0, -1):
+        candidate = ".".join(parts[:end])
+        if candidate in modules:
+            return candidate
+    return None
+
+
+def import_graph(modules: dict[str, Path]) -> dict[str, set[str]]:
+    """Module → the package modules it imports (itself left out: ``from pkg import name`` inside
+    ``pkg/__init__.py`` reads its own attribute)."""
+    graph = {}
+    for name, path in modules.items():
+        targets = {_resolve(imported, modules) for imported in imported_names(name, path)}
+        graph[name] = {target for target in targets if target is not None and target != name}
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """One cycle (``[a, b, ..., a]``) through each strongly connected component of more than one
+    module (Tarjan's algorithm, then a shortest way back to the component's first module)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    on_stack: set[str] = set()
+    stack: list[str] = []
+    components: list[list[str]] = []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for nxt in sorted(graph[node]):
+            if nxt not in index:
+                visit(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in on_stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.append(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                components.append(sorted(component))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return [_cycle_through(component, graph) for component in components]
+
+
+def _cycle_through(component: list[str], graph: dict[str, set[str]]) -> list[str]:
+    """A shortest path from ``component[0]`` back to itself inside ``component`` (breadth first)."""
+    start, members = component[0], set(component)
+    previous: dict[str, str] = {}
+    frontier = [start]
+    while frontier:
+        following = []
+        for node in frontier:
+            for nxt in sorted(graph[node] & members):
+                if nxt == start:
+                    path = [node]
+                    while path[-1] != start:
+                        path.append(previous[path[-1]])
+                    return [start, *reversed(path[:-1]), start]
+                if nxt not in previous:
+                    previous[nxt] = node
+                    following.append(nxt)
+        frontier = following
+    raise AssertionError(f"{component} is not strongly connected")
+
+
+def test_the_graph_finder_sees_lazy_and_relative_imports(tmp_path):
+    """The reader itself: a function-level import counts, a TYPE_CHECKING one does not, relative ones
+    resolve, ``from module import name`` is an edge to the module, and the lazy circle is found."""
+    package = tmp_path / PACKAGE / "agents"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("from .a import thing\n")
+    source = package / "a.py"
+    source.write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from attentive_gym.world import World\n"
+                      "def f():\n    from . import b\n    import attentive_gym.attention.model as m\n")
+    assert imported_names(f"{PACKAGE}.agents.a", source) == {"typing.TYPE_CHECKING", f"{PACKAGE}.agents.b",
+                                                              f"{PACKAGE}.attention.model"}
+    assert imported_names(f"{PACKAGE}.agents", package / "__init__.py") == {f"{PACKAGE}.agents.a.thing"}
+    (package / "b.py").write_text("from attentive_gym.agents.a import f\n")
+    modules = {f"{PACKAGE}.agents": package / "__init__.py", f"{PACKAGE}.agents.a": source,
+               f"{PACKAGE}.agents.b": package / "b.py"}
+    graph = import_graph(modules)
+    assert graph == {f"{PACKAGE}.agents": {f"{PACKAGE}.agents.a"}, f"{PACKAGE}.agents.a": {f"{PACKAGE}.agents.b"},
+                     f"{PACKAGE}.agents.b": {f"{PACKAGE}.agents.a"}}
+    assert cycles(graph) == [[f"{PACKAGE}.agents.a", f"{PACKAGE}.agents.b", f"{PACKAGE}.agents.a"]]
+
+
+def test_cycles_names_each_circle_and_nothing_else():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a", "d"}, "d": set(), "e": {"f"}, "f": {"e"}, "g": {"a"}}
+    assert cycles(graph) == [["a", "b", "c", "a"], ["e", "f", "e"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_the_graph_covers_the_package():
+    modules = package_modules()
+    assert {f"{PACKAGE}.agents.training", f"{PACKAGE}.agents.backends", f"{PACKAGE}.attention"} <= set(modules)
+    graph = import_graph(modules)
+    assert f"{PACKAGE}.agents.training" in graph[f"{PACKAGE}.agents.backends"]  # run_job's lazy import is seen
+
+
+def test_no_import_circle():
+    found = cycles(import_graph(package_modules()))
+    assert not found, "import circles (each module imports the next):\n" + "\n".join(" -> ".join(c) for c in found)
+
+
+@pytest.mark.parametrize("name", sorted(n for n in package_modules() if n == f"{PACKAGE}.attention"
+                                        or n.startswith(f"{PACKAGE}.attention.")))
+def test_the_attention_library_imports_no_layer_above_it(name):
+    """``attentive_gym.attention`` is pure numpy (+ numba): no simulator, no RL stack, nothing above it."""
+    imported = imported_names(name, package_modules()[name])
+    forbidden = sorted(
+        i for i in imported
+        if i.split(".")[0] in ATTENTION_FORBIDS_EXTERNAL
+        or any(i == layer or i.startswith(layer + ".") for layer in ATTENTION_FORBIDS_INTERNAL)
+    )
+    assert not forbidden, f"{name} imports {forbidden}; the attention library may import numpy, numba, the " \
+                          f"standard library, its own modules and {PACKAGE}'s private helpers"
