@@ -1,22 +1,27 @@
-"""The README's table of the experiments' checks, one column per kinematics mode.
+"""The table of the experiments' checks, one column per kinematics mode.
 
 - ``COLUMNS``: the measured set-ups, (kinematics mode, sensor profile): the three modes
   with Gaussian noise, and the tracker under the "usarsim" profile.
 - ``measure(seeds, noise, config, workers)``: for every check, whether it holds noise-free
   in each mode, and its pass rate over ``seeds`` with noise in each column.
+- ``to_rows(measured, n_seeds, noise, config)`` / ``from_rows(rows)``: the measurement as
+  tidy rows (``CSV_COLUMNS``, one per check and column) and back, so that a table can be
+  rendered again without rerunning the experiments.
 - ``markdown(measured)``: the table as Markdown, with a row of totals.
 
-Regenerate the README's table (about 2 minutes on 2 cores)::
-
-    python -m attentive_gym.experiments.table                       # 20 seeds at 5 %
-    python -m attentive_gym.experiments.table --config '{"normalise_combined": false, "threshold": 0.2}'
+The repository's ``tools/experiments_table.py`` measures the table into
+``docs/results/experiment_checks.csv`` (about 2 minutes on 2 cores) and
+``tools/report.py render`` writes the docs page from it. ``python -m
+attentive_gym.experiments.table`` still prints the table, with a ``DeprecationWarning``.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Mapping, Sequence
 
@@ -25,7 +30,7 @@ from attentive_gym.experiments.checks import CHECKS, check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES
 from attentive_gym.experiments.runner import _check_config, _check_noise, run_experiment
 
-__all__ = ["COLUMNS", "MIN_PASS_RATE", "measure", "markdown", "main"]
+__all__ = ["COLUMNS", "CSV_COLUMNS", "MIN_PASS_RATE", "measure", "to_rows", "from_rows", "markdown", "main"]
 
 #: The measured set-ups: (kinematics mode, sensor profile); None = Gaussian noise, a scan a step.
 COLUMNS: tuple[tuple[str, str | None], ...] = (("tracker", None), ("window", None), ("literal", None),
@@ -85,6 +90,69 @@ def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mappi
     return table
 
 
+#: The tidy CSV of a measurement: one row per (check, column). ``noise_free``: "pass",
+#: "fail", or empty for a profile's column (its noise is part of the profile); ``noise``: the
+#: relative σ of the noisy runs, empty for a profile's column; ``seeds_passed`` of ``seeds``
+#: noisy runs passed; ``config``: the extra ``AttentionConfig`` fields, as JSON.
+CSV_COLUMNS = ("experiment", "check", "kinematics", "profile", "noise_free", "noise", "seeds", "seeds_passed",
+               "config")
+
+
+def to_rows(measured: Measured, n_seeds: int, noise: float, config: Mapping[str, Any] | None = None
+            ) -> list[dict[str, str]]:
+    """``measured`` (from ``measure`` over ``n_seeds`` seeds at ``noise``, with ``config``)
+    as tidy rows of text (``CSV_COLUMNS``), in ``measured``'s order and ``COLUMNS``' order."""
+    check_int("n_seeds", n_seeds, 1)
+    config_text = json.dumps(dict(config or {}), sort_keys=True)
+    rows = []
+    for (name, check), cell in measured.items():
+        for column in COLUMNS:
+            if column not in cell["rate"]:
+                continue
+            kinematics, profile = column
+            exact = cell["exact"].get(column)
+            rows.append({"experiment": name, "check": check, "kinematics": kinematics, "profile": profile or "",
+                         "noise_free": "" if exact is None else ("pass" if exact else "fail"),
+                         "noise": "" if profile else repr(float(noise)), "seeds": str(n_seeds),
+                         "seeds_passed": str(round(cell["rate"][column] * n_seeds)), "config": config_text})
+    return rows
+
+
+def from_rows(rows: Sequence[Mapping[str, str]]) -> tuple[Measured, int, float, dict[str, Any]]:
+    """The measurement that ``to_rows`` wrote (rows as ``csv.DictReader`` reads them):
+    ``(measured, n_seeds, noise, config)``.
+
+    Raises:
+        ValueError: no rows, a missing column, a column not in ``COLUMNS``, or rows that
+            disagree on the seeds, the noise or the config (one measurement per file).
+    """
+    if not rows:
+        raise ValueError("no rows: a table has at least one check")
+    missing = [c for c in CSV_COLUMNS if c not in rows[0]]
+    if missing:
+        raise ValueError(f"the rows lack the columns {missing}; a table's rows have {list(CSV_COLUMNS)}")
+    shared = {key: {row[key] for row in rows} for key in ("seeds", "config")}
+    shared["noise"] = {row["noise"] for row in rows if row["profile"] == ""}
+    for key, values in shared.items():
+        if len(values) > 1:
+            raise ValueError(f"the rows hold more than one measurement: {key} is {sorted(values)}")
+    n_seeds = int(next(iter(shared["seeds"])))
+    noise = float(next(iter(shared["noise"]))) if shared["noise"] else math.nan
+    measured: Measured = {}
+    for row in rows:
+        column = (row["kinematics"], row["profile"] or None)
+        if column not in COLUMNS:
+            raise ValueError(f"{row['experiment']} {row['check']}: the column {column} is none of {list(COLUMNS)}")
+        cell = measured.setdefault((row["experiment"], row["check"]), {"exact": {}, "rate": {}})
+        if row["noise_free"] not in ("pass", "fail", ""):
+            raise ValueError(f"{row['experiment']} {row['check']}: noise_free is {row['noise_free']!r}; "
+                             "allowed: 'pass', 'fail' or empty")
+        if row["noise_free"]:
+            cell["exact"][column] = row["noise_free"] == "pass"
+        cell["rate"][column] = int(row["seeds_passed"]) / n_seeds
+    return measured, n_seeds, noise, json.loads(next(iter(shared["config"])))
+
+
 def _header(column: tuple[str, str | None], n_seeds: int, noise: float) -> str:
     kinematics, profile = column
     if profile:
@@ -121,9 +189,15 @@ def markdown(measured: Measured, n_seeds: int = 20, noise: float = 0.05) -> str:
     return "\n".join(lines)
 
 
+#: What replaces ``python -m attentive_gym.experiments.table``.
+_REPLACEMENT = "python tools/experiments_table.py (in a checkout of the repository; it also writes the CSV)"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m attentive_gym.experiments.table [--seeds N] [--noise S] [--config JSON] [--workers W]``:
-    print the table."""
+    print the table. Deprecated: a ``DeprecationWarning`` names the replacement."""
+    warnings.warn(f"python -m attentive_gym.experiments.table is deprecated; use {_REPLACEMENT}", DeprecationWarning,
+                  stacklevel=2)
     parser = argparse.ArgumentParser(prog="python -m attentive_gym.experiments.table",
                                      description="Measure every experiment check per kinematics mode; print Markdown.")
     parser.add_argument("--seeds", type=int, default=20, help="noisy seeds per column (default 20)")

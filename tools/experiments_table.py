@@ -1,0 +1,68 @@
+"""Measure the experiments' checks per kinematics mode into a CSV, and print the table.
+
+Runs every check of the paper's five experiments noise-free in each kinematics mode and
+over ``--seeds`` noisy seeds in each column (``attentive_gym.experiments.table.measure``),
+writes the measurement as tidy rows to ``--csv`` (default
+``docs/results/experiment_checks.csv``) and prints the Markdown table. ``python
+tools/report.py render`` then writes ``docs/results/checks.md`` from the CSV without
+rerunning anything. About 2 minutes on 2 cores with the defaults::
+
+    python tools/experiments_table.py                                  # 20 seeds at 5 %, the committed CSV
+    python tools/experiments_table.py --config '{"normalise_combined": false, "threshold": 0.2}' --csv /tmp/sum.csv
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import sys
+from pathlib import Path
+from typing import Sequence
+
+from attentive_gym._atomic import atomic_file
+from attentive_gym.experiments.table import CSV_COLUMNS, markdown, measure, to_rows
+
+#: The repository's root (this file is in ``tools/``).
+ROOT = Path(__file__).resolve().parents[1]
+#: Where the committed measurement lives.
+DEFAULT_CSV = ROOT / "docs" / "results" / "experiment_checks.csv"
+
+
+def write_rows(path: Path, rows: Sequence[dict[str, str]]) -> None:
+    """Write ``rows`` (``CSV_COLUMNS``) to ``path`` atomically."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(CSV_COLUMNS), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    with atomic_file(path) as handle:
+        handle.write(buffer.getvalue())
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python tools/experiments_table.py", description=__doc__.split("\n")[0])
+    parser.add_argument("--seeds", type=int, default=20, help="noisy seeds per column (default 20)")
+    parser.add_argument("--noise", type=float, default=0.05, help="Gaussian noise σ of the noisy runs (default 0.05)")
+    parser.add_argument("--config", default=None, help="extra AttentionConfig fields as a JSON object")
+    parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    parser.add_argument("--csv", type=Path, default=DEFAULT_CSV, help=f"where to write the rows (default {DEFAULT_CSV})")
+    args = parser.parse_args(argv)
+    try:
+        config = json.loads(args.config) if args.config else None
+        if args.seeds < 1:
+            raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
+        if args.csv.is_dir():
+            raise ValueError(f"--csv {args.csv} is a folder; give a file path")
+        measured = measure(range(args.seeds), args.noise, config, args.workers)
+    except (ValueError, json.JSONDecodeError) as err:
+        print(f"{parser.prog}: error: {err}", file=sys.stderr)
+        return 2
+    write_rows(args.csv, to_rows(measured, args.seeds, args.noise, config))
+    print(markdown(measured, args.seeds, args.noise))
+    print(f"\nwrote {args.csv}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
