@@ -15,7 +15,8 @@ from pathlib import Path
 from typing import Any, Callable
 
 from attentive_gym.agents.backends import BACKENDS
-from attentive_gym.agents.config import ALGO_DEFAULTS, ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS, VEC_ENVS, RunSpec
+from attentive_gym.agents.config import (ALGO_DEFAULTS, ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS,
+                                         STEPS_PER_EVAL_EPISODE, VEC_ENVS, RunSpec, default_eval_episodes)
 from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -82,7 +83,7 @@ _COMPARE_SEEDS = 5
 #: ``--extend``'s help; ``what`` names the existing runs.
 _EXTEND_HELP = ("train {what}, trained with a smaller --steps and otherwise the same options, on to --steps from "
                 "its latest checkpoint (its evaluations so far are kept; the final model is replaced; without "
-                "--eval-every and --checkpoint-every it keeps their values from the existing runs)")
+                "--eval-every, --eval-episodes and --checkpoint-every it keeps their values from the existing runs)")
 
 
 def _with_quick(text: str, key: str, quick: bool) -> str:
@@ -109,7 +110,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
                              f"none: in its own units (metres, seconds, flags) (default: {RunSpec.obs_scaling})")
     parser.add_argument("--eval-every", type=_positive_int,
                         help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}")
-    episodes = _with_quick(str(RunSpec.eval_episodes), "eval_episodes", quick)
+    episodes = _with_quick(f"steps/{STEPS_PER_EVAL_EPISODE}, at least 1, at most {RunSpec.eval_episodes}",
+                           "eval_episodes", quick)
     parser.add_argument("--eval-episodes", type=_positive_int, help=f"episodes per evaluation {episodes}")
     parser.add_argument("--checkpoint-every", type=_positive_int,
                         help=f"env steps between checkpoints {_with_quick('steps/5', 'checkpoint_every', quick)}")
@@ -129,21 +131,26 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
                     defaults: dict[str, Any] | None = None, stored: dict[str, Any] | None = None) -> RunSpec:
     """The ``RunSpec`` of the parsed options; ``defaults`` (``QUICK``) fill what was not given.
 
+    Without ``defaults``, the evaluation and checkpoint settings follow ``--steps``: an
+    evaluation every steps/10 env steps of ``default_eval_episodes(steps)`` episodes, a
+    checkpoint every steps/5.
+
     ``stored``: the settings of the trained run (or comparison) in the output folder. When
-    ``--steps`` asks for at least what it has, their evaluation and checkpoint cadence stands
-    in for the defaults that depend on ``--steps`` (steps/10, steps/5): resuming a run needs
-    none of those flags, and extending it only ``--extend`` and the new ``--steps``. Their
+    ``--steps`` asks for at least what it has, their evaluation and checkpoint settings stand
+    in for the defaults that depend on ``--steps``: resuming a run needs none of those flags,
+    and extending it only ``--extend`` and the new ``--steps``. Their
     ``algo_defaults`` (1 where they have none) always stands: a folder keeps the default
     hyper-parameters it was trained with.
     """
     defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
     if stored is not None and steps >= stored.get("total_steps", steps):
-        defaults.update({key: stored[key] for key in ("eval_every", "checkpoint_every") if key in stored})
+        defaults.update({key: stored[key] for key in ("eval_every", "eval_episodes", "checkpoint_every")
+                         if key in stored})
     return RunSpec(
         variant=variant, algo=args.algo, total_steps=steps, seed=seed, n_envs=args.n_envs, vec_env=args.vec_env,
         eval_every=args.eval_every or defaults.get("eval_every", max(1, steps // 10)),
-        eval_episodes=args.eval_episodes or defaults.get("eval_episodes", RunSpec.eval_episodes),
+        eval_episodes=args.eval_episodes or defaults.get("eval_episodes", default_eval_episodes(steps)),
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
         env_kwargs=(parse_json_object(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None
                     else dict(defaults.get("env_kwargs", {}))),
@@ -196,6 +203,8 @@ def _run_train(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"train-{RunSpec(variant=args.variant, seed=args.seed).run_name}"
     spec = _spec_from_args(args, args.variant, args.seed,
                            stored=_trained_settings(out / "spec.json", holds_progress(out)))
+    print(f"{spec.run_name}: {spec.total_steps} env steps, evaluated on {_count(spec.eval_episodes, 'episode')} at 0 "
+          f"env steps, every {spec.eval_every} and at the end (--eval-episodes, --eval-every)", flush=True)
     try:
         with raise_on_stop_signals():
             metrics = train(spec, out, progress_bar=not args.no_progress, extend=args.extend)

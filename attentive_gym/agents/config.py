@@ -18,7 +18,8 @@ from attentive_gym._checks import check_int
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "SB3_LEARNING_RATE",
-           "RunSpec", "canonical_rate", "parse_schedule", "parse_variants", "parse_seeds"]
+           "STEPS_PER_EVAL_EPISODE", "RunSpec", "canonical_rate", "default_eval_episodes", "parse_schedule",
+           "parse_variants", "parse_seeds"]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
@@ -224,6 +225,24 @@ class RunSpec:
         changed += [(f"algo_kwargs.{key}", hyper[0].get(key), hyper[1].get(key))
                     for key in dict.fromkeys([*hyper[0], *hyper[1]]) if hyper[0].get(key) != hyper[1].get(key)]
         return ", ".join(f"{key} {json.dumps(old)} → {json.dumps(new)}" for key, old, new in changed)
+
+
+#: Training env steps per evaluation episode in ``default_eval_episodes``: a budget of
+#: 100 000 steps or more gets ``RunSpec.eval_episodes`` (20) episodes per evaluation.
+STEPS_PER_EVAL_EPISODE = 5_000
+
+
+def default_eval_episodes(total_steps: int) -> int:
+    """Episodes per evaluation when the command line does not say (``--eval-episodes``): one
+    per ``STEPS_PER_EVAL_EPISODE`` training env steps of ``total_steps``, at least 1 and at
+    most ``RunSpec.eval_episodes`` (20, reached at 100 000 steps).
+
+    An evaluation episode lasts up to the episode's time limit (hundreds of env steps for an
+    untrained policy), so 20 of them at the start and at the end of a smoke run of a few
+    hundred steps cost many times its training; 1 each keeps the learning curve's points.
+    """
+    check_int("total_steps", total_steps, 1)
+    return max(1, min(RunSpec.eval_episodes, total_steps // STEPS_PER_EVAL_EPISODE))
 
 
 def _check_finite(name: str, value: Any) -> None:

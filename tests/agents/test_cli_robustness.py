@@ -14,7 +14,9 @@ from types import SimpleNamespace
 import pytest
 
 from attentive_gym.agents.backends import JobOutcome
-from attentive_gym.agents.config import QUICK, RunSpec
+from attentive_gym.agents.cli import _spec_from_args
+from attentive_gym.agents.config import QUICK, STEPS_PER_EVAL_EPISODE, RunSpec
+from attentive_gym.agents.results import read_csv
 from attentive_gym.cli import _SUBCOMMANDS, build_parser, main
 from attentive_gym.progress import Progress, format_duration
 
@@ -302,6 +304,52 @@ def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_do
     assert err.count("→") == 1  # only algo_kwargs differs
 
 
+# --- the evaluation a budget pays for --------------------------------------------------
+def _spec_of(argv):
+    """The first ``RunSpec`` that ``train`` or ``compare`` would run for ``argv``, in an empty folder."""
+    args = build_parser().parse_args(argv)
+    return _spec_from_args(args, "focus", 0, dict(QUICK) if getattr(args, "quick", False) else {})
+
+
+def test_a_small_budget_evaluates_on_fewer_episodes_and_long_runs_keep_their_defaults():
+    assert _spec_of(["train", "--steps", "512"]).eval_episodes == 1
+    assert _spec_of(["train", "--steps", "20000"]).eval_episodes == 4
+    assert _spec_of(["train", "--steps", "512", "--eval-episodes", "7"]).eval_episodes == 7  # an explicit count stands
+    quick = (QUICK["eval_episodes"], QUICK["eval_every"], QUICK["checkpoint_every"])
+    for argv, settings in [
+        (["train"], (20, 10_000, 20_000)),
+        (["train", "--steps", "1_000_000"], (20, 100_000, 200_000)),
+        (["compare"], (20, 10_000, 20_000)),
+        (["compare", "--steps", "250000"], (20, 25_000, 50_000)),
+        (["compare", "--quick"], quick),
+    ]:
+        spec = _spec_of(argv)
+        assert (spec.eval_episodes, spec.eval_every, spec.checkpoint_every) == settings, argv
+
+
+def test_a_smoke_train_keeps_its_first_evaluation_and_evaluates_two_episodes_in_all(tmp_path, tiny, capsys):
+    """``train --steps 512`` (one PPO rollout of 4 × 256 env steps): an evaluation at 0 and one at the end, of one
+    episode each (it was 20 each, many times the run's training at hundreds of env steps an episode)."""
+    out = tmp_path / "smoke"
+    assert main(["train", "--steps", "512", "--no-progress", "--env-kwargs", json.dumps(tiny.env_kwargs),
+                 "--out", str(out)]) == 0
+    assert "focus-seed0: 512 env steps, evaluated on 1 episode at 0 env steps, every 51 and at the end" in \
+        capsys.readouterr().out
+    rows = read_csv(out / "eval.csv")
+    assert [(row["env_steps"], row["n_episodes"]) for row in rows] == [(0, 1), (1024, 1)]
+
+
+def test_a_resumed_run_keeps_its_evaluation_episodes_when_the_flag_is_left_out(tmp_path, tiny):
+    """A folder trained with ``--eval-episodes 3`` resumes and extends without the flag, as with ``--eval-every``."""
+    out = tmp_path / "run"
+    options = ["train", "--variant", "raw", "--no-progress", "--out", str(out), "--n-envs", "2",
+               "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    assert main([*options, "--steps", "128", "--eval-episodes", "3"]) == 0
+    assert main([*options, "--steps", "256", "--extend"]) == 0
+    assert json.loads((out / "spec.json").read_text())["eval_episodes"] == 3
+    assert read_csv(out / "eval.csv")[-1]["n_episodes"] == 3
+
+
 # --- help texts and option parsing -----------------------------------------------------
 @pytest.mark.parametrize("command", [None, *_SUBCOMMANDS])
 def test_help_texts_show_real_defaults(command, capsys):
@@ -318,7 +366,8 @@ def test_compare_help_names_the_plain_and_the_quick_budget(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "95 % CI" in text
     assert f"(default: {RunSpec.total_steps}; {QUICK['total_steps']} with --quick)" in text
-    assert f"(default: {RunSpec.eval_episodes}; {QUICK['eval_episodes']} with --quick)" in text
+    assert (f"(default: steps/{STEPS_PER_EVAL_EPISODE}, at least 1, at most {RunSpec.eval_episodes}; "
+            f"{QUICK['eval_episodes']} with --quick)") in text
     assert f"(default: 5; {len(QUICK['seeds'])} with --quick)" in text
 
 

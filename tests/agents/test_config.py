@@ -2,7 +2,7 @@
 
 import pytest
 
-from attentive_gym.agents.config import RunSpec, parse_seeds, parse_variants
+from attentive_gym.agents.config import RunSpec, default_eval_episodes, parse_seeds, parse_variants
 
 
 def test_unknown_variant_lists_allowed_ones():
@@ -104,3 +104,11 @@ def test_variant_lists_with_empty_or_repeated_items_are_refused(text, message):
 def test_seed_lists_with_empty_or_repeated_items_are_refused(text, message):
     with pytest.raises(ValueError, match=message):
         parse_seeds(text)
+
+
+def test_evaluation_episodes_follow_a_small_budget_and_reach_the_default_at_100k_steps():
+    budgets = (1, 512, 9_999, 10_000, 20_000, 99_999, 100_000, 150_000, 1_000_000)
+    assert [default_eval_episodes(steps) for steps in budgets] == [1, 1, 1, 2, 4, 19, 20, 20, 20]
+    assert default_eval_episodes(100_000) == RunSpec.eval_episodes
+    with pytest.raises(ValueError, match="total_steps must be an integer >= 1, got 0"):
+        default_eval_episodes(0)
