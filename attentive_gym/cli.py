@@ -27,6 +27,7 @@ import sys
 from pathlib import Path
 from typing import Callable, Sequence
 
+from attentive_gym._optional import MissingExtraError, require
 from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.experiments.cli import add_experiment_parser
@@ -90,6 +91,8 @@ def _run_attend(args: argparse.Namespace) -> int:
         raise ValueError(f"--out {args.out} is a file; give a folder (it is created if missing)")
     if not args.overwrite:
         refuse_existing([args.out / "trace.npz", *([] if args.no_figure else [args.out / "trace.png"])])
+    if not args.no_figure:
+        require("matplotlib", "the trace's figure (--no-figure skips it)")
     config = AttentionConfig()
     if args.config:
         text = args.config
@@ -156,7 +159,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.handler(args)
-    except (ValueError, OSError, json.JSONDecodeError) as err:
+    except (ValueError, OSError, json.JSONDecodeError, MissingExtraError) as err:
         print(f"attentive-gym {args.command}: error: {err}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt as stop:

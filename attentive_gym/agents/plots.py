@@ -11,6 +11,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from attentive_gym._atomic import save_figure
+from attentive_gym._optional import require
 from attentive_gym.agents.statistics import bootstrap_ci
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -84,9 +85,9 @@ def plot_learning_curves(
 ) -> Path:
     """Write a PNG with one panel per metric: per-variant mean curve and 95 % CI band vs env
     steps; a variant has one colour, its settings (``split_label``) different line styles."""
+    plt = _pyplot()
     from matplotlib.ticker import FuncFormatter
 
-    plt = _pyplot()
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     if not variants:
         raise ValueError("no evaluation rows to plot")
@@ -148,10 +149,9 @@ def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str 
 
 
 def _pyplot():
-    """matplotlib's pyplot on the Agg backend (no display needed)."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
+    """matplotlib's pyplot on the Agg backend (no display needed); ``MissingExtraError``
+    without matplotlib (the ``plot`` extra, which the ``agents`` extra pulls in)."""
+    require("matplotlib", "drawing a comparison's figures").use("Agg", force=False)
     import matplotlib.pyplot as plt
 
     return plt

@@ -8,7 +8,8 @@
 
 Only ``pygame.display`` (and only for a window) and ``pygame.font`` (for a key) are
 initialised, never ``pygame.init()``; set ``SDL_VIDEODRIVER=dummy`` on machines without
-a display.
+a display. Importing this module without pygame (the ``render`` extra) raises
+``attentive_gym._optional.MissingExtraError``.
 """
 
 from __future__ import annotations
@@ -19,8 +20,10 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from attentive_gym._optional import require
+
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-import pygame  # noqa: E402
+pygame = require("pygame", "rendering")
 
 __all__ = ["WorldRenderer", "COLOURS", "draw_key"]
 

@@ -18,6 +18,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from attentive_gym._optional import require
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.reward import RewardConfig, rescue_reward
 from attentive_gym.sensors import LaserConfig, ScanHold, SensorReading, SensorSuite, SonarConfig, resolve_sensor_profile
@@ -139,13 +140,13 @@ class AttentiveRescueEnv(gym.Env):
     current reading came from; equal to ``time_s`` when a sensor scans every step).
 
     **Keyword arguments** (``gym.make("AttentiveRescue-v0", ...)``): ``scenario`` (name,
-    file or ``Scenario``), ``dt`` (s, (0, 0.5]), ``render_mode``, the sensor settings below,
-    the arena's knobs ``arena_size_m`` (side or (width, height)), ``num_distractors``,
-    ``rubble_per_100m2``, ``max_mover_speed_mps``, ``goals`` (goals to sample from),
-    ``time_limit_s``, and ``reward`` (``RewardConfig``), ``robot`` (``RobotConfig``),
-    ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``). Unknown keywords raise
-    ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})`` fixes the
-    episode's goal (a ``Goal`` or its encoding).
+    file or ``Scenario``), ``dt`` (s, (0, 0.5]), ``render_mode`` (needs pygame: the
+    ``render`` extra), the sensor settings below, the arena's knobs ``arena_size_m`` (side
+    or (width, height)), ``num_distractors``, ``rubble_per_100m2``, ``max_mover_speed_mps``,
+    ``goals`` (goals to sample from), ``time_limit_s``, and ``reward`` (``RewardConfig``),
+    ``robot`` (``RobotConfig``), ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``).
+    Unknown keywords raise ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})``
+    fixes the episode's goal (a ``Goal`` or its encoding).
 
     **Sensor settings** (keyword arguments; None means "not given"):
 
@@ -165,16 +166,6 @@ class AttentiveRescueEnv(gym.Env):
     ``env.sonar_scan_interval_s`` and ``env.laser_scan_interval_s``. Both sensors draw their
     noise every step whatever the intervals (a held reading keeps its scan's noise), so the
     RNG stream, and with it the readings at scan steps, do not depend on the intervals.
-
-    **Version History** (the registered ids' version; any change of a default that can
-    change learning results bumps it, as Gymnasium does, and adds a line here):
-
-    - v0: the current version of all eight ids. ``dt`` 0.05 s; 5 % Gaussian noise and a
-      scan every step; the spaces above; ``RewardConfig()``, ``RobotConfig()``,
-      ``SonarConfig()``, ``LaserConfig()``; the procedural arena of 10 m with 3
-      distractors, 6 rubble pieces per 100 m², movers up to 1 m/s and the task goals
-      speed in [0.5, 0.9] or [0.15, 0.45] m/s with a 40 s limit; for the attended
-      variants, ``AttentionConfig()`` and a working memory of 3 bodies.
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
@@ -207,6 +198,8 @@ class AttentiveRescueEnv(gym.Env):
             raise TypeError(f"unknown keyword argument(s) {sorted(unknown)}; allowed: {allowed}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
+        if render_mode is not None:
+            require("pygame", "rendering")  # at make, not at the first frame
         self.render_mode = render_mode
         self.dt = _check_number("dt", dt, 0.0, 0.5, low_open=True)
         self.metadata = {**self.metadata, "render_fps": 1.0 / self.dt}

@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 from attentive_gym._atomic import refuse_existing
+from attentive_gym._optional import require
 from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.experiments.checks import check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, get_experiment
@@ -57,6 +58,8 @@ def _run(args: argparse.Namespace) -> int:
     _check_kinematics(args.kinematics), _check_profile(args.profile)  # before any run starts
     if args.out is not None and args.out.exists() and not args.out.is_dir():
         raise ValueError(f"--out {args.out} is a file; give a folder (it is created if missing)")
+    if args.out is not None:
+        require("matplotlib", "writing the experiments' figures (--out)")
     if args.out is not None and not args.overwrite:
         refuse_existing([args.out / f"{name}{suffix}" for name in names for suffix in (".npz", ".png")])
     progress = Progress(len(names)) if args.name == _ALL else None

@@ -15,6 +15,7 @@ import os
 from pathlib import Path
 
 from attentive_gym._atomic import save_figure
+from attentive_gym._optional import require
 from attentive_gym.experiments.result import ExperimentResult
 from attentive_gym.viz.trace_figure import panel_axes, plot_trace
 
@@ -38,9 +39,8 @@ def experiment_figure(result: ExperimentResult):
 
 def plot_experiment(result: ExperimentResult, path: str | os.PathLike, dpi: int = FIGURE_DPI) -> Path:
     """Save ``experiment_figure(result)`` as a PNG at ``path`` (``dpi`` dots per inch);
-    returns the path written."""
-    import matplotlib.pyplot as plt
-
+    returns the path written; ``MissingExtraError`` without matplotlib (the ``plot`` extra)."""
+    plt = require("matplotlib.pyplot", "drawing an experiment's figure")
     fig = experiment_figure(result)
     try:
         return save_figure(fig, path, dpi=dpi)

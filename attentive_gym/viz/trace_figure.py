@@ -18,6 +18,7 @@ from typing import Sequence
 import numpy as np
 
 from attentive_gym._atomic import save_figure
+from attentive_gym._optional import require
 from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.attention.regions import FRONT_SONARS, region_name
 from attentive_gym.attention.trace import Trace, load_trace
@@ -62,7 +63,9 @@ def plot_trace(trace: Trace | str | os.PathLike, panels: Sequence[str] = DEFAULT
 
     Raises:
         ValueError: for an unknown panel name or an empty panel list.
+        ImportError: ``MissingExtraError`` when matplotlib (the ``plot`` extra) is missing.
     """
+    require("matplotlib", "drawing an attention trace")
     if not isinstance(trace, Trace):
         trace = load_trace(trace)
     panels = _checked_panels(panels)

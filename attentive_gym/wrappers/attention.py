@@ -20,7 +20,6 @@ from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, Attention
 from attentive_gym.attention.tracker import TRACK_TABLE_FIELDS
 from attentive_gym.attention.working_memory import WorkingMemory
 from attentive_gym.wrappers.encoders import ENCODERS, NO_EVENT, FocusEncoder
-from attentive_gym.wrappers.overlay import draw_attention
 
 __all__ = ["AttentionWrapper", "OBSERVATION_MODES", "SELECTIONS", "DEFAULT_MEMORY_SLOTS"]
 
@@ -189,6 +188,8 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
 
     def _draw_overlay(self, renderer, surface) -> None:
         """Draw the latest focus and saliency (called by the base environment's renderer)."""
+        from attentive_gym.wrappers.overlay import draw_attention  # pygame: loaded only by rendering
+
         if self.last_output is not None:
             draw_attention(renderer, surface, self.env.unwrapped.world.robot.pose, self.model.grid, self.last_output)
 

@@ -3,7 +3,7 @@
 ``draw_attention`` shades each region's sector around the robot by its saliency L
 (``SALIENCY_COLOUR``), outlines the focused region's sector (``FOCUS_COLOURS``: bottom-up
 in orange, top-down in magenta) and draws a key of the three in the frame's corner
-farthest from the robot.
+farthest from the robot. It needs pygame (the ``render`` extra), as ``envs.rendering`` does.
 """
 
 from __future__ import annotations
@@ -11,11 +11,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pygame
 
+from attentive_gym._optional import require
 from attentive_gym.attention import AttentionOutput, Grid
 from attentive_gym.attention.regions import laser_bearings_rad
 from attentive_gym.envs.rendering import draw_key
+
+pygame = require("pygame", "rendering")
 
 __all__ = ["draw_attention", "SECTOR_RADIUS_M", "SALIENCY_COLOUR", "FOCUS_COLOURS", "KEY"]
 
