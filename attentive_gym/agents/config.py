@@ -167,7 +167,7 @@ class RunSpec:
 
     def merged_algo_kwargs(self) -> dict[str, Any]:
         """``hyper_parameters`` with the ``"lin_<number>"`` schedules (``SCHEDULE_KEYS``) as
-        SB3 ``LinearSchedule``s: the algorithm's keyword arguments."""
+        SB3 ``LinearSchedule`` objects: the algorithm's keyword arguments."""
         merged = self.hyper_parameters()
         for key in SCHEDULE_KEYS:
             if isinstance(merged.get(key), str):
