@@ -173,7 +173,7 @@ class AttentionOutput:
         goal_fulfilled: ``(J,)`` bool, every active top-down goal holds at the region.
         directions: ``(J,)`` int8 region direction labels (−1 towards, 0, +1 away).
         speeds_mps: ``(J,)`` speed of each region (m/s): the full 2-D ground speed of its
-            track with the tracker, the sonar echo's |range rate| otherwise (clipped to
+            track with the tracker, the sonar echo's ``|range rate|`` otherwise (clipped to
             ``max_speed_mps``).
         distances_m: ``(J,)`` nearest valid reading per region (m); ``max_distance_m``
             where nothing is in range.
