@@ -121,7 +121,7 @@ class AttentionConfig:
         slope_samples: K, samples of the least-squares range-rate slope (2 <= K <= W);
             K = 2 is the paper's literal two-sample difference.
         max_speed_mps: MAX_SPEED, speeds are clipped to it and F1 is normalised by it.
-        direction_epsilon_mps: ε_v, |v| <= ε_v is labelled static.
+        direction_epsilon_mps: ε_v, ``|v| <= ε_v`` is labelled static.
         ego_motion: "odometry" compensates the robot's own motion, None reproduces the
             paper (immobile robot).
         sonar_ego_model: how a static world's sonar reading is predicted after a move:
