@@ -111,7 +111,9 @@ class AttentionConfig:
     field, its unit and the allowed range); a setting that must be positive is also at most
     1e6 in its unit, so that no filter or map leaves float range.
 
-    Sensorial memory and kinematics (§2, §3, §10):
+    Sensorial memory and kinematics (§2, §3, §10).
+
+    Attributes:
         kinematics: "tracker" (default): objects segmented from each laser scan and
             tracked with a constant-velocity Kalman filter in an odometry-fixed frame,
             sonars filtered for what the laser does not see; "window": the K-sample
@@ -136,7 +138,9 @@ class AttentionConfig:
             this (m); otherwise the sonar sees something the laser does not and the
             "point" model applies.
 
-    Tracker (§10; ``kinematics="tracker"`` only):
+    Tracker (§10; ``kinematics="tracker"`` only).
+
+    Attributes:
         range_noise_rel: relative standard deviation of a range reading that the filters
             assume (dimensionless; 0.05 = 5 % Gaussian; a uniform ±a noise has σ = a/√3).
         range_noise_floor_m: the smallest range σ assumed for one reading (m).
@@ -177,7 +181,9 @@ class AttentionConfig:
         max_tracks: the most tracks kept at once.
         sonar_accel_psd_m2ps3: ``q`` of each front sonar's range/rate filter (m²/s³).
 
-    Sensors (§1):
+    Sensors (§1).
+
+    Attributes:
         laser_mount_x_m, laser_mount_y_m: where the laser sits on the robot (robot frame,
             m; it faces forward); the tracker places its echoes with it (the env's
             P2AT-like robot: 0.16 m ahead of its centre).
@@ -186,7 +192,9 @@ class AttentionConfig:
         no_echo_epsilon_m: a reading within this of its sensor's maximum range means
             "nothing there" (m).
 
-    Feature maps (§4, §5):
+    Feature maps (§4, §5).
+
+    Attributes:
         grid: "sonar" (J = 8, one region per front sonar) or "laser" (J = 180, one per beam).
         laser_only: F3 from the laser alone (default: laser fused with sonar by max).
         max_distance_m: MAXDISTANCE of F6 (m).
@@ -200,18 +208,24 @@ class AttentionConfig:
             holds then weighs as much as all the bottom-up evidence together, however
             many maps each group has (docs/model.md §6). False uses the weights as given.
 
-    Winner selection (§8):
+    Winner selection (§8).
+
+    Attributes:
         threshold: θ, the focus fires when ``max L >= θ`` (> 0).
         state: initial Global Attentive State, a name of ``ATTENTIVE_STATES`` or a gain > 0.
 
-    Attentional map, bottom-up course (§7):
+    Attentional map, bottom-up course (§7).
+
+    Attributes:
         preactivation_s, excitation_s, ior_s: phase lengths (s).
         A_exc, A_ior: peak amplitudes of excitation and inhibition of return (gain units).
         kernel_rise_fraction, kernel_decay_fraction: time constants of the rise-and-decay
             kernel ``h_T`` as fractions of the phase length T (rise < decay).
         lateral_sigma_regions: σ of the lateral spread ``G`` (regions, >= 0.01).
 
-    Attentional map, top-down course (§7):
+    Attentional map, top-down course (§7).
+
+    Attributes:
         A_td: plateau of the top-down enhancement (gain units).
         td_onset_s: delay before the enhancement starts (s).
         td_tau_on_s, td_tau_off_s: rise and post-release decay time constants (s).
