@@ -36,6 +36,7 @@ myst_enable_extensions = ["colon_fence"]
 autodoc_default_options = {"members": True, "member-order": "bysource", "show-inheritance": True}
 autodoc_typehints = "description"
 autodoc_preserve_defaults = True
+autodoc_inherit_docstrings = False  # document this project's docstrings, not those of gymnasium's base classes
 napoleon_google_docstring = True
 napoleon_numpy_docstring = False
 napoleon_use_ivar = True  # "Attributes:" as fields of the class, so properties are not described twice
