@@ -14,6 +14,7 @@ string entry points: ``attentive_gym.registration``), so
 ``import attentive_gym.attention`` loads neither pymunk, pygame nor torch.
 """
 
+from importlib import metadata as _metadata
 from pathlib import Path as _Path
 
 from attentive_gym._kernel_cache import discard_stale_kernels as _discard_stale_kernels
@@ -30,4 +31,7 @@ if _gymnasium is not None:
 
     register_environments()
 
-__version__ = "0.1.0"
+try:  # the version lives in pyproject.toml only
+    __version__ = _metadata.version("attentive_gym")
+except _metadata.PackageNotFoundError:  # a source tree on sys.path, not installed
+    __version__ = "0+unknown"
