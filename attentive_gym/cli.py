@@ -3,7 +3,7 @@
 Subcommands (one small function each, registered in ``_SUBCOMMANDS``):
 
 - ``attend LOG --out DIR``: replay readings logged from a robot (CSV or NPZ, formats in
-  ``attentive_gym.attention.replay``) through the attentional model and write
+  ``attentive_gym.attention.io.replay``) through the attentional model and write
   ``DIR/trace.npz`` and ``DIR/trace.png``.
 - ``experiment NAME|all [--noise S] [--seed N] [--out DIR]``: reproduce the paper's
   experiments and print docs/model.md §9's checks (``attentive_gym.experiments.cli``).
@@ -83,9 +83,9 @@ def _add_attend(subparsers) -> None:
 
 def _run_attend(args: argparse.Namespace) -> int:
     from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
-    from attentive_gym.attention.rosbag import parse_bag_topics
+    from attentive_gym.attention.io.rosbag import parse_bag_topics
     from attentive_gym._atomic import refuse_existing
-    from attentive_gym.attention.trace import save_trace
+    from attentive_gym.attention.io.trace import save_trace
 
     if args.out.exists() and not args.out.is_dir():
         raise ValueError(f"--out {args.out} is a file; give a folder (it is created if missing)")

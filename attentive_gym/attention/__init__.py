@@ -9,6 +9,23 @@ no gymnasium, no pymunk.
 - ``TraceRecorder`` / ``load_trace`` / ``Trace``: record a run to ``.npz`` and read it back.
 - ``load_log`` / ``replay_log`` / ``SensorLog``: replay readings logged from a robot.
 
+Its parts:
+
+- the model (docs/model.md §1–§9), in this package's top modules: ``config``, ``regions``,
+  ``memory`` (sensorial memory), ``kinematics`` (the window and literal modes),
+  ``features`` and ``goals``, ``attentional_map``, ``working_memory``, ``model`` (the
+  ``AttentionModel`` that steps them) and ``_numerics`` (the compiled arithmetic they share);
+- ``tracking``: the tracker of the ``tracker`` mode (§10): segmentation, association,
+  Kalman filters, and the tracks' regions;
+- ``compiled``: a whole step as compiled kernels (``step_kernels``), and ``batch``
+  (``ModelBatch``) for many models at once;
+- ``io``: sensor logs and their replay (``sensor_log``, ``replay``), ROS bags
+  (``rosbag``, ``ros_readings``) and recorded traces (``trace``).
+
+The modules of ``tracking``, ``compiled`` and ``io`` were once flat in this package; their
+old paths (``attentive_gym.attention.tracker``, ...) still import, with a
+``DeprecationWarning`` (``_moved``).
+
 Example:
     >>> import numpy as np
     >>> from attentive_gym.attention import AttentionModel, Goal
@@ -20,6 +37,14 @@ Example:
     ((6, 8), None)
 """
 
+import importlib as _importlib
+from types import ModuleType as _ModuleType
+
+from attentive_gym.attention import _moved
+
+_moved.install()  # before anything can import an old path
+
+from attentive_gym.attention.compiled.batch import ModelBatch
 from attentive_gym.attention.config import (
     ATTENTIVE_STATES,
     MAP_ALIASES,
@@ -28,6 +53,9 @@ from attentive_gym.attention.config import (
     parse_state,
 )
 from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
+from attentive_gym.attention.io.replay import load_log, parse_goal, parse_maps, replay_log
+from attentive_gym.attention.io.sensor_log import SensorLog
+from attentive_gym.attention.io.trace import Trace, TraceRecorder, load_trace
 from attentive_gym.attention.model import (
     ORIGIN_BOTTOM_UP,
     ORIGIN_CODES,
@@ -36,10 +64,7 @@ from attentive_gym.attention.model import (
     AttentionOutput,
     FocusView,
 )
-from attentive_gym.attention.batch import ModelBatch
 from attentive_gym.attention.regions import Grid
-from attentive_gym.attention.replay import SensorLog, load_log, parse_goal, parse_maps, replay_log
-from attentive_gym.attention.trace import Trace, TraceRecorder, load_trace
 
 __all__ = [
     "ATTENTIVE_STATES",
@@ -68,3 +93,11 @@ __all__ = [
     "parse_state",
     "replay_log",
 ]
+
+
+def __getattr__(name: str) -> _ModuleType:
+    """An old module path read as an attribute (``attentive_gym.attention.tracker``): imported
+    through ``_moved``'s finder, which warns once and binds the moved module here."""
+    if f"{__name__}.{name}" in _moved.MOVED:
+        return _importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

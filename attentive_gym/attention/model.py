@@ -62,7 +62,7 @@ from attentive_gym.attention.regions import (
     laser_bearings_rad,
     sonar_cone_bounds,
 )
-from attentive_gym.attention.step_kernels import (
+from attentive_gym.attention.compiled.step_kernels import (
     PLAN_COLUMNS,
     attend_one,
     fulfilling_range,
@@ -74,7 +74,7 @@ from attentive_gym.attention.step_kernels import (
     sense,
     window_kinematics,
 )
-from attentive_gym.attention.tracker import (
+from attentive_gym.attention.tracking.tracker import (
     TRACK_TABLE_FIELDS,
     Tracker,
     TrackTable,

@@ -33,7 +33,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from attentive_gym.attention.batch import ModelBatch, batching_problem
+from attentive_gym.attention.compiled.batch import ModelBatch, batching_problem
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 
 __all__ = ["Fleet", "stack_observations"]

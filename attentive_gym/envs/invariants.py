@@ -225,7 +225,7 @@ def check_tracker(tracker, tracks=None) -> list[str]:
     module docstring); empty when all hold.
 
     Args:
-        tracker: an ``attentive_gym.attention.tracker.Tracker`` (``AttentionModel._tracker``).
+        tracker: an ``attentive_gym.attention.tracking.tracker.Tracker`` (``AttentionModel._tracker``).
         tracks: the ``TrackTable`` the model output with the tracker in this state, or None.
 
     Each check first tests all live tracks at once and only looks for the offending slots

@@ -25,7 +25,7 @@ import numpy as np
 from attentive_gym.attention import AttentionConfig, AttentionModel, TraceRecorder
 from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.attention.regions import FRONT_SONARS
-from attentive_gym.attention.trace import save_trace
+from attentive_gym.attention.io.trace import save_trace
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.experiments.figures import plot_experiment
 from attentive_gym.experiments.registry import get_experiment

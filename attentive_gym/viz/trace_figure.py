@@ -21,7 +21,7 @@ from attentive_gym._atomic import save_figure
 from attentive_gym._optional import require
 from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.attention.regions import FRONT_SONARS, region_name
-from attentive_gym.attention.trace import Trace, load_trace
+from attentive_gym.attention.io.trace import Trace, load_trace
 
 __all__ = ["plot_trace", "panel_axes", "PANELS", "DEFAULT_PANELS"]
 

@@ -17,7 +17,7 @@ import gymnasium as gym
 import numpy as np
 
 from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, Goal
-from attentive_gym.attention.tracker import TRACK_TABLE_FIELDS
+from attentive_gym.attention.tracking.tracker import TRACK_TABLE_FIELDS
 from attentive_gym.attention.working_memory import WorkingMemory
 from attentive_gym.wrappers.encoders import ENCODERS, NO_EVENT, FocusEncoder
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
-from attentive_gym.attention.batch import ModelBatch
+from attentive_gym.attention.compiled.batch import ModelBatch
 from attentive_gym.wrappers.variants import make_env
 
 N_MODELS = 3

@@ -9,7 +9,7 @@ import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel
 from attentive_gym.attention.regions import laser_bearings_rad
-from attentive_gym.attention.segmentation import (
+from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
     TRACKABLE,

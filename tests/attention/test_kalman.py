@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from attentive_gym.attention.kalman import cv_update, static_update
+from attentive_gym.attention.tracking.kalman import cv_update, static_update
 
 
 @njit(cache=False)

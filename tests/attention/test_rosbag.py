@@ -1,4 +1,4 @@
-"""ROS bags as logs: ``attentive_gym.attention.rosbag`` and ``attentive-gym attend BAG``.
+"""ROS bags as logs: ``attentive_gym.attention.io.rosbag`` and ``attentive-gym attend BAG``.
 
 Every bag is written here with rosbags' own writers: ROS 1 ``.bag``, ROS 2 sqlite3
 ``.db3`` and ROS 2 ``.mcap``, a few dozen messages each.
@@ -19,9 +19,9 @@ from rosbags.typesys import Stores, get_typestore
 
 from attentive_gym.attention import AttentionConfig, load_log, load_trace
 from attentive_gym.attention.regions import sonar_cone_bounds
-from attentive_gym.attention.replay import LogFormatError
-from attentive_gym.attention.ros_readings import ScanResampler, front_sonar_slot, ranges_or_no_echo
-from attentive_gym.attention.rosbag import BagTopics, parse_bag_topics, read_bag
+from attentive_gym.attention.io.replay import LogFormatError
+from attentive_gym.attention.io.ros_readings import ScanResampler, front_sonar_slot, ranges_or_no_echo
+from attentive_gym.attention.io.rosbag import BagTopics, parse_bag_topics, read_bag
 from attentive_gym.cli import main
 
 REPO = Path(__file__).resolve().parents[2]
@@ -431,7 +431,7 @@ def test_without_rosbags_a_bag_asks_for_the_ros_extra(tmp_path, monkeypatch):
 
 
 def test_reading_bags_imports_rosbags_only_when_a_bag_is_read():
-    code = ("import sys; import attentive_gym.attention.rosbag, attentive_gym.attention as att; "
+    code = ("import sys; import attentive_gym.attention.io.rosbag, attentive_gym.attention as att; "
             "assert 'rosbags' not in sys.modules; print('ok')")
     result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr

@@ -16,7 +16,7 @@ from attentive_gym.attention import (
     parse_maps,
     replay_log,
 )
-from attentive_gym.attention.replay import LogFormatError
+from attentive_gym.attention.io.replay import LogFormatError
 from attentive_gym.cli import main
 
 T = 30

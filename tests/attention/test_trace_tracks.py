@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, TraceRecorder, load_trace
-from attentive_gym.attention.trace import TRACE_ARRAYS, TRACK_ARRAYS
+from attentive_gym.attention.io.trace import TRACE_ARRAYS, TRACK_ARRAYS
 
 T = 40
 DT = 0.05

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel
-from attentive_gym.attention.association import gated_assignment, min_cost_assignment
-from attentive_gym.attention.kalman import cv_predict, cv_update
+from attentive_gym.attention.tracking.association import gated_assignment, min_cost_assignment
+from attentive_gym.attention.tracking.kalman import cv_predict, cv_update
 from attentive_gym.attention.regions import laser_bearings_rad
-from attentive_gym.attention.segmentation import (
+from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
     TRACKABLE,

@@ -33,7 +33,7 @@ from attentive_gym.attention.features import goal_knots
 from attentive_gym.attention.goals import Feature, Goal, Relation
 from attentive_gym.attention.memory import push_sample, slope_rates
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS
-from attentive_gym.attention.tracker import track_step
+from attentive_gym.attention.tracking.tracker import track_step
 
 #: Columns of the goal plan, one row per top-down map (F4, F5, F6): the goal's kind
 #: (``_INACTIVE`` for an inactive map), its bounds and tolerance, and the knots of its

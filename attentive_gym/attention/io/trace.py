@@ -66,7 +66,7 @@ from attentive_gym._atomic import atomic_file
 from attentive_gym.attention.config import AttentionConfig
 from attentive_gym.attention.model import ORIGIN_CODES, AttentionOutput
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS
-from attentive_gym.attention.tracker import TrackTable
+from attentive_gym.attention.tracking.tracker import TrackTable
 
 __all__ = ["Trace", "TraceRecorder", "load_trace", "save_trace", "TRACE_ARRAYS", "TRACK_ARRAYS"]
 

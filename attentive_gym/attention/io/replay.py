@@ -1,6 +1,7 @@
 """Replay readings logged from a robot through the model (the numpy side of ``attentive-gym attend``).
 
-- ``SensorLog``: timestamps, sonar, laser and optional odometry of a logged run.
+- ``SensorLog`` / ``LogFormatError`` (of ``sensor_log``): a logged run's readings, and
+  the error for a log that cannot be replayed.
 - ``load_log``: read a ``.csv`` or ``.npz`` log or a ROS bag, with clear errors for
   malformed files.
 - ``replay_log``: step a model over a log and record the trace.
@@ -19,7 +20,7 @@ Log formats (T readings; times in seconds, ranges in metres, strictly increasing
 "No echo" readings must be logged as the sensor's maximum range (not inf or NaN).
 
 ROS 1 ``.bag`` files and ROS 2 bags (a folder with ``metadata.yaml``, or its ``.db3`` or
-``.mcap`` storage file) are read by ``attentive_gym.attention.rosbag`` (LaserScan, Range
+``.mcap`` storage file) are read by ``attentive_gym.attention.io.rosbag`` (LaserScan, Range
 and Odometry messages; the optional ``rosbags`` package).
 """
 
@@ -27,76 +28,20 @@ from __future__ import annotations
 
 import csv
 import os
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Mapping
+from typing import Mapping
 
 import numpy as np
 
 from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES, AttentionConfig
 from attentive_gym.attention.goals import Feature, Goal, Relation
-from attentive_gym.attention.model import MIN_TIME_STEP_S, AttentionModel
+from attentive_gym.attention.io.rosbag import BAG_SUFFIXES, BagTopics, is_bag_path, read_bag
+from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
+from attentive_gym.attention.io.trace import Trace, TraceRecorder
+from attentive_gym.attention.model import AttentionModel
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
-from attentive_gym.attention.trace import Trace, TraceRecorder
-
-if TYPE_CHECKING:
-    from attentive_gym.attention.rosbag import BagTopics
 
 __all__ = ["SensorLog", "LogFormatError", "load_log", "replay_log", "parse_goal", "parse_maps"]
-
-
-class LogFormatError(ValueError):
-    """A sensor log that cannot be replayed; the message says what is wrong and what is allowed."""
-
-
-@dataclass(frozen=True, eq=False)
-class SensorLog:
-    """Readings of a logged run, checked by ``check``.
-
-    Attributes:
-        t: ``(T,)`` times (s), strictly increasing.
-        sonar: ``(T, 16)`` or ``(T, 8)`` sonar ranges (m).
-        laser: ``(T, 180)`` laser ranges (m).
-        odometry: ``(T, 2)`` robot velocity (v m/s, w rad/s) or None.
-    """
-
-    t: np.ndarray
-    sonar: np.ndarray
-    laser: np.ndarray
-    odometry: np.ndarray | None = None
-
-    def check(self, source: str = "log") -> "SensorLog":
-        """Validate shapes and values; returns self. Raises ``LogFormatError``."""
-        n = self.t.shape[0] if self.t.ndim == 1 else -1
-        if n < 1:
-            raise LogFormatError(f"{source}: t must be a non-empty 1-D array of times (s), got shape {self.t.shape}")
-        if self.sonar.shape not in ((n, SONAR_RING), (n, FRONT_SONARS)):
-            raise LogFormatError(f"{source}: sonar must be ({n}, {SONAR_RING}) or ({n}, {FRONT_SONARS}), "
-                                 f"got {self.sonar.shape}")
-        if self.laser.shape != (n, LASER_BEAMS):
-            raise LogFormatError(f"{source}: laser must be ({n}, {LASER_BEAMS}), got {self.laser.shape}")
-        if self.odometry is not None and self.odometry.shape != (n, 2):
-            raise LogFormatError(f"{source}: odometry must be ({n}, 2) = (v m/s, w rad/s), got {self.odometry.shape}")
-        for name in ("t", "sonar", "laser", "odometry"):
-            values = getattr(self, name)
-            if values is None:
-                continue
-            bad = ~np.isfinite(values)
-            if bad.any():
-                row = int(np.argwhere(bad)[0][0])
-                raise LogFormatError(f"{source}: {name} holds NaN or inf (first at reading {row}); "
-                                     "log 'no echo' as the sensor's maximum range")
-        for name in ("sonar", "laser"):
-            negative = getattr(self, name) < 0.0
-            if negative.any():
-                row = int(np.argwhere(negative)[0][0])
-                raise LogFormatError(f"{source}: {name} holds a negative range (first at reading {row}); ranges are >= 0 m")
-        steps = np.diff(self.t)
-        if np.any(~(steps >= MIN_TIME_STEP_S)):
-            row = int(np.flatnonzero(~(steps >= MIN_TIME_STEP_S))[0]) + 1
-            raise LogFormatError(f"{source}: t must be strictly increasing (s, by at least {MIN_TIME_STEP_S:g} s "
-                                 f"per reading); reading {row} has t={self.t[row]!r} after t={self.t[row - 1]!r}")
-        return self
 
 
 def load_log(path: str | os.PathLike, *, topics: BagTopics | None = None,
@@ -116,21 +61,19 @@ def load_log(path: str | os.PathLike, *, topics: BagTopics | None = None,
             with a CSV or NPZ log; for a bag as ``rosbag.read_bag`` says.
         OSError: when the file cannot be read.
     """
-    from attentive_gym.attention import rosbag  # it imports this module
-
     path = Path(path)
-    if rosbag.is_bag_path(path):
-        return rosbag.read_bag(path, topics, config)
+    if is_bag_path(path):
+        return read_bag(path, topics, config)
     if topics is not None:
         raise LogFormatError(f"{path}: topic options apply to ROS bags only "
-                             f"({', '.join(rosbag.BAG_SUFFIXES)} or a ROS 2 bag folder)")
+                             f"({', '.join(BAG_SUFFIXES)} or a ROS 2 bag folder)")
     suffix = path.suffix.lower()
     if suffix == ".csv":
         return _load_csv(path)
     if suffix == ".npz":
         return _load_npz(path)
     raise LogFormatError(f"{path}: unknown log format {suffix!r}; allowed: .csv, .npz, "
-                         f"{', '.join(rosbag.BAG_SUFFIXES)} or a ROS 2 bag folder")
+                         f"{', '.join(BAG_SUFFIXES)} or a ROS 2 bag folder")
 
 
 def _load_csv(path: Path) -> SensorLog:

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention.association import gated_assignment
+from attentive_gym.attention.tracking.association import gated_assignment
 from attentive_gym.attention.config import AttentionConfig
-from attentive_gym.attention.kalman import (
+from attentive_gym.attention.tracking.kalman import (
     cv_predict,
     cv_update,
     motion_probability,
@@ -49,7 +49,7 @@ from attentive_gym.attention.regions import (
     laser_bearings_rad,
     sonar_cone_bounds,
 )
-from attentive_gym.attention.segmentation import (
+from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
     TRACKABLE,
@@ -58,7 +58,7 @@ from attentive_gym.attention.segmentation import (
     segment_scan,
     split_foreground,
 )
-from attentive_gym.attention.track_regions import track_channels, track_table
+from attentive_gym.attention.tracking.track_regions import track_channels, track_table
 
 __all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "track_step", "advance_pose", "table_from_rows",
            "TRACK_TABLE_FIELDS", "STATE_FIELDS"]

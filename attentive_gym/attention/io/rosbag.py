@@ -48,8 +48,8 @@ import numpy as np
 
 from attentive_gym.attention.config import AttentionConfig
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
-from attentive_gym.attention.replay import LogFormatError, SensorLog
-from attentive_gym.attention.ros_readings import (
+from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
+from attentive_gym.attention.io.ros_readings import (
     ScanResampler,
     front_sonar_slot,
     front_sonars_from_laser,
