@@ -40,7 +40,7 @@ OBS_SCALINGS = ("running", "none")
 #: learning rate constant at 3e-4 (SB3's default; runs written before 2026-12-03, whose
 #: ``spec.json`` has no ``algo_defaults``); 2 (the current one), the rate decayed linearly
 #: from 3e-4 to 0 over the budget (``"lin_3e-4"``), which keeps the focus policies from
-#: falling back late in long runs (README, "The measured answer").
+#: falling back late in long runs (docs/notes/2026-12-03-learning-rate.md).
 ALGO_DEFAULTS = (1, 2)
 
 #: ``algo_kwargs`` that take a schedule: a number, or ``"lin_<number>"`` (as in rl-zoo's
