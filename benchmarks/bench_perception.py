@@ -103,7 +103,7 @@ COST_NOISE = "gauss 0.05"
 
 PERCEPTION_ARENA = {"arena_size_m": 10.0, "num_distractors": 3}
 CONTROL_ARENA = {"arena_size_m": 8.0, "num_distractors": 2}
-CLUTTER_ARENA = {"arena_size_m": 8.0, "rubble_per_100m2": 3.0}  # the RL comparison's (README, "The measured answer")
+CLUTTER_ARENA = {"arena_size_m": 8.0, "rubble_per_100m2": 3.0}  # the RL comparison's (docs/results/rl.md)
 CLUTTER_DISTRACTORS = (1, 2, 3, 5)
 CLUTTER_NOISE = "gauss 0.05"
 
