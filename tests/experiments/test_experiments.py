@@ -29,7 +29,7 @@ NOISE = 0.05
 MIN_PASS_RATE = 0.8
 MODES = ("tracker", "window")
 
-# --- why a criterion does not reproduce, measured (see the README's experiment table) ---------
+# --- why a criterion does not reproduce, measured (see docs/experiments.md) ---------
 _MEAN = ("C is the weighted mean of the active maps (docs/model.md §6), so with F4 = 1 adding F1 < 1 lowers C: "
          "L(F1+F4) is 0.80 x max(L(F1), L(F4))")
 _IOR_ALTERNATES = ("inhibition of return alternates the focus between the two most salient regions of the static "
