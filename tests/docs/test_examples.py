@@ -1,4 +1,4 @@
-"""``examples/scenario.yaml``: the README's complete scenario file loads and runs."""
+"""``examples/scenario.yaml``: the complete scenario file of docs/scenarios.md loads and runs."""
 
 from pathlib import Path
 
