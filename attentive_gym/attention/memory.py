@@ -70,10 +70,6 @@ class SensorMemory:
         """The newest raw row ``(n_channels,)`` (a view; read-only by contract)."""
         return self._samples[0, self._state[0]]
 
-    def latest_invalid(self) -> np.ndarray:
-        """No-echo flags of the newest row ``(n_channels,)`` as 0.0 / 1.0 (a view)."""
-        return self._samples[2, self._state[0]]
-
     def push(self, t_s: float, readings: np.ndarray, invalid: np.ndarray, ego_change: np.ndarray | None) -> None:
         """Store one sample.
 

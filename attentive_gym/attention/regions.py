@@ -219,12 +219,6 @@ class Grid:
             return values
         return ufunc.reduceat(values[..., self._beam_order], self._starts, axis=-1)
 
-    def reduce_beam_rows(self, ufunc: np.ufunc, values: np.ndarray) -> np.ndarray:
-        """Like ``reduce_beams`` for arrays whose beam axis is the second-to-last, ``(..., 180, k)``."""
-        if self.is_laser:
-            return values
-        return ufunc.reduceat(values[..., self._beam_order, :], self._starts, axis=-2)
-
 
 def _indices(slices: tuple[slice, ...]) -> tuple[np.ndarray, ...]:
     return tuple(np.arange(s.start, s.stop) for s in slices)
