@@ -40,9 +40,9 @@ import numba
 import numpy as np
 
 import attentive_gym  # noqa: F401  (registers the environments)
-from attentive_gym.attention import batch as model_batch
+from attentive_gym import _pymunk_access
+from attentive_gym.attention.compiled import batch as model_batch
 from attentive_gym.registration import VARIANT_IDS
-from attentive_gym.sensors import _pymunk_access as body_state
 from attentive_gym.sensors import suite as sensor_suite
 from bench_env import steps_per_second
 from call_timer import CallTimer
@@ -185,14 +185,14 @@ def pymunk_floor_us(envs, steps: int = 300) -> float:
         for world in worlds:
             robot = world.robot.body
             for _ in range(substeps):
-                body_state.set_velocity(robot, 0.1, 0.0)
+                _pymunk_access.set_velocity(robot, 0.1, 0.0)
                 robot.angular_velocity = 0.05
                 world.space.step(h)
             for mover in world.movers:
-                body_state.set_velocity(mover.body, 0.1, 0.0)
-            body_state.position(robot), robot.angle
+                _pymunk_access.set_velocity(mover.body, 0.1, 0.0)
+            _pymunk_access.position(robot), robot.angle
             for mover in world.movers:
-                body_state.position(mover.body), mover.body.angle
+                _pymunk_access.position(mover.body), mover.body.angle
     return (time.perf_counter() - start) / (steps * len(worlds)) * 1e6
 
 

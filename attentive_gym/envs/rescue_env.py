@@ -18,11 +18,11 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from attentive_gym import _pymunk_access
 from attentive_gym._optional import require
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.reward import RewardConfig, rescue_reward
 from attentive_gym.sensors import LaserConfig, ScanHold, SensorReading, SensorSuite, SonarConfig, resolve_sensor_profile
-from attentive_gym.sensors import _pymunk_access as _body_state
 from attentive_gym.world.arena import ArenaConfig, generate_arena
 from attentive_gym.world.builtin import BUILTIN_SCENARIOS, builtin_scenario
 from attentive_gym.world.robot import RobotConfig
@@ -330,7 +330,7 @@ class AttentiveRescueEnv(gym.Env):
 
     def _sensing_request(self) -> tuple:
         """``(pose (3,), scene geometry, rng, own owner id)``: what a reading of the sensors now needs."""
-        return _body_state.pose(self.world.robot.body), self.world.geometry(), self.np_random, ROBOT_ID
+        return _pymunk_access.pose(self.world.robot.body), self.world.geometry(), self.np_random, ROBOT_ID
 
     def _read_sensors(self) -> SensorReading:
         """A fresh noisy reading of both sensors at the robot's pose (draws from ``np_random``)."""
@@ -381,7 +381,7 @@ class AttentiveRescueEnv(gym.Env):
         body = world.robot.body
         self._reading = reading = self._scans.update(fresh, world.time_s)
         # world.robot.odometry, clipped to the observation space's bounds, in plain floats
-        vx, vy = _body_state.velocity(body)
+        vx, vy = _pymunk_access.velocity(body)
         heading = body.angle
         linear, angular = vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity
         linear_limit, angular_limit = self._odometry_limit
@@ -406,8 +406,8 @@ class AttentiveRescueEnv(gym.Env):
     def _target_distance(self) -> float:
         if self._target_index is None:
             return math.inf
-        target = _body_state.position(self.world.movers[self._target_index].body)
-        robot = _body_state.position(self.world.robot.body)
+        target = _pymunk_access.position(self.world.movers[self._target_index].body)
+        robot = _pymunk_access.position(self.world.robot.body)
         return math.hypot(target[0] - robot[0], target[1] - robot[1])
 
     def _info(self, collided: bool, success: bool) -> dict[str, Any]:

@@ -36,7 +36,7 @@ import numpy as np
 import pymunk
 from numba import njit
 
-from attentive_gym.sensors._pymunk_access import poses as _body_poses
+from attentive_gym import _pymunk_access
 
 __all__ = ["SceneGeometry", "GeometryCache", "shape_primitives"]
 
@@ -242,7 +242,7 @@ class GeometryCache:
         """
         if not self._bodies:
             return self._static
-        poses = np.array(_body_poses(self._bodies))  # (3 B,) x, y, angle per body
+        poses = np.array(_pymunk_access.poses(self._bodies))  # (3 B,) x, y, angle per body
         segments, circles, bad = _place_kernel(
             poses, self._local_points, self._point_body, self._num_moving_endpoints,
             self._segment_template, self._circle_template,

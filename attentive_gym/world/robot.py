@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
-from attentive_gym.sensors import _pymunk_access as _body_state
+from attentive_gym import _pymunk_access
 
 __all__ = ["RobotConfig", "Robot", "ROBOT_COLLISION_TYPE"]
 
@@ -115,20 +115,20 @@ class Robot:
         # middle), so the body's velocity stays aligned with its heading while turning.
         heading = self.body.angle + 0.5 * angular * h_s
         control = self.control
-        _body_state.set_velocity(control, linear * math.cos(heading), linear * math.sin(heading))
-        _body_state.set_angular_velocity(control, angular)
+        _pymunk_access.set_velocity(control, linear * math.cos(heading), linear * math.sin(heading))
+        _pymunk_access.set_angular_velocity(control, angular)
 
     @property
     def pose(self) -> np.ndarray:
         """``(x_m, y_m, heading_rad)`` of the body's centre; the heading is not wrapped: it
         is the angle turned since the start (counter-clockwise positive), as pymunk keeps it."""
-        return np.array(_body_state.pose(self.body))
+        return np.array(_pymunk_access.pose(self.body))
 
     @property
     def odometry(self) -> np.ndarray:
         """Measured ``(linear m/s along the heading, angular rad/s)`` of the body."""
         body = self.body
-        vx, vy = _body_state.velocity(body)
+        vx, vy = _pymunk_access.velocity(body)
         heading = body.angle
         return np.array([vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity])
 
@@ -140,7 +140,7 @@ class Robot:
 
 
 def _append_contact_count(arbiter: pymunk.Arbiter, counts: list[int]) -> None:
-    counts.append(_body_state.contact_count(arbiter))
+    counts.append(_pymunk_access.contact_count(arbiter))
 
 
 def _approach(value: float, target: float, max_change: float) -> float:

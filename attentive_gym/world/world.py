@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
-from attentive_gym.sensors import _pymunk_access as _body_state
+from attentive_gym import _pymunk_access
 from attentive_gym.sensors.geometry import GeometryCache, SceneGeometry
 from attentive_gym.world.behaviours import make_motion
 from attentive_gym.world.robot import ROBOT_COLLISION_TYPE, Robot, RobotConfig
@@ -81,7 +81,7 @@ class Mover:
         if self.blocked and motion.follows_clock:
             self.script_delay_s += h_s  # stopped part-way through the last step: redo it
         self.blocked = False
-        vx, vy = motion.velocity(t_s - self.script_delay_s, h_s, _body_state.position(body), robot_xy)
+        vx, vy = motion.velocity(t_s - self.script_delay_s, h_s, _pymunk_access.position(body), robot_xy)
         towards_robot = self.touching_robot
         if towards_robot is not None:
             self.touching_robot = None
@@ -89,9 +89,9 @@ class Mover:
                 vx = vy = 0.0
                 if motion.follows_clock:
                     self.script_delay_s += h_s
-        _body_state.set_velocity(body, vx, vy)
+        _pymunk_access.set_velocity(body, vx, vy)
         if motion.face_motion and (vx or vy):
-            _body_state.set_angle(body, math.atan2(vy, vx))
+            _pymunk_access.set_angle(body, math.atan2(vy, vx))
 
 
 def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bool:
@@ -120,9 +120,9 @@ def _stop_mover_at_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, movers: d
     normal = arbiter.normal  # from the robot (shape a) to the mover (shape b)
     towards_robot = (-normal.x, -normal.y)
     mover.touching_robot = towards_robot
-    vx, vy = _body_state.velocity(mover.body)
+    vx, vy = _pymunk_access.velocity(mover.body)
     if _not_leaving(vx, vy, towards_robot):
-        _body_state.set_velocity(mover.body, 0.0, 0.0)
+        _pymunk_access.set_velocity(mover.body, 0.0, 0.0)
         mover.blocked = True
     elif vx or vy:
         arbiter.friction = 0.0
@@ -238,7 +238,7 @@ class World:
         robot = self.robot
         robot.command(linear_mps, angular_rps)
         if self.movers:
-            robot_xy = _body_state.position(robot.body)
+            robot_xy = _pymunk_access.position(robot.body)
             t_s = self.time_s
             for mover in self.movers:
                 mover.drive(t_s, dt_s, robot_xy)
@@ -273,14 +273,14 @@ class World:
         """``(M, 2)`` mover centres (m)."""
         xy: list[float] = []
         for m in self.movers:
-            xy += _body_state.position(m.body)
+            xy += _pymunk_access.position(m.body)
         return np.array(xy, dtype=float).reshape(-1, 2)
 
     def mover_velocities(self) -> np.ndarray:
         """``(M, 2)`` mover velocities (m/s)."""
         v: list[float] = []
         for m in self.movers:
-            v += _body_state.velocity(m.body)
+            v += _pymunk_access.velocity(m.body)
         return np.array(v, dtype=float).reshape(-1, 2)
 
 
