@@ -15,8 +15,8 @@ its members stepped one by one, bit for bit:
    termination, info) and its observation goes up its wrappers' hooks
    (``ObservationWrapper.observation``, or ``_observe_step`` for the attention, oracle
    wrappers: the attentional model runs there). When every member's innermost hook is
-   an ``AttentionWrapper``'s and their models can form an ``attention.batch.ModelBatch``
-   (one configuration, the sonar grid), the models of the stepped members run in one
+   an ``AttentionWrapper``'s and their models can form a ``ModelBatch``
+   (``attention.compiled.batch``: one configuration, the sonar grid), the models of the stepped members run in one
    compiled, parallel call first, and each wrapper encodes its model's output.
 
 A wrapper is allowed when it is a ``gymnasium.ActionWrapper`` or
