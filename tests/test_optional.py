@@ -114,7 +114,8 @@ def test_the_package_and_every_environment_work_with_neither_pygame_nor_matplotl
         sys.modules["pygame"] = None  # importing them now raises ImportError
         sys.modules["matplotlib"] = None
         import gymnasium as gym
-        import attentive_gym, attentive_gym.cli, attentive_gym.experiments, attentive_gym.viz, attentive_gym.wrappers
+        import attentive_gym, attentive_gym.cli, attentive_gym.experiments, attentive_gym.perception
+        import attentive_gym.viz, attentive_gym.wrappers
         from attentive_gym.registration import VARIANT_IDS
         for env_id in VARIANT_IDS.values():
             env = gym.make(env_id)
