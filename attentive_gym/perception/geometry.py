@@ -46,7 +46,7 @@ def bearing_of(xy: np.ndarray) -> np.ndarray:
 
 
 def in_view(xy: np.ndarray) -> np.ndarray:
-    """Whether robot-frame points ``(..., 2)`` lie in front (|bearing| < 90°) within
+    """Whether robot-frame points ``(..., 2)`` lie in front (``|bearing| < 90°``) within
     ``VIEW_RANGE_M``."""
     return (xy[..., 0] > 0.0) & (np.hypot(xy[..., 0], xy[..., 1]) < VIEW_RANGE_M)
 
