@@ -50,9 +50,10 @@ import csv
 import math
 import statistics
 import time
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -260,7 +261,8 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
             if "focus" in sections:
                 results.add("focus", config, by_age)
             rates = [key for key in by_age if key.startswith("focus_on_target_")]
-            age_rows.append(label + [f"{_fmt(by_age[key])} ({_fmt(by_age['steps_' + key[len('focus_on_target_'):]], 2)})"
+            age_rows.append(label + [f"{_fmt(by_age[key])} "
+                                     f"({_fmt(by_age['steps_' + key[len('focus_on_target_'):]], 2)})"
                                      for key in rates])
     header = ["mode", "robot", "noise"]
     print(f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
@@ -303,7 +305,8 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
             print(markdown_table(header + ["no track"] + bins, age_rows))
 
 
-def _focus_relative_to_noise_free(results: Results, focus_by_setting: Mapping[tuple[str, str, str], Mapping[str, float]],
+def _focus_relative_to_noise_free(results: Results,
+                                  focus_by_setting: Mapping[tuple[str, str, str], Mapping[str, float]],
                                   goal_names: list[str]) -> list[list[str]]:
     """Rows of the focus on target of every noisy setting divided by that of the same mode and
     robot noise-free (NaN where either is undefined), each ratio also added to ``results``
@@ -362,7 +365,8 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
             rows.append([str(distractors), mode, f"{_fmt(focus)} ({int(steps)})", _fmt(memory, 2), _fmt(oracle, 2),
                          _fmt(random, 2), _fmt(memory_ratio, 2)])
     print(f"\n### Clutter (8 m arena, 3 rubble pieces per 100 m², {noise.name} noise; focus on target: "
-          f"{episodes} episodes × {seconds:g} s, robot driving, both goals; controllers: {control_episodes} episodes)\n")
+          f"{episodes} episodes × {seconds:g} s, robot driving, both goals; "
+          f"controllers: {control_episodes} episodes)\n")
     print(markdown_table(["distractors", "mode", "focus on target (steps)", "memory controller", "true bearing",
                           "random", "memory / true bearing"], rows))
     if case_rows:

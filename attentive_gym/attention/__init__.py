@@ -41,9 +41,6 @@ import importlib as _importlib
 from types import ModuleType as _ModuleType
 
 from attentive_gym.attention import _moved
-
-_moved.install()  # before anything can import an old path
-
 from attentive_gym.attention.compiled.batch import ModelBatch
 from attentive_gym.attention.config import (
     ATTENTIVE_STATES,
@@ -65,6 +62,8 @@ from attentive_gym.attention.model import (
     FocusView,
 )
 from attentive_gym.attention.regions import Grid
+
+_moved.install()  # the library's own modules import the new paths only
 
 __all__ = [
     "ATTENTIVE_STATES",

@@ -15,29 +15,31 @@ import importlib.abc
 import importlib.machinery
 import sys
 import warnings
+from collections.abc import Mapping, Sequence
 from types import MappingProxyType, ModuleType
-from typing import Mapping, Sequence
 
 __all__ = ["MOVED", "install"]
 
 _PACKAGE = "attentive_gym.attention"
 #: Old module path → the module's path now.
-MOVED: Mapping[str, str] = MappingProxyType({
-    f"{_PACKAGE}.{old}": f"{_PACKAGE}.{new}"
-    for old, new in (
-        ("tracker", "tracking.tracker"),
-        ("kalman", "tracking.kalman"),
-        ("association", "tracking.association"),
-        ("segmentation", "tracking.segmentation"),
-        ("track_regions", "tracking.track_regions"),
-        ("step_kernels", "compiled.step_kernels"),
-        ("batch", "compiled.batch"),
-        ("replay", "io.replay"),
-        ("rosbag", "io.rosbag"),
-        ("ros_readings", "io.ros_readings"),
-        ("trace", "io.trace"),
-    )
-})
+MOVED: Mapping[str, str] = MappingProxyType(
+    {
+        f"{_PACKAGE}.{old}": f"{_PACKAGE}.{new}"
+        for old, new in (
+            ("tracker", "tracking.tracker"),
+            ("kalman", "tracking.kalman"),
+            ("association", "tracking.association"),
+            ("segmentation", "tracking.segmentation"),
+            ("track_regions", "tracking.track_regions"),
+            ("step_kernels", "compiled.step_kernels"),
+            ("batch", "compiled.batch"),
+            ("replay", "io.replay"),
+            ("rosbag", "io.rosbag"),
+            ("ros_readings", "io.ros_readings"),
+            ("trace", "io.trace"),
+        )
+    }
+)
 #: Modules whose frames stand between an import statement and ``_import_moved``.
 _PASSING = frozenset({_PACKAGE, __name__, importlib.__name__})
 
@@ -46,8 +48,11 @@ def _import_moved(old: str) -> ModuleType:
     """The module that ``old`` (a key of ``MOVED``) names now, after a ``DeprecationWarning``
     that points at the line that imported ``old``."""
     new = MOVED[old]
-    warnings.warn(f"{old} moved to {new}; import it from there (the old path will be removed)",
-                  DeprecationWarning, stacklevel=_importer_level())
+    warnings.warn(
+        f"{old} moved to {new}; import it from there (the old path will be removed)",
+        DeprecationWarning,
+        stacklevel=_importer_level(),
+    )
     return importlib.import_module(new)
 
 

@@ -25,14 +25,26 @@ import dataclasses
 import functools
 import math
 import numbers
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Iterable, Mapping
 
 import numpy as np
 from numba import njit
 
 from attentive_gym.attention.attentional_map import CourseBook, lateral_spread
+from attentive_gym.attention.compiled.step_kernels import (
+    PLAN_COLUMNS,
+    attend_one,
+    fulfilling_range,
+    goal_maps,
+    goal_plan_row,
+    load_row,
+    new_output_arrays,
+    select,
+    sense,
+    window_kinematics,
+)
 from attentive_gym.attention.config import (
     BOTTOM_UP_MAPS,
     MAP_ALIASES,
@@ -61,18 +73,6 @@ from attentive_gym.attention.regions import (
     front_sonar_bearings_rad,
     laser_bearings_rad,
     sonar_cone_bounds,
-)
-from attentive_gym.attention.compiled.step_kernels import (
-    PLAN_COLUMNS,
-    attend_one,
-    fulfilling_range,
-    goal_maps,
-    goal_plan_row,
-    load_row,
-    new_output_arrays,
-    select,
-    sense,
-    window_kinematics,
 )
 from attentive_gym.attention.tracking.tracker import (
     TRACK_TABLE_FIELDS,
@@ -215,7 +215,7 @@ class AttentionOutput:
 
     __hash__ = None  # holds arrays: mutable in practice, so not hashable
 
-    def __deepcopy__(self, memo: dict) -> "AttentionOutput":
+    def __deepcopy__(self, memo: dict) -> AttentionOutput:
         """A copy with copied arrays, sharing the immutable grid; ``view`` and ``tracks`` are
         rebuilt on demand.
 
@@ -595,7 +595,7 @@ class AttentionModel:
         tracker = self._tracker or _idle_tracker(self.config)
         self._tracker_constants, self._tracker_state = tracker.constants, tracker.state
 
-    def _output(self, t: float, arrays: tuple, winner: int, fired: bool, n_tracks: int) -> "AttentionOutput":
+    def _output(self, t: float, arrays: tuple, winner: int, fired: bool, n_tracks: int) -> AttentionOutput:
         """The ``AttentionOutput`` of a step from ``attend_one``'s outputs ``arrays``
         (``new_output_arrays``) and results (``batch.ModelBatch`` calls it too)."""
         (readings, valid, rates, _, _, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest, origins,
@@ -620,7 +620,7 @@ class AttentionModel:
         )
         return output
 
-    def _step_laser_grid(self, step: tuple, arrays: tuple) -> "AttentionOutput":
+    def _step_laser_grid(self, step: tuple, arrays: tuple) -> AttentionOutput:
         """``step`` on the laser grid: the kernels one by one, F1–F3 and the region
         quantities in numpy."""
         cfg = self.config

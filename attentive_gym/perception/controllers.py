@@ -16,7 +16,8 @@ a fraction in [−1, 1] of the robot's top speeds (0.7 m/s and 140°/s).
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -24,10 +25,26 @@ from attentive_gym.attention import ORIGIN_TOP_DOWN
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
 from attentive_gym.perception.geometry import bearing_of, true_target_bearing, wrap_angle
 
-__all__ = ["Policy", "steer", "focus_bearing", "FocusController", "memory_controller", "true_bearing_controller",
-           "RandomController", "Wander", "stand_still", "control_success", "WANDER_LINEAR", "WANDER_ANGULAR",
-           "WANDER_PERIOD_S", "WANDER_FRONT_BEAMS", "WANDER_CLEARANCE_M", "STEER_LINEAR", "STEER_GAIN_PER_RAD",
-           "SEARCH_SPIN"]
+__all__ = [
+    "Policy",
+    "steer",
+    "focus_bearing",
+    "FocusController",
+    "memory_controller",
+    "true_bearing_controller",
+    "RandomController",
+    "Wander",
+    "stand_still",
+    "control_success",
+    "WANDER_LINEAR",
+    "WANDER_ANGULAR",
+    "WANDER_PERIOD_S",
+    "WANDER_FRONT_BEAMS",
+    "WANDER_CLEARANCE_M",
+    "STEER_LINEAR",
+    "STEER_GAIN_PER_RAD",
+    "SEARCH_SPIN",
+]
 
 #: ``policy(observation, info) -> action`` (linear, angular; float32 fractions in [−1, 1]).
 Policy = Callable[[Mapping[str, np.ndarray], Mapping[str, Any]], np.ndarray]

@@ -11,14 +11,23 @@
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
 from attentive_gym.attention.regions import Grid, nearest_sonar
 
-__all__ = ["GRID", "VIEW_RANGE_M", "wrap_angle", "to_robot_frame", "bearing_of", "in_view", "region_of",
-           "true_target_bearing"]
+__all__ = [
+    "GRID",
+    "VIEW_RANGE_M",
+    "wrap_angle",
+    "to_robot_frame",
+    "bearing_of",
+    "in_view",
+    "region_of",
+    "true_target_bearing",
+]
 
 #: The attention regions the metrics are counted on: the sonar grid's 8, one per front sonar.
 GRID = Grid.make("sonar")

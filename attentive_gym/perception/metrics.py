@@ -20,8 +20,8 @@ Arrays: T steps, M movers, J = 8 regions; speeds in m/s, times in seconds.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Iterable, Mapping
 
 import numpy as np
 
@@ -29,9 +29,24 @@ from attentive_gym.attention.goals import Feature
 from attentive_gym.perception.geometry import in_view, region_of
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, EpisodeRecord
 
-__all__ = ["speed_metrics", "focus_on_target", "target_cases", "focus_by_track_age", "focus_after_turns",
-           "case_key", "pair_masks", "turns", "time_since", "region_estimates", "error_stats", "Pairs",
-           "TURN_ANGLE_RAD", "TRANSIENT_S", "MOVING_MPS", "TRACK_AGE_BINS_S"]
+__all__ = [
+    "speed_metrics",
+    "focus_on_target",
+    "target_cases",
+    "focus_by_track_age",
+    "focus_after_turns",
+    "case_key",
+    "pair_masks",
+    "turns",
+    "time_since",
+    "region_estimates",
+    "error_stats",
+    "Pairs",
+    "TURN_ANGLE_RAD",
+    "TRANSIENT_S",
+    "MOVING_MPS",
+    "TRACK_AGE_BINS_S",
+]
 
 #: A change of a mover's velocity direction above this (rad) is a turn.
 TURN_ANGLE_RAD = math.radians(30.0)
@@ -93,8 +108,12 @@ def error_stats(estimate: np.ndarray, truth: np.ndarray) -> dict[str, float]:
     error = np.abs(np.asarray(estimate, float) - np.asarray(truth, float))
     if error.size == 0:
         return {"pairs": 0, "median_mps": math.nan, "p90_mps": math.nan, "rmse_mps": math.nan}
-    return {"pairs": int(error.size), "median_mps": float(np.median(error)),
-            "p90_mps": float(np.percentile(error, 90)), "rmse_mps": float(np.sqrt(np.mean(error**2)))}
+    return {
+        "pairs": int(error.size),
+        "median_mps": float(np.median(error)),
+        "p90_mps": float(np.percentile(error, 90)),
+        "rmse_mps": float(np.sqrt(np.mean(error**2))),
+    }
 
 
 @dataclass
@@ -205,7 +224,9 @@ def target_cases(records: Iterable[EpisodeRecord]) -> dict[str, float]:
 
 def _age_bin_key(low: float, high: float) -> str:
     """The metric key of the track-age bin [``low``, ``high``) s."""
-    return f"focus_on_target_track_{low:g}_to_{high:g}_s" if math.isfinite(high) else f"focus_on_target_track_over_{low:g}_s"
+    if math.isfinite(high):
+        return f"focus_on_target_track_{low:g}_to_{high:g}_s"
+    return f"focus_on_target_track_over_{low:g}_s"
 
 
 def focus_by_track_age(records: Iterable[EpisodeRecord]) -> dict[str, float]:
@@ -213,7 +234,8 @@ def focus_by_track_age(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     the target has no track (``focus_on_target_no_track``) or a track whose age falls in
     each bin of ``TRACK_AGE_BINS_S``, with each group's share of the steps (``steps_...``);
     NaN rates for empty groups, {} without recorded ages."""
-    keys = ["focus_on_target_no_track"] + [_age_bin_key(lo, hi) for lo, hi in zip(TRACK_AGE_BINS_S, TRACK_AGE_BINS_S[1:])]
+    bins = zip(TRACK_AGE_BINS_S, TRACK_AGE_BINS_S[1:])
+    keys = ["focus_on_target_no_track"] + [_age_bin_key(lo, hi) for lo, hi in bins]
     hits = np.zeros((len(keys), 2))  # [group] × [on target, steps]
     for record in records:
         if record.target_track_age is None:
@@ -230,7 +252,7 @@ def focus_by_track_age(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     if not total:
         return {}
     rates = {key: (on / n if n else math.nan) for key, (on, n) in zip(keys, hits)}
-    shares = {"steps_" + key[len("focus_on_target_"):]: n / total for key, (_, n) in zip(keys, hits)}
+    shares = {"steps_" + key[len("focus_on_target_") :]: n / total for key, (_, n) in zip(keys, hits)}
     return {**rates, **shares}
 
 

@@ -23,8 +23,18 @@ from attentive_gym.attention import Goal
 from attentive_gym.perception.controllers import Policy
 from attentive_gym.perception.geometry import GRID, region_of, to_robot_frame
 
-__all__ = ["EpisodeRecord", "record_episode", "static_regions", "nearest_tracks", "nearest_track",
-           "matched_track_speeds", "target_case", "TARGET_CASES", "TRACK_MATCH_M", "SETTLE_S"]
+__all__ = [
+    "EpisodeRecord",
+    "record_episode",
+    "static_regions",
+    "nearest_tracks",
+    "nearest_track",
+    "matched_track_speeds",
+    "target_case",
+    "TARGET_CASES",
+    "TRACK_MATCH_M",
+    "SETTLE_S",
+]
 
 #: The nearest confirmed track within this (m) of a mover is its track.
 TRACK_MATCH_M = 0.75
@@ -67,6 +77,7 @@ class EpisodeRecord:
     target_case: np.ndarray | None = None
     target_track_age: np.ndarray | None = None
 
+
 #: ``(J, 180)`` which laser beams each region holds.
 _REGION_BEAMS = GRID.beam_region[None, :] == np.arange(GRID.n_regions)[:, None]
 
@@ -103,14 +114,23 @@ def matched_track_speeds(tracks, mover_xy: np.ndarray) -> np.ndarray:
     matched[rows >= 0] = np.asarray(tracks.speed_mps, float)[rows[rows >= 0]]
     return matched
 
+
 #: Why the focus is or is not on the target's region at a step, checked in this order: the
 #: focus is there; the perception misses the target (the laser does not see it; it sees it
 #: but no confirmed track lies within ``TRACK_MATCH_M``; a track does, but the goal is not
 #: judged to hold in the target's region, the track younger or older than ``SETTLE_S``);
 #: or the goal is judged to hold there and the selection goes elsewhere (no focus at all;
 #: the region is inhibited, M < 1; another region wins).
-TARGET_CASES = ("on target", "hidden from the laser", "seen, no track", "young track, goal not judged",
-                "track, goal not judged", "no focus", "inhibited", "another region won")
+TARGET_CASES = (
+    "on target",
+    "hidden from the laser",
+    "seen, no track",
+    "young track, goal not judged",
+    "track, goal not judged",
+    "no focus",
+    "inhibited",
+    "another region won",
+)
 
 
 def nearest_track(tracks, xy: np.ndarray) -> int | None:
@@ -156,21 +176,32 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
         tracks = getattr(output, "tracks", None)
         tracked = tracked or (tracks is not None and len(tracks.id) > 0)
         target_track = None if tracks is None else nearest_track(tracks, xy[info["target_index"]])
-        steps.append((
-            info["time_s"], xy, info["mover_velocities"], output.speeds_mps,
-            np.full(len(xy), np.nan) if tracks is None else matched_track_speeds(tracks, xy),
-            -1 if output.focus is None else output.focus,
-            static_regions(info["laser_hits"], info["sonar_hits"], mover_ids),
-            target_case(output, xy[info["target_index"]], int(np.sum(info["laser_hits"] == target_id))),
-            math.nan if target_track is None else tracks.age_s[target_track],
-        ))
+        steps.append(
+            (
+                info["time_s"],
+                xy,
+                info["mover_velocities"],
+                output.speeds_mps,
+                np.full(len(xy), np.nan) if tracks is None else matched_track_speeds(tracks, xy),
+                -1 if output.focus is None else output.focus,
+                static_regions(info["laser_hits"], info["sonar_hits"], mover_ids),
+                target_case(output, xy[info["target_index"]], int(np.sum(info["laser_hits"] == target_id))),
+                math.nan if target_track is None else tracks.age_s[target_track],
+            )
+        )
         if terminated or truncated:
             break
     t_s, xy, velocity, region_speed, track_speed, focus, static, case, age = zip(*steps)
     return EpisodeRecord(
-        goal=goal, target=int(info["target_index"]), t_s=np.array(t_s), mover_xy=np.array(xy),
-        mover_velocity=np.array(velocity), region_speed=np.array(region_speed),
+        goal=goal,
+        target=int(info["target_index"]),
+        t_s=np.array(t_s),
+        mover_xy=np.array(xy),
+        mover_velocity=np.array(velocity),
+        region_speed=np.array(region_speed),
         track_speed=np.array(track_speed) if tracked else None,
-        focus=np.array(focus), static_region=np.array(static), target_case=np.array(case) if tracked else None,
+        focus=np.array(focus),
+        static_region=np.array(static),
+        target_case=np.array(case) if tracked else None,
         target_track_age=np.array(age) if tracked else None,
     )

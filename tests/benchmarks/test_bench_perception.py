@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
+
 from support import load_benchmark
 
 bench = load_benchmark("bench_perception")

@@ -96,9 +96,11 @@ def test_the_random_controller_is_seeded_and_stand_still_is_zero():
 def test_success_rates_of_every_controller_are_fractions(attended_env):
     arena = {"arena_size_m": 8.0, "num_distractors": 2}
     env = attended_env("window", arena=arena, time_limit_s=1.0)
-    for make_policy in (lambda env, seed: FocusController(env.unwrapped.dt),
-                        lambda env, seed: controllers.true_bearing_controller,
-                        lambda env, seed: RandomController(env.action_space, seed)):
+    for make_policy in (
+        lambda env, seed: FocusController(env.unwrapped.dt),
+        lambda env, seed: controllers.true_bearing_controller,
+        lambda env, seed: RandomController(env.action_space, seed),
+    ):
         assert 0.0 <= controllers.control_success(env, make_policy, [0]) <= 1.0
     focus_env = attended_env("tracker", variant="focus", arena=arena, time_limit_s=1.0)
     assert 0.0 <= controllers.control_success(focus_env, lambda env, seed: controllers.memory_controller, [0]) <= 1.0

@@ -23,8 +23,7 @@ def test_wrap_angle_lands_in_minus_pi_to_pi():
 def test_to_robot_frame_puts_the_heading_on_x_and_the_left_on_y():
     pose = np.array([1.0, 2.0, math.pi / 2])  # at (1, 2), facing +y
     world = np.array([[1.0, 5.0], [0.0, 2.0], [2.0, 2.0]])  # ahead 3 m, left 1 m, right 1 m
-    np.testing.assert_allclose(geometry.to_robot_frame(world, pose), [[3.0, 0.0], [0.0, 1.0], [0.0, -1.0]],
-                               atol=1e-12)
+    np.testing.assert_allclose(geometry.to_robot_frame(world, pose), [[3.0, 0.0], [0.0, 1.0], [0.0, -1.0]], atol=1e-12)
     assert geometry.to_robot_frame(np.zeros((4, 3, 2)), pose).shape == (4, 3, 2)
 
 
@@ -41,8 +40,11 @@ def test_each_front_sonar_s_bearing_lies_in_its_region():
 
 
 def test_the_true_target_bearing_comes_from_the_world_s_truth():
-    info = {"mover_positions": np.array([[9.0, 9.0], [3.0, 4.0]]), "target_index": 1,
-            "robot_pose": np.array([3.0, 0.0, 0.0])}
+    info = {
+        "mover_positions": np.array([[9.0, 9.0], [3.0, 4.0]]),
+        "target_index": 1,
+        "robot_pose": np.array([3.0, 0.0, 0.0]),
+    }
     assert geometry.true_target_bearing(info) == pytest.approx(math.pi / 2)  # straight to the left
     info["robot_pose"] = np.array([3.0, 0.0, math.pi / 2])
     assert geometry.true_target_bearing(info) == pytest.approx(0.0, abs=1e-12)  # straight ahead

@@ -49,9 +49,14 @@ def test_the_true_speed_as_estimate_has_no_error(records):
     steps, movers = np.nonzero(visible)
     perfect[steps, regions[steps, movers]] = true_speed[steps, movers]
     # two movers in one region cannot both be right: keep the pairs alone in their region
-    crowded = np.array([[np.sum(regions[k][visible[k]] == regions[k, m]) > 1 for m in range(visible.shape[1])]
-                        for k in range(visible.shape[0])])
-    record = dataclasses.replace(driving, region_speed=perfect, mover_xy=np.where(crowded[..., None], -1.0, driving.mover_xy))
+    crowded = np.array(
+        [
+            [np.sum(regions[k][visible[k]] == regions[k, m]) > 1 for m in range(visible.shape[1])]
+            for k in range(visible.shape[0])
+        ]
+    )
+    alone_xy = np.where(crowded[..., None], -1.0, driving.mover_xy)
+    record = dataclasses.replace(driving, region_speed=perfect, mover_xy=alone_xy)
     figures = metrics.speed_metrics([record])
     assert figures["region_pairs"] > 0
     assert figures["region_rmse_mps"] == pytest.approx(0.0, abs=1e-12)
@@ -81,8 +86,9 @@ def test_turns_and_view_time_select_pairs():
     velocity[40:, 0] = (0.0, 0.5)  # a 90° turn at step 40 (t = 2.05 s)
     xy = np.tile([[2.0, 0.0]], (steps, 1, 1))
     xy[:10] = (-2.0, 0.0)  # behind the robot until step 10 (in view from t = 0.55 s)
-    record = EpisodeRecord(GOAL, 0, t_s, xy, velocity, np.zeros((steps, 8)), None,
-                           np.full(steps, -1), np.zeros((steps, 8), bool))
+    record = EpisodeRecord(
+        GOAL, 0, t_s, xy, velocity, np.zeros((steps, 8)), None, np.full(steps, -1), np.zeros((steps, 8), bool)
+    )
     steady, transient = metrics.pair_masks(record)
     # settled from t = 1.55 s (step 30); transient until 1 s after the turn (step 60)
     assert np.flatnonzero(steady[:, 0]).tolist() == list(range(30, 40)) + list(range(61, steps))
@@ -93,8 +99,9 @@ def test_turns_are_direction_changes_above_the_threshold_and_starts_and_stops():
     speed = 0.5
     small, large = metrics.TURN_ANGLE_RAD - 0.05, metrics.TURN_ANGLE_RAD + 0.05
     headings = [0.0, 0.0, small, small + large]
-    velocity = np.array([[[speed * math.cos(h), speed * math.sin(h)]] for h in headings]
-                        + [[[0.0, 0.0]], [[0.0, 0.01]], [[0.3, 0.0]]])  # stops, creeps (still), starts
+    velocity = np.array(
+        [[[speed * math.cos(h), speed * math.sin(h)]] for h in headings] + [[[0.0, 0.0]], [[0.0, 0.01]], [[0.3, 0.0]]]
+    )  # stops, creeps (still), starts
     assert metrics.turns(velocity)[:, 0].tolist() == [False, False, False, True, True, False, True]
 
 
@@ -118,8 +125,9 @@ def test_region_estimates_read_the_region_each_mover_lies_in():
     xy = np.array([[[3.0, 0.1], [1.0, -3.0]]])  # region 3 (sonar at +10°), region 7 (sonar at −90°)
     region_speed = np.arange(8, dtype=float)[None, :] / 10
     assert region_of(xy).tolist() == [[3, 7]]
-    record = EpisodeRecord(GOAL, 0, np.array([0.05]), xy, np.zeros((1, 2, 2)), region_speed, None,
-                           np.array([-1]), np.zeros((1, 8), bool))
+    record = EpisodeRecord(
+        GOAL, 0, np.array([0.05]), xy, np.zeros((1, 2, 2)), region_speed, None, np.array([-1]), np.zeros((1, 8), bool)
+    )
     np.testing.assert_array_equal(metrics.region_estimates(record), [[0.3, 0.7]])
 
 
@@ -149,8 +157,7 @@ def test_focus_after_turns_splits_the_steps_at_the_target_s_turns():
     region = int(region_of(xy[0, 0]))
     focus = np.full(steps, region)
     focus[30:47] = -1  # lost for the 17 steps within 1 s after the turn (its end included)
-    record = EpisodeRecord(GOAL, 0, t_s, xy, velocity, np.zeros((steps, 8)), None, focus,
-                           np.zeros((steps, 8), bool))
+    record = EpisodeRecord(GOAL, 0, t_s, xy, velocity, np.zeros((steps, 8)), None, focus, np.zeros((steps, 8), bool))
     rates = metrics.focus_after_turns([record])
     assert rates == {"focus_on_target_after_turn": 0.0, "focus_on_target_otherwise": 1.0}
 
@@ -162,8 +169,18 @@ def test_focus_by_track_age_groups_the_steps_by_the_target_track_s_age():
     region = int(region_of(xy[0, 0]))
     age = np.array([np.nan, np.nan, 0.2, 0.9, 1.0, 1.5, 3.0, 4.0, 9.0, 9.0])
     focus = np.array([region, -1, -1, region, region, region, -1, region, region, -1])
-    record = EpisodeRecord(GOAL, 0, np.arange(1, steps + 1) * 0.05, xy, np.zeros((steps, 1, 2)),
-                           np.zeros((steps, 8)), None, focus, np.zeros((steps, 8), bool), target_track_age=age)
+    record = EpisodeRecord(
+        GOAL,
+        0,
+        np.arange(1, steps + 1) * 0.05,
+        xy,
+        np.zeros((steps, 1, 2)),
+        np.zeros((steps, 8)),
+        None,
+        focus,
+        np.zeros((steps, 8), bool),
+        target_track_age=age,
+    )
     by_age = metrics.focus_by_track_age([record])
     assert by_age["focus_on_target_no_track"] == 0.5
     assert by_age["focus_on_target_track_0_to_1_s"] == 0.5

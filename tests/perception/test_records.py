@@ -64,9 +64,12 @@ def test_static_regions_see_echoes_from_structure_only():
 def _tracks(xy, confirmed=None, speed=None, age=None):
     xy = np.array(xy, float).reshape(-1, 2)
     n = len(xy)
-    return SimpleNamespace(position_m=xy, confirmed=np.ones(n, bool) if confirmed is None else np.array(confirmed),
-                           speed_mps=np.arange(n, dtype=float) if speed is None else np.array(speed),
-                           age_s=np.full(n, 2.0) if age is None else np.array(age))
+    return SimpleNamespace(
+        position_m=xy,
+        confirmed=np.ones(n, bool) if confirmed is None else np.array(confirmed),
+        speed_mps=np.arange(n, dtype=float) if speed is None else np.array(speed),
+        age_s=np.full(n, 2.0) if age is None else np.array(age),
+    )
 
 
 def test_movers_match_the_nearest_confirmed_track_within_reach():
@@ -81,8 +84,9 @@ def test_movers_match_the_nearest_confirmed_track_within_reach():
 
 def _output(focus, fulfilled_region=None, inhibited=False, track_xy=None, track_age_s=2.0):
     """A stand-in for an ``AttentionOutput`` with one confirmed track at ``track_xy`` (none if None)."""
-    tracks = _tracks(np.zeros((0, 2)) if track_xy is None else [track_xy], age=None if track_xy is None
-                     else [track_age_s])
+    tracks = _tracks(
+        np.zeros((0, 2)) if track_xy is None else [track_xy], age=None if track_xy is None else [track_age_s]
+    )
     fulfilled = np.zeros(8, bool)
     if fulfilled_region is not None:
         fulfilled[fulfilled_region] = True
@@ -101,7 +105,8 @@ def test_target_cases_tell_perception_from_selection():
     assert target_case(_output(1), target, 5) == case("seen, no track")
     assert target_case(_output(1, track_xy=(3.0, 1.0)), target, 5) == case("seen, no track")  # 0.9 m off
     assert target_case(_output(1, track_xy=(3.1, 0.1), track_age_s=0.5), target, 5) == case(
-        "young track, goal not judged")
+        "young track, goal not judged"
+    )
     assert target_case(_output(1, track_xy=(3.1, 0.1)), target, 5) == case("track, goal not judged")
     assert target_case(_output(None, 3, track_xy=(3.1, 0.1)), target, 5) == case("no focus")
     assert target_case(_output(1, 3, inhibited=True, track_xy=(3.1, 0.1)), target, 5) == case("inhibited")

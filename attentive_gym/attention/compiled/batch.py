@@ -21,8 +21,8 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit, prange
 
-from attentive_gym.attention.model import AttentionModel, AttentionOutput
 from attentive_gym.attention.compiled.step_kernels import attend_one, new_output_arrays
+from attentive_gym.attention.model import AttentionModel, AttentionOutput
 from attentive_gym.attention.tracking.tracker import STATE_FIELDS
 
 __all__ = ["ModelBatch", "attend_many", "batching_problem"]

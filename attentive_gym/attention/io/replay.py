@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import csv
 import os
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -208,7 +208,8 @@ def parse_goal(spec: str) -> Goal:
     if relation not in expected:
         raise ValueError(f"unknown goal relation {relation!r} in {spec!r}; allowed: {', '.join(expected)}")
     if len(numbers) not in expected[relation]:
-        raise ValueError(f"{usage}; {relation} takes {' or '.join(map(str, expected[relation]))} bound(s), got {spec!r}")
+        counts = " or ".join(map(str, expected[relation]))
+        raise ValueError(f"{usage}; {relation} takes {counts} bound(s), got {spec!r}")
     if relation == "between":
         return Goal.between(feature, *numbers)
     if relation == "equal":

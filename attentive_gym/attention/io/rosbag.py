@@ -40,15 +40,14 @@ beam outside the scan read the model's maximum range (``AttentionConfig.laser_ma
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from attentive_gym.attention.config import AttentionConfig
-from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
-from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
 from attentive_gym.attention.io.ros_readings import (
     ScanResampler,
     front_sonar_slot,
@@ -56,6 +55,8 @@ from attentive_gym.attention.io.ros_readings import (
     latest_at_or_before,
     ranges_or_no_echo,
 )
+from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
+from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
 
 __all__ = ["BAG_SUFFIXES", "LASER_TYPE", "RANGE_TYPE", "ODOMETRY_TYPE", "BagTopics", "is_bag_path",
            "parse_bag_topics", "read_bag"]

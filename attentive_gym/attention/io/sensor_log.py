@@ -38,14 +38,15 @@ class SensorLog:
     laser: np.ndarray
     odometry: np.ndarray | None = None
 
-    def check(self, source: str = "log") -> "SensorLog":
+    def check(self, source: str = "log") -> SensorLog:
         """Validate shapes and values; returns self. Raises ``LogFormatError``."""
         n = self.t.shape[0] if self.t.ndim == 1 else -1
         if n < 1:
             raise LogFormatError(f"{source}: t must be a non-empty 1-D array of times (s), got shape {self.t.shape}")
         if self.sonar.shape not in ((n, SONAR_RING), (n, FRONT_SONARS)):
-            raise LogFormatError(f"{source}: sonar must be ({n}, {SONAR_RING}) or ({n}, {FRONT_SONARS}), "
-                                 f"got {self.sonar.shape}")
+            raise LogFormatError(
+                f"{source}: sonar must be ({n}, {SONAR_RING}) or ({n}, {FRONT_SONARS}), got {self.sonar.shape}"
+            )
         if self.laser.shape != (n, LASER_BEAMS):
             raise LogFormatError(f"{source}: laser must be ({n}, {LASER_BEAMS}), got {self.laser.shape}")
         if self.odometry is not None and self.odometry.shape != (n, 2):
@@ -57,16 +58,22 @@ class SensorLog:
             bad = ~np.isfinite(values)
             if bad.any():
                 row = int(np.argwhere(bad)[0][0])
-                raise LogFormatError(f"{source}: {name} holds NaN or inf (first at reading {row}); "
-                                     "log 'no echo' as the sensor's maximum range")
+                raise LogFormatError(
+                    f"{source}: {name} holds NaN or inf (first at reading {row}); "
+                    "log 'no echo' as the sensor's maximum range"
+                )
         for name in ("sonar", "laser"):
             negative = getattr(self, name) < 0.0
             if negative.any():
                 row = int(np.argwhere(negative)[0][0])
-                raise LogFormatError(f"{source}: {name} holds a negative range (first at reading {row}); ranges are >= 0 m")
+                raise LogFormatError(
+                    f"{source}: {name} holds a negative range (first at reading {row}); ranges are >= 0 m"
+                )
         steps = np.diff(self.t)
         if np.any(~(steps >= MIN_TIME_STEP_S)):
             row = int(np.flatnonzero(~(steps >= MIN_TIME_STEP_S))[0]) + 1
-            raise LogFormatError(f"{source}: t must be strictly increasing (s, by at least {MIN_TIME_STEP_S:g} s "
-                                 f"per reading); reading {row} has t={self.t[row]!r} after t={self.t[row - 1]!r}")
+            raise LogFormatError(
+                f"{source}: t must be strictly increasing (s, by at least {MIN_TIME_STEP_S:g} s "
+                f"per reading); reading {row} has t={self.t[row]!r} after t={self.t[row - 1]!r}"
+            )
         return self

@@ -54,8 +54,8 @@ name                          shape, dtype      meaning (``TrackTable`` field)
 from __future__ import annotations
 
 import json
-import os
 import numbers
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any

@@ -28,17 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention.tracking.association import gated_assignment
 from attentive_gym.attention.config import AttentionConfig
-from attentive_gym.attention.tracking.kalman import (
-    cv_predict,
-    cv_update,
-    motion_probability,
-    rate_predict,
-    rate_update,
-    static_predict,
-    static_update,
-)
 from attentive_gym.attention.kinematics import planar_displacement
 from attentive_gym.attention.regions import (
     FRONT_SONARS,
@@ -48,6 +38,16 @@ from attentive_gym.attention.regions import (
     front_sonar_bearings_rad,
     laser_bearings_rad,
     sonar_cone_bounds,
+)
+from attentive_gym.attention.tracking.association import gated_assignment
+from attentive_gym.attention.tracking.kalman import (
+    cv_predict,
+    cv_update,
+    motion_probability,
+    rate_predict,
+    rate_update,
+    static_predict,
+    static_update,
 )
 from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
