@@ -11,7 +11,7 @@ no gymnasium, no pymunk.
 
 Its parts:
 
-- the model (docs/model.md §1–§9), in this package's top modules: ``config``, ``regions``,
+- the model (docs/model.md §1–§8 and §11), in this package's top modules: ``config``, ``regions``,
   ``memory`` (sensorial memory), ``kinematics`` (the window and literal modes),
   ``features`` and ``goals``, ``attentional_map``, ``working_memory``, ``model`` (the
   ``AttentionModel`` that steps them) and ``_numerics`` (the compiled arithmetic they share);
