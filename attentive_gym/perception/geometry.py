@@ -2,7 +2,7 @@
 
 - ``wrap_angle``, ``to_robot_frame``, ``bearing_of``: world points in the robot's frame
   (x forward, y left, m) and their bearings (rad, counter-clockwise from the heading).
-- ``in_view``: in front of the robot (|bearing| < 90°) within ``VIEW_RANGE_M``.
+- ``in_view``: in front of the robot (``|bearing| < 90°``) within ``VIEW_RANGE_M``.
 - ``region_of``: the attention region (0..7 on ``GRID``) a point lies in.
 - ``true_target_bearing``: the episode's target's bearing, from the world's truth
   (``info`` of an ``AttentiveRescue`` step).
