@@ -10,7 +10,9 @@
   SIGTERM (``Interrupted``), which both ``backends`` and ``training`` stop on.
 - ``results``: atomic writes and summaries; ``statistics``: IQM, bootstrap CIs, probability of
   improvement (as ``rliable``); ``plots``: the figures; ``sweep``: the clutter sweep;
-  ``report``: the README's results from the shipped CSVs.
+  ``merged``: many comparisons' rows in one table, tagged with their training setting, and
+  attention against its bound and control (the repository's ``tools/report.py`` renders the
+  docs' results pages from them; ``report`` is its deprecated former home).
 
 Importing this package does not import torch or SB3 (the ``agents`` extra); the functions do.
 """

@@ -10,8 +10,10 @@
   ``pass_rates(name, noise, seeds, ...)`` over several seeds.
 - ``experiment_figure(result)`` / ``plot_experiment(result, path)``: the paper-like
   figure (every panel on one time axis), as a ``Figure`` or saved as a PNG.
-- ``attentive_gym.experiments.table``: the README's table of checks per kinematics mode
-  (``python -m attentive_gym.experiments.table``).
+- ``attentive_gym.experiments.table``: the table of checks per kinematics mode
+  (``measure``, ``markdown``) and its tidy rows (``to_rows``, ``from_rows``); the
+  repository's ``tools/experiments_table.py`` measures it into
+  ``docs/results/experiment_checks.csv``.
 
 Modules import in one direction: ``registry`` → ``result`` → ``figures`` → ``runner`` →
 ``checks`` → ``cli`` / ``table``.

@@ -1,14 +1,35 @@
-"""The README's RL results come from the committed CSVs, and batches merge into them."""
+"""The RL results come from the committed CSVs, and batches merge into them: the library's
+computations (``attentive_gym.agents.merged``) and ``tools/report.py``'s ``add`` and ``render``."""
 
 import json
 import math
+import shutil
+import warnings
+from pathlib import Path
 
 import pytest
 
-from attentive_gym.agents.report import (END, START, budgets, clutter_targets, labelled, main, merge_rows, render_block,
-                                         targets)
-from attentive_gym.agents.sweep import sweep_tables
+from attentive_gym.agents.merged import budgets, clutter_targets, labelled, merge_rows, targets
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, write_csv_atomic
+from attentive_gym.agents.sweep import sweep_tables
+from support import load_tool
+
+report = load_tool("report")
+main, rl_page, headline = report.main, report.rl_page, report.headline
+render_block = rl_page.results_markdown
+#: The repository's results folder: the CSVs of the other pages come from there.
+RESULTS = Path(__file__).resolve().parents[2] / "docs" / "results"
+
+
+def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
+    """A repository root with the committed perception, checks and performance CSVs, no RL
+    rows and a README holding ``readme`` (``{start}``/``{end}``: the headline's markers)."""
+    (tmp_path / "docs" / "results").mkdir(parents=True)
+    for name in ("perception.csv", "perception_clutter.csv", "experiment_checks.csv", "performance.csv"):
+        shutil.copy(RESULTS / name, tmp_path / "docs" / "results" / name)
+    if readme is not None:
+        (tmp_path / "README.md").write_text(readme.format(start=headline.START, end=headline.END))
+    return tmp_path
 
 
 def _rows(levels, steps=(0, 100, 200)):
@@ -18,15 +39,33 @@ def _rows(levels, steps=(0, 100, 200)):
         for seed, final in enumerate(finals):
             for k, step in enumerate(steps):
                 success = 0.1 + (final - 0.1) * k / (len(steps) - 1)
-                rows.append({**{c: 0 for c in EVAL_COLUMNS}, "variant": variant, "seed": seed, "env_steps": step,
-                             "success_rate": success, "mean_return": success})
+                rows.append(
+                    {
+                        **{c: 0 for c in EVAL_COLUMNS},
+                        "variant": variant,
+                        "seed": seed,
+                        "env_steps": step,
+                        "success_rate": success,
+                        "mean_return": success,
+                    }
+                )
     return rows
 
 
 def test_targets_measure_speed_margin_and_gap_against_raw_and_oracle():
-    rows = labelled([{"algo": "ppo", "obs_scaling": "running", **r}
-                     for r in _rows({"raw": [0.40, 0.42, 0.44], "oracle": [0.80, 0.82, 0.84],
-                                     "focus": [0.70, 0.72, 0.74], "random-focus": [0.3, 0.3, 0.3]})])
+    rows = labelled(
+        [
+            {"algo": "ppo", "obs_scaling": "running", **r}
+            for r in _rows(
+                {
+                    "raw": [0.40, 0.42, 0.44],
+                    "oracle": [0.80, 0.82, 0.84],
+                    "focus": [0.70, 0.72, 0.74],
+                    "random-focus": [0.3, 0.3, 0.3],
+                }
+            )
+        ]
+    )
     (focus,) = targets(rows, summarise(rows))  # the controls and bounds are not "attended"
     assert focus["variant"] == "focus" and focus["above_raw"]
     assert focus["gap_closed"] == pytest.approx((0.72 - 0.42) / (0.82 - 0.42))
@@ -51,36 +90,70 @@ def test_merging_a_batch_replaces_its_runs_and_keeps_the_rest():
 
 
 def test_targets_compare_within_one_algorithm_and_scaling():
-    rows = labelled([{"algo": "ppo", "obs_scaling": scaling, **r}
-                     for scaling, levels in (("running", {"raw": [0.5, 0.5], "oracle": [0.9, 0.9], "focus": [0.7, 0.7]}),
-                                             ("none", {"raw": [0.3, 0.3], "oracle": [0.5, 0.5], "focus": [0.4, 0.4]}))
-                     for r in _rows(levels)])
+    rows = labelled(
+        [
+            {"algo": "ppo", "obs_scaling": scaling, **r}
+            for scaling, levels in (
+                ("running", {"raw": [0.5, 0.5], "oracle": [0.9, 0.9], "focus": [0.7, 0.7]}),
+                ("none", {"raw": [0.3, 0.3], "oracle": [0.5, 0.5], "focus": [0.4, 0.4]}),
+            )
+            for r in _rows(levels)
+        ]
+    )
     by_variant = {row["variant"]: row for row in targets(rows, summarise(rows))}
     assert by_variant.keys() == {"focus", "focus (unscaled)"}
     assert by_variant["focus"]["gap_closed"] == pytest.approx((0.7 - 0.5) / (0.9 - 0.5))
     assert by_variant["focus (unscaled)"]["gap_closed"] == pytest.approx((0.4 - 0.3) / (0.5 - 0.3))
 
 
-def test_render_fills_the_readme_block_and_check_detects_a_stale_one(tmp_path):
+def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_files(tmp_path, capsys):
     results = tmp_path / "results.csv"
-    write_csv_atomic(results, _rows({"oracle": [0.9, 0.8, 0.85], "focus": [0.5, 0.6, 0.55], "raw": [0.4, 0.5, 0.45]}),
-                     EVAL_COLUMNS)
-    comparison = tmp_path / "rl.csv"
-    readme = tmp_path / "README.md"
-    readme.write_text(f"# title\n\n{START}\nold\n{END}\n\nafter\n")
-    paths = ["--comparison", str(comparison), "--clutter-csv", str(tmp_path / "none.csv")]
-    assert main(["add", str(results), *paths]) == 0
-    assert len(read_csv(comparison)) == 27 and read_csv(comparison)[0]["algo"] == "ppo"
+    levels = {
+        "oracle": [0.9, 0.8, 0.85],
+        "focus": [0.5, 0.6, 0.55],
+        "raw": [0.4, 0.5, 0.45],
+        "random-focus": [0.45, 0.5, 0.4],
+    }
+    write_csv_atomic(results, _rows(levels), EVAL_COLUMNS)
+    (tmp_path / "compare.json").write_text(json.dumps({"run": {"algo": "ppo", "algo_defaults": 2}}))  # today's defaults
+    root = _root(tmp_path / "repo")
+    comparison = root / "docs" / "results" / "rl_comparison.csv"
+    assert main(["add", str(results), "--comparison", str(comparison)]) == 0
+    assert len(read_csv(comparison)) == 36 and read_csv(comparison)[0]["algo"] == "ppo, lr lin_3e-4"
     assert read_csv(comparison)[0]["obs_scaling"] == "running"
-    render = ["render", *paths, "--readme", str(readme), "--figures", str(tmp_path / "fig")]
-    assert main([*render, "--check"]) == 1  # the block still says "old"
-    assert main(render) == 0
-    text = readme.read_text()
-    assert text.startswith("# title") and text.endswith("after\n") and "\nold\n" not in text
-    assert "| focus | 3 | 200 |" in text and "gap raw → oracle closed" in text and "After 200 env steps" in text
-    assert text.index("| raw |") < text.index("| focus |") < text.index("| oracle |")  # baseline, attended, bound
-    assert (tmp_path / "fig" / "rl_learning_curves.png").is_file()
-    assert main([*render, "--check"]) == 0
+    assert main(["render", "--check", "--root", str(root)]) == 1  # nothing rendered yet
+    err = capsys.readouterr().err
+    for name in ("rl.md", "perception.md", "checks.md", "performance.md", "README.md"):
+        assert f"{name} differs from what the CSVs give" in err
+    assert main(["render", "--root", str(root)]) == 0
+    page = (root / "docs" / "results" / "rl.md").read_text()
+    assert page.startswith(
+        "# RL comparison\n\n_This page is generated by `python tools/report.py render` from "
+        "`docs/results/rl_comparison.csv`"
+    )
+    assert "| focus (ppo, lr lin_3e-4) | 3 | 200 |" in page and "share of the raw → oracle gap closed" in page
+    assert "target" not in page.split("## Reproduce")[0].replace("the target's true state", "")
+    assert (
+        page.index("| raw (ppo, lr lin_3e-4) |")
+        < page.index("| focus (ppo, lr lin_3e-4) |")
+        < page.index("| oracle (ppo, lr lin_3e-4) |")
+    )  # baseline, attended, bound
+    assert "](../figures/rl_learning_curves.png)" in page and (root / "docs/figures/rl_learning_curves.png").is_file()
+    readme = (root / "README.md").read_text()
+    assert readme.startswith("# title") and readme.endswith("after\n") and "\nold\n" not in readme
+    block = readme.split(headline.START)[1]
+    assert [line.split(" | ")[0] for line in block.splitlines() if line.startswith("| ")][1:] == [
+        "| raw",
+        "| random-focus",
+        "| focus",
+        "| oracle",
+    ]
+    assert "| focus | 0.55 [" in block and "200 env steps each" in block
+    assert "](docs/results/rl.md)" in block and "](docs/figures/rl_learning_curves.png)" in block
+    assert main(["render", "--check", "--root", str(root)]) == 0
+    (root / "docs" / "results" / "checks.md").write_text("edited by hand\n")
+    assert main(["render", "--check", "--root", str(root)]) == 1
+    assert capsys.readouterr().err.count("differs from what the CSVs give") == 1
 
 
 def test_runs_trained_on_count_at_every_budget_cut_to_it():
@@ -88,7 +161,8 @@ def test_runs_trained_on_count_at_every_budget_cut_to_it():
     (short, short_rows), (long, long_rows) = budgets(rows)
     assert (short, long) == (200, 400)
     assert sorted({(r["variant"], r["env_steps"]) for r in short_rows}) == sorted(
-        {(v, s) for v in ("raw", "focus") for s in (0, 100, 200)})
+        {(v, s) for v in ("raw", "focus") for s in (0, 100, 200)}
+    )
     assert {r["variant"] for r in long_rows} == {"focus"} and max(r["env_steps"] for r in long_rows) == 400
     assert len(long_rows) == 5  # the focus run's whole curve: its first 200 steps and the extension
 
@@ -112,22 +186,30 @@ def test_bad_input_to_the_report_is_one_line(tmp_path, capsys):
     empty.write_text("variant,seed\n")
     assert main(["add", str(empty), "--comparison", str(tmp_path / "rl.csv")]) == 2
     assert "holds no rows" in capsys.readouterr().err
-    readme = tmp_path / "README.md"
-    readme.write_text("no block here\n")
-    write_csv_atomic(tmp_path / "rl.csv", [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})], ("algo", *EVAL_COLUMNS))
-    assert main(["render", "--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(tmp_path / "x.csv"),
-                 "--readme", str(readme), "--figures", str(tmp_path)]) == 2
-    assert "no '<!-- rl-results:start -->'" in capsys.readouterr().err
+    root = _root(tmp_path / "repo", readme="no block here\n")
+    write_csv_atomic(
+        root / "docs/results/rl_comparison.csv",
+        [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})],
+        ("algo", *EVAL_COLUMNS),
+    )
+    assert main(["render", "--root", str(root)]) == 2
+    assert "no '<!-- results-headline:start -->'" in capsys.readouterr().err
 
 
 def test_report_refuses_files_that_would_merge_wrongly(tmp_path, capsys):
     comparison = tmp_path / "rl.csv"
-    write_csv_atomic(comparison, [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.4]})],
-                     ("algo", "obs_scaling", *EVAL_COLUMNS))
+    write_csv_atomic(
+        comparison,
+        [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.4]})],
+        ("algo", "obs_scaling", *EVAL_COLUMNS),
+    )
     before = comparison.read_bytes()
     sweep = tmp_path / "sweep" / "sweep.csv"
-    write_csv_atomic(sweep, [{"num_distractors": n, **r} for n in (1, 5) for r in _rows({"raw": [0.9]})],
-                     ("num_distractors", *EVAL_COLUMNS))
+    write_csv_atomic(
+        sweep,
+        [{"num_distractors": n, **r} for n in (1, 5) for r in _rows({"raw": [0.9]})],
+        ("num_distractors", *EVAL_COLUMNS),
+    )
     assert main(["add", str(sweep), "--comparison", str(comparison)]) == 2  # forgot --clutter
     assert "it is a sweep's sweep.csv; add it with --clutter" in capsys.readouterr().err
     twice = tmp_path / "twice" / "results.csv"
@@ -135,25 +217,27 @@ def test_report_refuses_files_that_would_merge_wrongly(tmp_path, capsys):
     assert main(["add", str(twice), "--comparison", str(comparison)]) == 2
     assert "holds the evaluation {'variant': 'raw', 'seed': 0, 'env_steps': 0} twice" in capsys.readouterr().err
     assert comparison.read_bytes() == before
-    readme = tmp_path / "README.md"
-    readme.write_text(f"{END}\n{START}\n")  # markers in the wrong order
-    render = ["render", "--comparison", str(comparison), "--clutter-csv", str(tmp_path / "none.csv"),
-              "--readme", str(readme), "--figures", str(tmp_path / "figures")]
-    assert main(render) == 2 and "the start marker before the end marker" in capsys.readouterr().err
-    untagged = tmp_path / "untagged.csv"
-    write_csv_atomic(untagged, _rows({"raw": [0.4]}), EVAL_COLUMNS)  # a run folder's results.csv, not added
-    readme.write_text(f"{START}\n{END}\n")
-    assert main([*render[:2], str(untagged), *render[3:]]) == 2
-    assert "lacks the columns ['algo']" in capsys.readouterr().err and not (tmp_path / "figures").exists()
+    root = _root(tmp_path / "repo", readme="{end}\n{start}\n")  # markers in the wrong order
+    shutil.copy(comparison, root / "docs/results/rl_comparison.csv")
+    assert main(["render", "--root", str(root)]) == 2
+    assert "the start marker before the end marker" in capsys.readouterr().err
+    write_csv_atomic(root / "docs/results/rl_comparison.csv", _rows({"raw": [0.4]}), EVAL_COLUMNS)  # not added
+    (root / "README.md").write_text(f"{headline.START}\n{headline.END}\n")
+    assert main(["render", "--root", str(root)]) == 2
+    assert "lacks the columns ['algo']" in capsys.readouterr().err and not (root / "docs" / "figures").exists()
 
 
 def test_added_rows_are_tagged_with_the_comparisons_own_algorithm_and_a_wrong_tag_is_refused(tmp_path, capsys):
     results = tmp_path / "cmp" / "results.csv"
     write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
-    (tmp_path / "cmp" / "compare.json").write_text(json.dumps({"run": {"algo": "recurrent-ppo", "obs_scaling": "none"}}))
+    (tmp_path / "cmp" / "compare.json").write_text(
+        json.dumps({"run": {"algo": "recurrent-ppo", "obs_scaling": "none"}})
+    )
     target = ["--comparison", str(tmp_path / "rl.csv")]
-    for algo, message in (("recurent-ppo", "must start with one of ppo, sac, recurrent-ppo"),
-                          ("ppo", "--algo 'ppo' contradicts the comparison's settings")):
+    for algo, message in (
+        ("recurent-ppo", "must start with one of ppo, sac, recurrent-ppo"),
+        ("ppo", "--algo 'ppo' contradicts the comparison's settings"),
+    ):
         assert main(["add", str(results), "--algo", algo, *target]) == 2
         assert message in capsys.readouterr().err and not (tmp_path / "rl.csv").exists()
     assert main(["add", str(results), *target]) == 0
@@ -163,12 +247,15 @@ def test_added_rows_are_tagged_with_the_comparisons_own_algorithm_and_a_wrong_ta
 
 
 def test_runs_with_a_decayed_learning_rate_are_tagged_with_it(tmp_path, capsys):
-    """The default decays the rate (algo_defaults 2): such rows never share the plain 'ppo' tag of constant-rate runs."""
+    """The default decays the rate (algo_defaults 2): such rows never share the plain 'ppo' tag of constant-rate
+    runs."""
     target = ["--comparison", str(tmp_path / "rl.csv")]
-    for folder, run in (("old", {"algo": "ppo"}),  # written before algo_defaults: constant 3e-4
-                        ("new", {"algo": "ppo", "algo_defaults": 2}),
-                        ("constant", {"algo": "ppo", "algo_defaults": 2, "algo_kwargs": {"learning_rate": 3e-4}}),
-                        ("given", {"algo": "ppo", "algo_kwargs": {"learning_rate": "lin_1e-3"}})):
+    for folder, run in (
+        ("old", {"algo": "ppo"}),  # written before algo_defaults: constant 3e-4
+        ("new", {"algo": "ppo", "algo_defaults": 2}),
+        ("constant", {"algo": "ppo", "algo_defaults": 2, "algo_kwargs": {"learning_rate": 3e-4}}),
+        ("given", {"algo": "ppo", "algo_kwargs": {"learning_rate": "lin_1e-3"}}),
+    ):
         results = tmp_path / folder / "results.csv"
         write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
         (tmp_path / folder / "compare.json").write_text(json.dumps({"run": run}))
@@ -177,16 +264,21 @@ def test_runs_with_a_decayed_learning_rate_are_tagged_with_it(tmp_path, capsys):
     assert main(["add", str(tmp_path / "new" / "results.csv"), "--algo", "ppo, lr lin_3e-4, 1M", *target]) == 0
     for folder in ("old", "new", "constant", "given"):
         assert main(["add", str(tmp_path / folder / "results.csv"), *target]) == 0
-    assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {"ppo", "ppo, lr lin_3e-4", "ppo, lr lin_3e-4, 1M",
-                                                                    "ppo, lr lin_1e-3"}
+    assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {
+        "ppo",
+        "ppo, lr lin_3e-4",
+        "ppo, lr lin_3e-4, 1M",
+        "ppo, lr lin_1e-3",
+    }
 
 
 def test_a_tags_rate_is_compared_by_value_and_a_sweep_of_mixed_rates_is_refused(tmp_path, capsys):
     target = ["--comparison", str(tmp_path / "rl.csv")]
     results = tmp_path / "slow" / "results.csv"
     write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
-    (tmp_path / "slow" / "compare.json").write_text(json.dumps({"run": {"algo": "ppo", "algo_defaults": 2,
-                                                                        "algo_kwargs": {"learning_rate": 1e-4}}}))
+    (tmp_path / "slow" / "compare.json").write_text(
+        json.dumps({"run": {"algo": "ppo", "algo_defaults": 2, "algo_kwargs": {"learning_rate": 1e-4}}})
+    )
     assert main(["add", str(results), "--algo", "ppo", *target]) == 2  # would merge with the constant-3e-4 rows
     assert "trained with the tag 'ppo, lr 0.0001'" in capsys.readouterr().err
     assert main(["add", str(results), "--algo", "ppo, lr 1e-4, short", *target]) == 0  # the same rate, spelt otherwise
@@ -196,15 +288,20 @@ def test_a_tags_rate_is_compared_by_value_and_a_sweep_of_mixed_rates_is_refused(
     assert {r["algo"] for r in read_csv(tmp_path / "rl.csv")} == {"ppo, lr 1e-4, short", "ppo, lr 0.0001"}
 
     sweep = tmp_path / "sweep"
-    write_csv_atomic(sweep / "sweep.csv", [{"num_distractors": n, **r} for n in (1, 5) for r in _rows({"raw": [0.9]})],
-                     ("num_distractors", *EVAL_COLUMNS))
+    write_csv_atomic(
+        sweep / "sweep.csv",
+        [{"num_distractors": n, **r} for n in (1, 5) for r in _rows({"raw": [0.9]})],
+        ("num_distractors", *EVAL_COLUMNS),
+    )
     for n, run in ((1, {"algo": "ppo"}), (5, {"algo": "ppo", "algo_defaults": 2})):
         (sweep / f"distractors-{n}").mkdir()
         (sweep / f"distractors-{n}" / "compare.json").write_text(json.dumps({"run": run}))
     clutter = ["--clutter-csv", str(tmp_path / "clutter.csv")]
     assert main(["add", str(sweep / "sweep.csv"), "--clutter", *clutter]) == 2
-    assert ("distractors-1: 'ppo', None, distractors-5: 'ppo, lr lin_3e-4', None); add each point's results.csv "
-            "with --clutter --num-distractors N") in capsys.readouterr().err
+    assert (
+        "distractors-1: 'ppo', None, distractors-5: 'ppo, lr lin_3e-4', None); add each point's results.csv "
+        "with --clutter --num-distractors N"
+    ) in capsys.readouterr().err
     assert not (tmp_path / "clutter.csv").exists()
 
     loose = tmp_path / "loose" / "results.csv"  # no compare.json beside it
@@ -214,32 +311,70 @@ def test_a_tags_rate_is_compared_by_value_and_a_sweep_of_mixed_rates_is_refused(
 
 
 def test_render_writes_no_figure_when_the_readme_is_missing(tmp_path, capsys):
-    write_csv_atomic(tmp_path / "rl.csv", [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})], ("algo", *EVAL_COLUMNS))
-    figures = tmp_path / "figures"
-    assert main(["render", "--comparison", str(tmp_path / "rl.csv"), "--clutter-csv", str(tmp_path / "x.csv"),
-                 "--readme", str(tmp_path / "missing.md"), "--figures", str(figures)]) == 2
-    assert "missing.md" in capsys.readouterr().err and not figures.exists()
+    root = _root(tmp_path, readme=None)
+    write_csv_atomic(
+        root / "docs/results/rl_comparison.csv",
+        [{"algo": "ppo", **r} for r in _rows({"raw": [0.4]})],
+        ("algo", *EVAL_COLUMNS),
+    )
+    assert main(["render", "--root", str(root)]) == 2
+    assert "README.md" in capsys.readouterr().err and not (root / "docs" / "figures").exists()
 
 
-def test_the_readme_block_is_what_the_committed_csvs_give():
-    """Nobody edits the README's RL results by hand: they are regenerated from docs/results."""
-    from pathlib import Path
+def test_the_headline_needs_every_headline_variant_trained_with_todays_defaults():
+    rows = [
+        {"algo": "ppo", "obs_scaling": "running", **r}  # the constant rate: not today's default
+        for r in _rows({"raw": [0.4], "random-focus": [0.5], "focus": [0.7], "oracle": [0.9]})
+    ]
+    with pytest.raises(ValueError, match="no budget with all of raw, random-focus, focus, oracle"):
+        headline.rl_headline(rows)
+    default = [{**row, "algo": "ppo, lr lin_3e-4"} for row in rows]
+    longer = [
+        {**row, "algo": "ppo, lr lin_3e-4", "obs_scaling": "running", "seed": 1}
+        for row in _rows({"focus": [0.8]}, (0, 100, 200, 300))
+    ]
+    budget, summary = headline.rl_headline(rows + default + longer)
+    assert budget == 200  # the largest budget that every headline variant reached
+    assert [row["variant"] for row in summary] == ["raw", "random-focus", "focus", "oracle"]
+    # focus: seed 0 at its final 0.7, seed 1 cut at 200 steps, two thirds of its way from 0.1 to 0.8
+    assert summary[2]["n_seeds"] == 2
+    assert summary[2]["final_success_mean"] == pytest.approx((0.7 + 0.1 + 0.7 * 2 / 3) / 2)
 
-    root = Path(__file__).resolve().parents[2]
-    args = ["render", "--check", "--comparison", str(root / "docs/results/rl_comparison.csv"),
-            "--clutter-csv", str(root / "docs/results/rl_clutter.csv"), "--readme", str(root / "README.md"),
-            "--figures", str(root / "docs/figures")]
-    assert main(args) == 0
+
+def test_the_deprecated_module_warns_names_the_replacement_and_still_works(tmp_path):
+    import importlib
+    import sys
+
+    sys.modules.pop("attentive_gym.agents.report", None)
+    with pytest.warns(DeprecationWarning, match="attentive_gym.agents.merged .* tools/report.py"):
+        old = importlib.import_module("attentive_gym.agents.report")
+    assert old.merge_rows is merge_rows and old.labelled is labelled  # the public names are still there
+    results = tmp_path / "results.csv"
+    write_csv_atomic(results, _rows({"raw": [0.4]}), EVAL_COLUMNS)
+    with pytest.warns(DeprecationWarning, match="python -m attentive_gym.agents.report is deprecated"):
+        assert old.main(["add", str(results), "--comparison", str(tmp_path / "rl.csv")]) == 0
+    assert len(read_csv(tmp_path / "rl.csv")) == 3
+    rows = [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.4], "focus": [0.6]})]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(DeprecationWarning, match="render_block is deprecated"):
+            old.render_block(rows, [], tmp_path, [], tmp_path, write_figures=False)
+    with pytest.warns(DeprecationWarning):
+        assert "| focus | 1 | 200 |" in old.render_block(rows, [], tmp_path, [], tmp_path, write_figures=False)
 
 
 def test_clutter_targets_give_the_margin_and_gap_per_count_within_one_setting():
     rows = []
-    for n, levels in ((1, {"raw": [0.4, 0.4], "oracle": [0.9, 0.9], "focus": [0.8, 0.8]}),
-                      (3, {"raw": [0.5, 0.5], "focus": [0.6, 0.6]}),  # no oracle at 3
-                      (5, {"raw": [0.5, 0.5], "oracle": [0.5, 0.5], "focus": [0.4, 0.4]})):  # oracle not above raw
+    for n, levels in (
+        (1, {"raw": [0.4, 0.4], "oracle": [0.9, 0.9], "focus": [0.8, 0.8]}),
+        (3, {"raw": [0.5, 0.5], "focus": [0.6, 0.6]}),  # no oracle at 3
+        (5, {"raw": [0.5, 0.5], "oracle": [0.5, 0.5], "focus": [0.4, 0.4]}),
+    ):  # oracle not above raw
         rows += [{"algo": "ppo", "obs_scaling": "running", "num_distractors": n, **r} for r in _rows(levels)]
-    rows += [{"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r}
-             for r in _rows({"raw": [0.2, 0.2], "oracle": [0.6, 0.6], "focus": [0.3, 0.3]})]
+    rows += [
+        {"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r}
+        for r in _rows({"raw": [0.2, 0.2], "oracle": [0.6, 0.6], "focus": [0.3, 0.3]})
+    ]
     found = {(r["variant"], r["num_distractors"]): r for r in clutter_targets(sweep_tables(labelled(rows)))}
     assert found.keys() == {("focus", 1), ("focus", 3), ("focus", 5), ("focus (unscaled)", 1)}
     assert found["focus", 1]["margin"] == pytest.approx(0.4)
@@ -253,11 +388,12 @@ def test_a_clutter_point_trained_on_gets_a_table_of_its_own_budget(tmp_path):
     def sweep(levels, n, steps):
         return [{"algo": "ppo", "obs_scaling": "running", "num_distractors": n, **r} for r in _rows(levels, steps)]
 
-    clutter = (sweep({"raw": [0.5, 0.5], "focus": [0.7, 0.7]}, 1, (0, 100, 200))
-               + sweep({"raw": [0.4, 0.4], "focus": [0.5, 0.5]}, 5, (0, 100, 200, 300, 400)))  # trained on at 5
+    clutter = sweep({"raw": [0.5, 0.5], "focus": [0.7, 0.7]}, 1, (0, 100, 200)) + sweep(
+        {"raw": [0.4, 0.4], "focus": [0.5, 0.5]}, 5, (0, 100, 200, 300, 400)
+    )  # trained on at 5
     comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.5], "focus": [0.7]})]
-    block = render_block(comparison, clutter, tmp_path, [tmp_path / "a.csv"], tmp_path, write_figures=False)
-    first, second = block.split("Final success against clutter")[1:3]
+    block = render_block(comparison, clutter, tmp_path, tmp_path, write_figures=False)
+    first, second = block.split("## Against clutter")[1:3]
     assert first.startswith(" after 200 env steps") and second.startswith(" after 400 env steps")
     assert "| 1 distractor | 5 distractors |" in first
     assert "| 5 distractors |" in second and "1 distractor" not in second
@@ -267,49 +403,51 @@ def test_a_clutter_point_trained_on_gets_a_table_of_its_own_budget(tmp_path):
 
 
 def test_the_clutter_figure_draws_the_normalised_runs_when_there_are_some(tmp_path, monkeypatch):
-    import attentive_gym.agents.report as report
-
     drawn = []
-    monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path, budget: drawn.append(summary))
-    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path, title=None: None)
+    monkeypatch.setattr(rl_page, "plot_success_vs_distractors", lambda summary, path, budget: drawn.append(summary))
+    monkeypatch.setattr(rl_page, "plot_learning_curves", lambda rows, path, title=None: None)
     rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
-    clutter = ([{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in rows]
-               + [{"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r} for r in rows])
+    clutter = [{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in rows] + [
+        {"algo": "ppo", "obs_scaling": "none", "num_distractors": 1, **r} for r in rows
+    ]
     comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in rows]
-    block = render_block(comparison, clutter, tmp_path, [tmp_path / "a.csv"], tmp_path)
+    block = render_block(comparison, clutter, tmp_path, tmp_path)
     assert {row["variant"] for row in drawn[0]} == {"raw", "focus"}
     assert "| focus (unscaled) |" in block  # the tables keep every run
     unscaled_only = [row for row in clutter if row["obs_scaling"] == "none"]
-    render_block(comparison, unscaled_only, tmp_path, [tmp_path / "a.csv"], tmp_path)
+    render_block(comparison, unscaled_only, tmp_path, tmp_path)
     assert {row["variant"] for row in drawn[1]} == {"raw (unscaled)", "focus (unscaled)"}
 
 
 def test_the_clutter_figure_names_its_budget_when_runs_were_trained_further(tmp_path, monkeypatch):
-    import attentive_gym.agents.report as report
-
     budgets_drawn = []
-    monkeypatch.setattr(report, "plot_success_vs_distractors", lambda summary, path, budget: budgets_drawn.append(budget))
-    monkeypatch.setattr(report, "plot_learning_curves", lambda rows, path, title=None: None)
+    monkeypatch.setattr(
+        rl_page, "plot_success_vs_distractors", lambda summary, path, budget: budgets_drawn.append(budget)
+    )
+    monkeypatch.setattr(rl_page, "plot_learning_curves", lambda rows, path, title=None: None)
     short, long = _rows({"raw": [0.5, 0.5]}), _rows({"focus": [0.7, 0.7]}, steps=(0, 100, 200, 300))
     clutter = [{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in short + long]
     comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in short]
-    render_block(comparison, clutter, tmp_path, [tmp_path / "a.csv"], tmp_path)
+    render_block(comparison, clutter, tmp_path, tmp_path)
     assert budgets_drawn == [200]  # the figure shows the first budget, and says so
-    render_block(comparison, clutter[:6], tmp_path, [tmp_path / "a.csv"], tmp_path)
+    render_block(comparison, clutter[:6], tmp_path, tmp_path)
     assert budgets_drawn[1] is None  # one budget: the title needs none
 
 
 def test_each_training_setting_gets_a_learning_curve_figure_of_its_own_defaults_first(tmp_path, monkeypatch):
-    import attentive_gym.agents.report as report
-
     drawn = {}
-    monkeypatch.setattr(report, "plot_learning_curves",
-                        lambda rows, path, title=None: drawn.setdefault(path.name, ({r["variant"] for r in rows}, title)))
+    monkeypatch.setattr(
+        rl_page,
+        "plot_learning_curves",
+        lambda rows, path, title=None: drawn.setdefault(path.name, ({r["variant"] for r in rows}, title)),
+    )
     rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
-    comparison = ([{"algo": "recurrent-ppo", "obs_scaling": "running", **r} for r in rows]
-                  + [{"algo": "ppo, lr lin_3e-4", "obs_scaling": "running", **r} for r in rows]
-                  + [{"algo": "ppo", "obs_scaling": "none", **r} for r in rows])  # unscaled: in the tables only
-    block = render_block(comparison, [], tmp_path, [tmp_path / "a.csv"], tmp_path)
+    comparison = (
+        [{"algo": "recurrent-ppo", "obs_scaling": "running", **r} for r in rows]
+        + [{"algo": "ppo, lr lin_3e-4", "obs_scaling": "running", **r} for r in rows]
+        + [{"algo": "ppo", "obs_scaling": "none", **r} for r in rows]
+    )  # unscaled: in the tables only
+    block = render_block(comparison, [], tmp_path, tmp_path)
     assert set(drawn) == {"rl_learning_curves.png", "rl_learning_curves_recurrent-ppo.png"}
     variants, title = drawn["rl_learning_curves.png"]  # RunSpec's default setting takes the plain name
     assert variants == {"raw (ppo, lr lin_3e-4)", "focus (ppo, lr lin_3e-4)"} and "today's defaults" in title
@@ -317,7 +455,7 @@ def test_each_training_setting_gets_a_learning_curve_figure_of_its_own_defaults_
     assert block.index("rl_learning_curves.png") < block.index("rl_learning_curves_recurrent-ppo.png")
     assert "| focus (unscaled) |" in block
     drawn.clear()
-    render_block(comparison[-len(rows):], [], tmp_path, [tmp_path / "a.csv"], tmp_path)
+    render_block(comparison[-len(rows) :], [], tmp_path, tmp_path)
     assert set(drawn) == {"rl_learning_curves.png"}  # no normalised runs: the unscaled ones, under the plain name
 
 

@@ -6,12 +6,14 @@ that does not reproduce is a strict xfail carrying the measured reason, so a fix
 """
 
 import ast
+import csv
 import functools
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from support import load_tool
 
 from attentive_gym.cli import main
 from attentive_gym.experiments import (
@@ -290,12 +292,32 @@ def test_table_has_a_column_per_mode_and_the_profile():
     (["--workers", "0"], "workers must be an integer >= 1, got 0"),
     (["--noise", "0.9"], "noise must be a relative level in"),
 ])
-def test_table_refuses_bad_flags_before_any_run(args, message, capsys, monkeypatch):
+def test_table_refuses_bad_flags_before_any_run(args, message, capsys, monkeypatch, tmp_path):
     from attentive_gym.experiments import table
 
     monkeypatch.setattr(table, "run_experiment", lambda *a, **k: pytest.fail("an experiment ran"))
-    assert table.main(["--seeds", "1", *args]) == 2
+    with pytest.warns(DeprecationWarning, match="use python tools/experiments_table.py"):
+        assert table.main(["--seeds", "1", *args]) == 2
     assert message in capsys.readouterr().err
+    tool = load_tool("experiments_table")
+    assert tool.main(["--seeds", "1", "--csv", str(tmp_path / "checks.csv"), *args]) == 2
+    assert message in capsys.readouterr().err and not (tmp_path / "checks.csv").exists()
+
+
+def test_the_tool_writes_the_measurement_as_rows_that_read_back(tmp_path, capsys, monkeypatch):
+    from attentive_gym.experiments import table
+
+    tool = load_tool("experiments_table")
+    measured = measure(seeds=[0], names=("exp02",))
+    calls = []
+    monkeypatch.setattr(tool, "measure", lambda *args: calls.append(args) or measured)
+    assert tool.main(["--seeds", "1", "--noise", "0.02", "--workers", "1", "--csv", str(tmp_path / "checks.csv")]) == 0
+    assert calls == [(range(1), 0.02, None, 1)]
+    with open(tmp_path / "checks.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == len(CHECKS["exp02"]) * len(COLUMNS)
+    assert table.from_rows(rows) == (measured, 1, 0.02, {})
+    assert markdown(measured, 1, 0.02) in capsys.readouterr().out
 
 
 def test_noise_in_titles_keeps_its_digits():

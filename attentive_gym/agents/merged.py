@@ -1,0 +1,222 @@
+"""Many comparisons' results in one tidy table, and the figures read from it.
+
+Batches of runs trained at different times add up to one table when each row carries the
+training setting it came from:
+
+- ``COMPARISON_COLUMNS`` / ``CLUTTER_COLUMNS``: the columns of a merged comparison and of a
+  merged clutter sweep (``EVAL_COLUMNS`` with ``algo``, ``obs_scaling`` and, for a sweep,
+  ``num_distractors``).
+- ``algo_tag(run)``: the setting tag of a comparison's rows (its algorithm, and its learning
+  rate unless SB3's constant default); ``tagged_rate(tag)``: the rate a tag names.
+- ``merge_rows(existing, new, algo, keys, obs_scaling)``: ``new`` rows, tagged, replace the
+  rows of the same runs.
+- ``labelled(rows)`` / ``ordered(rows)``: variant names that say their setting
+  (``"focus (recurrent-ppo, unscaled)"``), and the tables' row order.
+- ``budgets(rows)``: the rows at each training budget (runs trained on are cut there).
+- ``targets(rows, summary)`` / ``clutter_targets(summary)``: attention against its bound and
+  control: how soon an attended variant reaches raw's final success, whether its interval
+  lies above raw's, and the share of the raw → oracle gap it closes.
+- ``learning_curve_figures(rows)``: one learning-curve figure per training setting.
+
+Example:
+    >>> from attentive_gym.agents.merged import labelled
+    >>> [row["variant"] for row in labelled([{"variant": "focus", "algo": "ppo", "obs_scaling": "none"}])]
+    ['focus (unscaled)']
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from attentive_gym.agents.config import SB3_LEARNING_RATE, RunSpec, canonical_rate
+from attentive_gym.agents.plots import curve_stats, split_label
+from attentive_gym.agents.results import EVAL_COLUMNS
+from attentive_gym.wrappers.variants import VARIANTS
+
+__all__ = [
+    "COMPARISON_COLUMNS",
+    "CLUTTER_COLUMNS",
+    "SCALED",
+    "BASELINE",
+    "ORACLE",
+    "NOT_ATTENDED",
+    "algo_tag",
+    "tagged_rate",
+    "merge_rows",
+    "labelled",
+    "ordered",
+    "budgets",
+    "targets",
+    "clutter_targets",
+    "learning_curve_figures",
+]
+
+COMPARISON_COLUMNS = ("algo", "obs_scaling", *EVAL_COLUMNS)
+CLUTTER_COLUMNS = ("algo", "obs_scaling", "num_distractors", *EVAL_COLUMNS)
+#: The scaling of the runs whose learning curves the figures show (``RunSpec``'s default).
+SCALED = "running"
+#: The baseline and the bound of attention.
+BASELINE, ORACLE = "raw", "oracle"
+#: Variants that bound or control attention, and the baselines; the rest are "attended".
+NOT_ATTENDED = frozenset({"raw", "raw-stack", "oracle", "random-focus"})
+
+
+def algo_tag(run: Mapping[str, Any]) -> str:
+    """The tag of the rows of a comparison whose run settings (``compare.json``'s ``"run"``)
+    are ``run``: its algorithm, followed by ``", lr <rate>"`` unless its learning rate is
+    SB3's constant ``SB3_LEARNING_RATE`` (a schedule, the default since ``algo_defaults`` 2,
+    or another number given in ``algo_kwargs``), so that runs at different rates never
+    share a tag."""
+    spec = RunSpec.from_dict(run)
+    if spec.learning_rate() == SB3_LEARNING_RATE:
+        return spec.algo
+    return f"{spec.algo}, lr {spec.hyper_parameters()['learning_rate']}"
+
+
+def tagged_rate(tag: str) -> float | str:
+    """The learning rate a tag names (its ``"lr <rate>"`` part, as ``canonical_rate`` writes
+    it), ``SB3_LEARNING_RATE`` for none.
+
+    Raises:
+        ValueError: the ``lr`` part names no number or schedule.
+    """
+    note = next((part.strip() for part in tag.split(",")[1:] if part.strip().startswith("lr ")), None)
+    if note is None:
+        return SB3_LEARNING_RATE
+    text = note[len("lr ") :].strip()
+    try:
+        return canonical_rate("learning_rate", text if text.startswith("lin_") else float(text))
+    except ValueError:
+        raise ValueError(
+            f"--algo {tag!r}: {note!r} names no learning rate; write e.g. 'lr lin_3e-4' or 'lr 1e-4'"
+        ) from None
+
+
+def merge_rows(
+    existing: Sequence[Mapping[str, Any]],
+    new: Sequence[Mapping[str, Any]],
+    algo: str,
+    keys: Sequence[str],
+    obs_scaling: str = SCALED,
+) -> list[dict[str, Any]]:
+    """``existing`` rows with every run of ``new`` (tagged with ``algo`` and ``obs_scaling``)
+    replacing the rows of the same run; a run is identified by ``keys`` (with ``algo`` and
+    ``obs_scaling``; an existing row without ``obs_scaling`` has ``"none"``)."""
+    tagged = [{"algo": algo, "obs_scaling": obs_scaling, **row} for row in new]
+    run = lambda row: tuple(row[k] for k in ("algo", "obs_scaling", *keys))  # noqa: E731
+    replaced = {run(row) for row in tagged}
+    kept = [{"obs_scaling": "none", **row} for row in existing]
+    return [row for row in kept if run(row) not in replaced] + tagged
+
+
+def labelled(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Rows whose variant names their algorithm when it is not PPO and says "unscaled" when
+    the policy saw the observation in its own units (``obs_scaling`` ``"none"``, or absent)."""
+    out = []
+    for row in rows:
+        notes = [row["algo"]] if row["algo"] != "ppo" else []
+        notes += ["unscaled"] if row.get("obs_scaling", "none") == "none" else []
+        out.append({**row, "variant": f"{row['variant']} ({', '.join(notes)})" if notes else row["variant"]})
+    return out
+
+
+def ordered(rows: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
+    """``rows`` in the tables' order: the runs on normalised observations first, then PPO's
+    before other algorithms', then by variant in ``VARIANTS``' order (raw first, the bound and
+    the control last); rows of one variant and setting keep their order."""
+    rank = {variant: k for k, variant in enumerate(VARIANTS)}
+    return sorted(
+        rows,
+        key=lambda row: (
+            row.get("obs_scaling", "none") != SCALED,
+            row["algo"] != "ppo",
+            rank.get(row["variant"], len(rank)),
+        ),
+    )
+
+
+def budgets(
+    rows: Sequence[Mapping[str, Any]], keys: Sequence[str] = ("variant", "seed")
+) -> list[tuple[int, list[Mapping[str, Any]]]]:
+    """``(budget, rows)`` for each distinct final env-step count of the runs in ``rows``
+    (a run: the values of ``keys``; a sweep's runs also differ in ``num_distractors``),
+    smallest first: the rows of every run trained at least that far, up to that budget."""
+    run = lambda row: tuple(row[k] for k in keys)  # noqa: E731
+    finals: dict[tuple[Any, ...], int] = {}
+    for row in rows:
+        finals[run(row)] = max(finals.get(run(row), 0), row["env_steps"])
+    return [
+        (budget, [row for row in rows if finals[run(row)] >= budget and row["env_steps"] <= budget])
+        for budget in sorted(set(finals.values()))
+    ]
+
+
+def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """For every attended variant of ``summary`` (``summarise(rows)``), how it compares with
+    ``raw`` and ``oracle`` of the same algorithm and scaling (NaN where they are missing):
+
+    - ``steps_fraction``: the env steps at which its mean curve first reaches raw's final
+      mean success, as a fraction of raw's budget;
+    - ``above_raw``: its final-success CI lies wholly above raw's;
+    - ``gap_closed``: (its final success − raw's) / (oracle's − raw's).
+    """
+    by_variant = {row["variant"]: row for row in summary}
+    out = []
+    for row in summary:
+        if split_label(row["variant"])[0] in NOT_ATTENDED:
+            continue
+        setting = split_label(row["variant"])[1]
+        raw, oracle = by_variant.get(BASELINE + setting), by_variant.get(ORACLE + setting)
+        steps_fraction = gap = math.nan
+        above = False
+        if raw is not None:
+            steps, mean_curve, _, _ = curve_stats(rows, row["variant"], "success_rate")
+            reached = [s for s, m in zip(steps, mean_curve) if m >= raw["final_success_mean"]]
+            steps_fraction = reached[0] / raw["final_env_steps"] if reached else math.nan
+            above = row["final_success_ci_low"] > raw["final_success_ci_high"]
+            if oracle is not None and oracle["final_success_mean"] > raw["final_success_mean"]:
+                gap = (row["final_success_mean"] - raw["final_success_mean"]) / (
+                    oracle["final_success_mean"] - raw["final_success_mean"]
+                )
+        out.append({"variant": row["variant"], "steps_fraction": steps_fraction, "above_raw": above, "gap_closed": gap})
+    return out
+
+
+def clutter_targets(summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """For every attended variant of a clutter sweep's ``summary`` and every distractor count,
+    its margin over ``raw`` of the same algorithm and scaling (final success minus raw's) and
+    the gap between raw and ``oracle`` it closes (NaN where raw or the oracle is missing,
+    or the oracle is not above raw), in ``summary``'s order."""
+    cell = {(row["variant"], row["num_distractors"]): row for row in summary}
+    out = []
+    for row in summary:
+        if split_label(row["variant"])[0] in NOT_ATTENDED:
+            continue
+        n, setting = row["num_distractors"], split_label(row["variant"])[1]
+        raw, oracle = cell.get((BASELINE + setting, n)), cell.get((ORACLE + setting, n))
+        margin = gap = math.nan
+        if raw is not None:
+            margin = row["final_success_mean"] - raw["final_success_mean"]
+            if oracle is not None and oracle["final_success_mean"] > raw["final_success_mean"]:
+                gap = margin / (oracle["final_success_mean"] - raw["final_success_mean"])
+        out.append({"variant": row["variant"], "num_distractors": n, "margin": margin, "gap_closed": gap})
+    return out
+
+
+def learning_curve_figures(rows: Sequence[Mapping[str, Any]]) -> list[tuple[str, str, list[Mapping[str, Any]]]]:
+    """One learning-curve figure per training setting (the rows' ``algo`` tag), so that no
+    figure mixes more curves than a reader can tell apart: ``(file name, setting, rows)``,
+    today's default setting (``RunSpec``'s) first, in ``rl_learning_curves.png``, the others
+    in ``rl_learning_curves_<setting>.png``; the first setting present takes the plain name
+    when the default's is absent."""
+    default = algo_tag(RunSpec().to_dict())
+    settings = sorted(dict.fromkeys(row["algo"] for row in rows), key=lambda tag: tag != default)
+    figures = []
+    for k, tag in enumerate(settings):
+        suffix = "_" + re.sub(r"[^0-9A-Za-z]+", "-", tag).strip("-") if k else ""
+        setting = f"{tag} (today's defaults)" if tag == default else tag
+        figures.append((f"rl_learning_curves{suffix}.png", setting, [row for row in rows if row["algo"] == tag]))
+    return figures

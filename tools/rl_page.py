@@ -1,0 +1,259 @@
+"""``docs/results/rl.md``: the RL comparison's tables and figures, from the merged CSVs.
+
+- ``load(root)``: the rows of ``docs/results/rl_comparison.csv`` and ``rl_clutter.csv``
+  (the second may be absent), checked for the columns ``report add`` writes.
+- ``results_markdown(comparison, clutter, figures, sources, page_dir, write_figures)``: the
+  learning-curve figures, then at every training budget the summary table and attention
+  against its bound and control, then the clutter tables; writes the figures into
+  ``figures`` unless told not to.
+- ``page(root, write_figures)``: the whole page, with its banner and how to reproduce it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.merged import (
+    SCALED,
+    algo_tag,
+    budgets,
+    clutter_targets,
+    labelled,
+    learning_curve_figures,
+    ordered,
+    targets,
+)
+from attentive_gym.agents.plots import plot_learning_curves, plot_success_vs_distractors, steps_label
+from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown
+from attentive_gym.agents.sweep import sweep_tables
+from page_text import FIGURES, RESULTS, banner, interval, number, table
+
+NAME = "rl.md"
+#: The main comparison's arena (the ``--env-kwargs`` of the commands under "Reproduce").
+COMPARISON_ARENA = "an 8 m arena with 2 distractors and 3 rubble pieces per 100 m²"
+COMPARISON = RESULTS / "rl_comparison.csv"
+CLUTTER = RESULTS / "rl_clutter.csv"
+
+
+def _intro(comparison: Sequence[Mapping[str, Any]]) -> str:
+    """What the runs were and how to read their names and intervals."""
+    episodes = sorted({int(row["n_episodes"]) for row in comparison})
+    default = algo_tag(RunSpec().to_dict())
+    return f"""\
+The comparison trains every variant in {COMPARISON_ARENA} (the clutter sweep: 0–5
+distractors) and evaluates it at every checkpoint on {" or ".join(map(str, episodes))} episodes
+with the deterministic policy. A variant's name says how it was trained
+when that is not PPO with SB3's constant learning rate on normalised observations:
+`({default})` is today's default, `(recurrent-ppo)` an LSTM policy, `(unscaled)` a policy
+that saw the observation in its own units. Intervals are 95 % stratified-bootstrap
+intervals across seeds, as `rliable` computes them; P(success > raw) is the probability
+that a seed of the variant beats a seed of raw. A run trained further than a table's
+budget counts there with its curve cut at the budget. `oracle` (the target's true state in
+the focus layout) bounds attention from above; `random-focus` (a region drawn at random,
+the same bottleneck) is its control.
+"""
+
+
+_REPRODUCE = """\
+## Reproduce
+
+Train a comparison, merge its rows into the CSVs, and render this page (the rows of each
+setting above came from the same commands with the setting's flags: `--algo recurrent-ppo`,
+`--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate, `--obs-scaling none`):
+
+```bash
+attentive-gym compare --variants raw,raw-stack,focus,saliency,oracle,random-focus --seeds 5 --steps 1000000 \\
+    --eval-every 50000 --eval-episodes 20 --checkpoint-every 50000 \\
+    --env-kwargs '{"arena_size_m": 8, "num_distractors": 2, "rubble_per_100m2": 3}' --workers 2 --out runs/main
+python tools/report.py add runs/main/results.csv              # into docs/results/rl_comparison.csv
+attentive-gym compare --variants raw,focus,oracle,random-focus --distractors 0,1,2,3,5 --seeds 5 --steps 250000 \\
+    --eval-every 50000 --eval-episodes 20 --checkpoint-every 50000 \\
+    --env-kwargs '{"arena_size_m": 8, "rubble_per_100m2": 3}' --workers 2 --out runs/clutter
+python tools/report.py add runs/clutter/sweep.csv --clutter   # into docs/results/rl_clutter.csv
+python tools/report.py render                                  # this page, the figures and the README's headline
+```
+
+`report add` tags the rows with the comparison's algorithm and learning rate (from its
+`compare.json`) and replaces the rows of the same runs; see [the agents guide](../agents.md).
+"""
+
+
+def load(root: Path) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """``(comparison rows, clutter rows)`` under ``root``; no clutter rows when its file is absent.
+
+    Raises:
+        ValueError: the comparison holds no rows, or a file lacks the columns ``report add`` writes.
+        FileNotFoundError: the comparison is missing.
+    """
+    if not (root / COMPARISON).is_file():
+        raise FileNotFoundError(f"{root / COMPARISON} is missing; 'python tools/report.py add' writes it")
+    comparison = read_csv(root / COMPARISON)
+    clutter = read_csv(root / CLUTTER) if (root / CLUTTER).is_file() else []
+    if not comparison:
+        raise ValueError(f"{root / COMPARISON} holds no rows; add a comparison with 'python tools/report.py add'")
+    check_columns(root / COMPARISON, comparison, ("algo", *EVAL_COLUMNS), "a file written by 'report add'")
+    check_columns(
+        root / CLUTTER, clutter, ("algo", "num_distractors", *EVAL_COLUMNS), "a file written by 'report add --clutter'"
+    )
+    return comparison, clutter
+
+
+def check_columns(path: Path, rows: Sequence[Mapping[str, Any]], columns: Sequence[str], what: str) -> None:
+    """``ValueError`` naming the ``columns`` the first of ``rows`` (read from ``path``) lacks."""
+    missing = [c for c in columns if rows and c not in rows[0]]
+    if missing:
+        raise ValueError(f"{path} lacks the columns {missing} ({what} has them)")
+
+
+def _attention_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
+    """A row per attended variant: how soon it reaches raw's final success, whether its
+    interval lies above raw's, and the share of the raw → oracle gap it closes."""
+    return table(
+        [
+            "attended variant",
+            "env steps to raw's final success, ÷ raw's budget",
+            "final success interval above raw's",
+            "share of the raw → oracle gap closed",
+        ],
+        [
+            [
+                row["variant"],
+                number(row["steps_fraction"]),
+                "yes" if row["above_raw"] else "no",
+                number(row["gap_closed"]),
+            ]
+            for row in rows
+        ],
+    )
+
+
+def _count_headers(first: str, counts: Sequence[int]) -> list[str]:
+    """The headers of a table with a ``first`` column and a column per distractor count."""
+    return [first, *(f"{n} distractor{'s' * (n != 1)}" for n in counts)]
+
+
+def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[str]) -> str:
+    """A row per variant (in the order of ``variants``), a column per count: final success."""
+    counts = sorted({row["num_distractors"] for row in summary})
+    cell = {(row["variant"], row["num_distractors"]): row for row in summary}
+    rows = []
+    for variant in variants:
+        values = []
+        for n in counts:
+            row = cell.get((variant, n))
+            values.append(
+                "—"
+                if row is None
+                else interval(row["final_success_mean"], row["final_success_ci_low"], row["final_success_ci_high"])
+                + f" (n={row['n_seeds']})"
+            )
+        rows.append([variant, *values])
+    return table(_count_headers("variant", counts), rows)
+
+
+def _clutter_margins_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
+    """A row per attended variant, a column per count: "margin over raw (gap closed)"."""
+    counts = sorted({row["num_distractors"] for row in rows})
+    cell = {(row["variant"], row["num_distractors"]): row for row in rows}
+    lines = []
+    for variant in dict.fromkeys(row["variant"] for row in rows):
+        values = []
+        for n in counts:
+            row = cell.get((variant, n))
+            if row is None or math.isnan(row["margin"]):
+                values.append("—")
+            else:
+                gap = "" if math.isnan(row["gap_closed"]) else f" ({row['gap_closed']:.2f})"
+                values.append(f"{row['margin']:+.2f}{gap}")
+        lines.append([variant, *values])
+    return table(_count_headers("attended variant", counts), lines)
+
+
+def results_markdown(
+    comparison: Sequence[Mapping[str, Any]],
+    clutter: Sequence[Mapping[str, Any]],
+    figures: Path,
+    page_dir: Path = Path("."),
+    write_figures: bool = True,
+) -> str:
+    """The results as Markdown, figure paths relative to ``page_dir``; writes the figures
+    into ``figures`` unless ``write_figures`` is false.
+
+    Args:
+        comparison: the merged comparison's rows (``COMPARISON_COLUMNS``).
+        clutter: the merged clutter sweep's rows (``CLUTTER_COLUMNS``), or none.
+        figures: the folder of the PNGs.
+        page_dir: the folder of the page the text goes into.
+        write_figures: draw the figures (else only name them).
+    """
+    link = Path(os.path.relpath(figures, page_dir))
+    rows = labelled(ordered(comparison))
+    # the curves of the runs on normalised observations where there are some, one figure per setting
+    figures_of_settings = learning_curve_figures([row for row in rows if row.get("obs_scaling") == SCALED] or rows)
+    parts = [
+        "## Learning curves",
+        "",
+        "Mean success rate over seeds at each evaluation, a figure per training setting; shaded: the 95 % "
+        "bootstrap interval.",
+        "",
+    ]
+    for name, setting, _ in figures_of_settings:
+        parts += [f"![learning curves, {setting}]({(link / name).as_posix()})", ""]
+    for budget, at_budget in budgets(rows):
+        summary = summarise(at_budget)
+        parts += [
+            f"## After {steps_label(budget)} env steps",
+            "",
+            summary_markdown(summary),
+            "Attention against its bound and control:",
+            "",
+            _attention_markdown(targets(at_budget, summary)),
+        ]
+    if write_figures:
+        for name, setting, setting_rows in figures_of_settings:
+            plot_learning_curves(
+                setting_rows, figures / name, title=f"{setting}: mean over seeds, shaded: 95 % bootstrap CI"
+            )
+    if clutter:
+        clutter_rows = labelled(ordered(clutter))
+        variants = list(dict.fromkeys(row["variant"] for row in clutter_rows))
+        clutter_budgets = budgets(clutter_rows, ("variant", "num_distractors", "seed"))
+        for k, (budget, at_budget) in enumerate(clutter_budgets):
+            clutter_summary = sweep_tables(at_budget)
+            after = f" after {steps_label(budget)} env steps" if len(clutter_budgets) > 1 else ""
+            parts += [
+                f"## Against clutter{after}",
+                "",
+                "Final success (mean [95 % bootstrap CI]) by the number of distractors:",
+                "",
+                _clutter_markdown(
+                    clutter_summary, [v for v in variants if any(row["variant"] == v for row in clutter_summary)]
+                ),
+                "Final success over raw's at each count, and in brackets the share of the raw → oracle gap "
+                "closed (where the oracle was run at that count):",
+                "",
+                _clutter_margins_markdown(clutter_targets(clutter_summary)),
+            ]
+            if k == 0:  # the figure: the sweep at the budget every run reached, normalised runs where there are
+                parts += [f"![final success against distractors]({(link / 'rl_clutter.png').as_posix()})", ""]
+                if write_figures:
+                    scaled_variants = {row["variant"] for row in at_budget if row.get("obs_scaling") == SCALED}
+                    plot_success_vs_distractors(
+                        [row for row in clutter_summary if row["variant"] in scaled_variants] or clutter_summary,
+                        figures / "rl_clutter.png",
+                        budget if len(clutter_budgets) > 1 else None,
+                    )
+    return "\n".join(parts).rstrip() + "\n"
+
+
+def page(root: Path, write_figures: bool = True) -> str:
+    """The text of ``docs/results/rl.md`` under ``root``; draws the figures unless told not to."""
+    comparison, clutter = load(root)
+    sources = [COMPARISON, *([CLUTTER] if clutter else [])]
+    body = results_markdown(comparison, clutter, root / FIGURES, root / RESULTS, write_figures)
+    return "\n".join(["# RL comparison", "", banner(sources), _intro(comparison), body, _REPRODUCE])
