@@ -1,11 +1,13 @@
 """Cost of one ``AttentionModel.step`` (all six maps) against one raw env step.
 
-Run: ``python benchmarks/bench_attention.py [--steps N]``. Prints µs per model step for a
+Run: ``python benchmarks/bench_attention.py [--steps N] [--csv PATH]``. Prints µs per model step for a
 stationary and a moving robot (ego-motion compensation on), µs per raw
 ``AttentiveRescue-v0`` step with random actions when that environment can be made, and
 their ratio (wall-clock times, measured in the same run). The model's CPU time per step is
-printed too: it is what the step costs when the machine is shared with other jobs. The readings are realistic: a room with walls, two targets moving at
-0.5-0.8 m/s, 5 % multiplicative noise. Nothing is asserted: measure, don't guess.
+printed too: it is what the step costs when the machine is shared with other jobs. The
+readings are realistic: a room with walls, two targets moving at 0.5-0.8 m/s, 5 %
+multiplicative noise. ``--csv`` also writes the figures as tidy rows into ``PATH``
+(``tidy_csv``). Nothing is asserted: measure, don't guess.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import numpy as np
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
 from attentive_gym.attention.regions import SONAR_BEARINGS_DEG, laser_bearings_rad
+from tidy_csv import Figures
 
 NOISE = 0.05  # 5 % multiplicative Gaussian noise, as in the paper
 DT_S = 0.05
@@ -95,10 +98,11 @@ def time_env(steps: int) -> float | None:
     return elapsed / steps * 1e6
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=5000)
-    args = parser.parse_args()
+    parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
+    args = parser.parse_args(argv)
     still, still_cpu, fired_still = time_model(args.steps, None)
     moving, moving_cpu, fired_moving = time_model(args.steps, (0.4, 0.2))
     env = time_env(min(args.steps, 2000))
@@ -112,6 +116,13 @@ def main() -> None:
     print(f"(courses fired: {fired_still} still, {fired_moving} moving, over {args.steps} steps)")
     if env is not None:
         print(f"ratio model/env: {still / env:.2f} still, {moving / env:.2f} moving (target < 0.5)")
+    if args.csv:
+        figures = Figures("attention")
+        figures.add("model", "robot still", {"step_us": still, "cpu_step_us": still_cpu})
+        figures.add("model", "robot moving", {"step_us": moving, "cpu_step_us": moving_cpu})
+        if env is not None:
+            figures.add("model", "raw AttentiveRescue-v0", {"step_us": env})
+        figures.write(args.csv)
 
 
 if __name__ == "__main__":

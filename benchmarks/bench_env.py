@@ -8,8 +8,9 @@ Prints:
    to place 200 pieces and the movers), in µs per step and per shape: the cost should grow
    no worse than linearly with the number of shapes.
 
-Usage: ``python benchmarks/bench_env.py [--seconds 2] [--rounds 5]``
-(BipedalWalker needs ``pip install -e ".[bench]"``).
+Usage: ``python benchmarks/bench_env.py [--seconds 2] [--rounds 5] [--csv PATH]``
+(BipedalWalker needs ``pip install -e ".[bench]"``). ``--csv`` also writes the figures, and the
+sensor benchmark's, as tidy rows into ``PATH`` (``tidy_csv``; e.g. ``docs/results/performance.csv``).
 """
 
 from __future__ import annotations
@@ -19,9 +20,9 @@ import statistics
 import time
 
 import gymnasium as gym
-import numpy as np
 
 import attentive_gym  # noqa: F401  (registers the environments)
+from tidy_csv import Figures
 
 
 def steps_per_second(env: gym.Env, seconds: float, seed: int = 0) -> float:
@@ -61,7 +62,7 @@ def step_cost_us(env: gym.Env, seconds: float, seed: int = 0) -> float:
     return stepping / steps * 1e6
 
 
-def compare_with_bipedal_walker(seconds: float, rounds: int) -> None:
+def compare_with_bipedal_walker(seconds: float, rounds: int, figures: Figures) -> None:
     ours = gym.make("AttentiveRescue-v0").unwrapped
     try:
         peer = gym.make("BipedalWalker-v3").unwrapped
@@ -78,12 +79,14 @@ def compare_with_bipedal_walker(seconds: float, rounds: int) -> None:
     print(f"AttentiveRescue-v0 : {a:9.0f} steps/s  ({1e6 / a:6.1f} µs/step)")
     print(f"BipedalWalker-v3   : {b:9.0f} steps/s  ({1e6 / b:6.1f} µs/step)")
     print(f"ratio              : {a / b:9.2f}x  (target >= 1.5x)")
+    figures.add("peers", "AttentiveRescue-v0", {"steps_per_s": a})
+    figures.add("peers", "BipedalWalker-v3", {"steps_per_s": b})
 
 
 RUBBLE_ARENA_M = 60.0  # a 30 m arena cannot place 200 pieces and the movers
 
 
-def cost_by_rubble(seconds: float) -> None:
+def cost_by_rubble(seconds: float, figures: Figures) -> None:
     side = RUBBLE_ARENA_M
     print(f"== step cost by number of rubble pieces ({side:g} x {side:g} m arena, 3 distractors) ==")
     print(f"{'rubble':>7} {'shapes':>7} {'segments':>9} {'circles':>8} {'µs/step':>9} {'µs/shape':>9} {'vs 10':>7}")
@@ -97,6 +100,7 @@ def cost_by_rubble(seconds: float) -> None:
         shapes = len(env.world.static) + len(env.world.movers) + 1
         cost = step_cost_us(env, seconds)
         first = first or (cost, shapes)
+        figures.add("rubble", f"{count} rubble pieces", {"shapes": shapes, "step_us": cost})
         print(
             f"{len(env.scenario.rubble):7d} {shapes:7d} {len(geometry.segments):9d} {len(geometry.circles):8d} "
             f"{cost:9.1f} {cost / shapes:9.2f} {cost / first[0]:6.2f}x"
@@ -108,15 +112,19 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--seconds", type=float, default=2.0, help="wall time per measurement")
     parser.add_argument("--rounds", type=int, default=5, help="alternating rounds for the peer comparison")
+    parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
     args = parser.parse_args(argv)
-    compare_with_bipedal_walker(args.seconds, args.rounds)
-    cost_by_rubble(args.seconds)
+    figures = Figures("env")
+    compare_with_bipedal_walker(args.seconds, args.rounds, figures)
+    cost_by_rubble(args.seconds, figures)
+    if args.csv:
+        figures.write(args.csv)
     try:
         from bench_sensors import main as sensor_benchmark
     except ImportError:
         from benchmarks.bench_sensors import main as sensor_benchmark
     print("== sensor sweep vs pymunk per-ray queries ==")
-    sensor_benchmark([])
+    sensor_benchmark([] if args.csv is None else ["--csv", args.csv])
 
 
 if __name__ == "__main__":

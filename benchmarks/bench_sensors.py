@@ -9,7 +9,8 @@ Prints, in one run:
    20 x 20 m walled arena, which should grow no worse than linearly with the shapes.
 
 Timings: ``time.perf_counter``, median over repeats of a batch of calls, after a warm-up
-(which also compiles the kernels). Usage: ``python benchmarks/bench_sensors.py [--repeats 15]``.
+(which also compiles the kernels). Usage: ``python benchmarks/bench_sensors.py [--repeats 15] [--csv PATH]``;
+``--csv`` also writes the figures as tidy rows into ``PATH`` (``tidy_csv``).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import numpy as np
 import pymunk
 
 from attentive_gym.sensors import GeometryCache, LaserConfig, LaserScanner, SensorSuite, SonarConfig, SonarRing
+from tidy_csv import Figures
 
 ROBOT_ID = 0
 ROBOT_CATEGORY = 0b10
@@ -144,7 +146,7 @@ def _laser_disagreement_m(per_ray, pose, geometry) -> float:
     return float(np.abs(analytic - pymunk_ranges).max())
 
 
-def compare_with_pymunk(repeats: int) -> None:
+def compare_with_pymunk(repeats: int, figures: Figures) -> None:
     space, entries, pose = arena(21, seed=1)
     analytic, per_ray, update, suite_read, geometry = _sweepers(space, entries, pose)
     a = _median_us(analytic, repeats, 200)
@@ -154,12 +156,18 @@ def compare_with_pymunk(repeats: int) -> None:
     print(f"analytic kernels (exact cones)        : {a:8.1f} µs/sweep  (target <= 60 µs)")
     print(f"pymunk per-ray ({180 + 16 * RAYS_PER_SONAR} segment queries)  : {p:8.1f} µs/sweep")
     print(f"ratio                                 : {p / a:8.1f}x  (target >= 10x)")
-    print(f"laser: analytic vs pymunk, max |diff| : {_laser_disagreement_m(per_ray, pose, geometry):8.1e} m")
-    print(f"GeometryCache.update()                : {_median_us(update, repeats, 200):8.1f} µs")
-    print(f"SensorSuite.read incl. update + noise : {_median_us(suite_read, repeats, 200):8.1f} µs")
+    disagreement_m = _laser_disagreement_m(per_ray, pose, geometry)
+    update_us, read_us = _median_us(update, repeats, 200), _median_us(suite_read, repeats, 200)
+    print(f"laser: analytic vs pymunk, max |diff| : {disagreement_m:8.1e} m")
+    print(f"GeometryCache.update()                : {update_us:8.1f} µs")
+    print(f"SensorSuite.read incl. update + noise : {read_us:8.1f} µs")
+    figures.add("sweep", "analytic kernels", {"sweep_us": a, "max_laser_difference_m": disagreement_m})
+    figures.add("sweep", "pymunk per-ray queries", {"sweep_us": p, "rays": 180 + 16 * RAYS_PER_SONAR})
+    figures.add("sweep", "GeometryCache.update", {"call_us": update_us})
+    figures.add("sweep", "SensorSuite.read", {"call_us": read_us})
 
 
-def cost_by_shapes(repeats: int) -> None:
+def cost_by_shapes(repeats: int, figures: Figures) -> None:
     print("== sweep cost by number of random shapes (20 x 20 m walled arena) ==")
     print(f"{'shapes':>7} {'segments':>9} {'circles':>8} {'analytic µs':>12} {'µs/shape':>9} {'pymunk µs':>10}")
     for count in (10, 50, 200):
@@ -168,14 +176,19 @@ def cost_by_shapes(repeats: int) -> None:
         a = _median_us(analytic, repeats, 100)
         p = _median_us(per_ray, repeats, 3)
         print(f"{count:7d} {len(geometry.segments):9d} {len(geometry.circles):8d} {a:12.1f} {a / count:9.2f} {p:10.1f}")
+        figures.add("shapes", f"{count} shapes", {"analytic_sweep_us": a, "pymunk_sweep_us": p})
 
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=15, help="timed batches per figure (median taken)")
+    parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
     args = parser.parse_args(argv)
-    compare_with_pymunk(args.repeats)
-    cost_by_shapes(args.repeats)
+    figures = Figures("sensors")
+    compare_with_pymunk(args.repeats, figures)
+    cost_by_shapes(args.repeats, figures)
+    if args.csv:
+        figures.write(args.csv)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,8 @@ around the vector env's ``step_wait``/``reset``, and estimated as ``1 − t_triv
 (``time.process_time``; torch runs one thread), so other jobs on a busy machine do not
 distort the comparison; ``--clock wall`` uses wall time instead.
 
-Usage: ``python benchmarks/bench_training.py [--steps 20480] [--rounds 2] [--variant focus] [--vec-env native]``
+Usage: ``python benchmarks/bench_training.py [--steps 20480] [--rounds 2] [--variant focus] [--vec-env native]
+[--csv PATH]``; ``--csv`` also writes the figures as tidy rows into ``PATH`` (``tidy_csv``).
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ import statistics
 import time
 
 import gymnasium as gym
+
+from tidy_csv import Figures
 
 
 class TrivialEnv(gym.Env):
@@ -102,7 +105,7 @@ def train_rate(make_one, steps: int, vec_env: str, seed: int = 0, clock=time.pro
     return steps / elapsed, env_time[0] / elapsed
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20480, help="env steps per timed PPO.learn (default: 20480)")
     parser.add_argument("--rounds", type=int, default=2, help="alternating rounds (default: 2)")
@@ -110,7 +113,8 @@ def main() -> None:
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu", help="cpu (process time, default) or wall")
     parser.add_argument("--vec-env", choices=("native", "dummy"), default="native",
                         help="the attended env's vectorisation (default: native, as train uses)")
-    args = parser.parse_args()
+    parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
+    args = parser.parse_args(argv)
 
     from attentive_gym.wrappers import make_env
 
@@ -134,9 +138,15 @@ def main() -> None:
     print(f"{args.variant} trains at {med[args.variant] / med['trivial']:.2f}x the trivial env's speed; "
           f"time in env: {100 * frac[args.variant]:.1f}% measured, {100 * estimate:.1f}% from the speed ratio "
           f"(target <= 25%)")
-    print(json.dumps({"variant": args.variant, "vec_env": args.vec_env, "clock": args.clock, "steps": args.steps, "rounds": args.rounds,
-                      "steps_per_s": med, "env_fraction": frac, "env_fraction_from_ratio": estimate,
-                      "rates": rates}))
+    print(json.dumps({"variant": args.variant, "vec_env": args.vec_env, "clock": args.clock, "steps": args.steps,
+                      "rounds": args.rounds, "steps_per_s": med, "env_fraction": frac,
+                      "env_fraction_from_ratio": estimate, "rates": rates}))
+    if args.csv:
+        figures = Figures("training")
+        for name in makers:
+            subject = f"{name} ({args.vec_env})" if name == args.variant else name
+            figures.add("ppo", subject, {f"{args.clock}_steps_per_s": med[name], "env_fraction": frac[name]})
+        figures.write(args.csv)
 
 
 if __name__ == "__main__":

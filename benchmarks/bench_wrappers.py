@@ -6,8 +6,9 @@ median steps/s over alternating rounds with BipedalWalker-v3, and the ratio (tar
 the attended variants: ≥ 1.0×). Also splits one attended step into its parts: the base
 environment, the model's step and the observation encoding.
 
-Usage: ``python benchmarks/bench_wrappers.py [--seconds 1] [--rounds 3]``
-(BipedalWalker needs ``pip install -e ".[bench]"``).
+Usage: ``python benchmarks/bench_wrappers.py [--seconds 1] [--rounds 3] [--csv PATH]``
+(BipedalWalker needs ``pip install -e ".[bench]"``). ``--csv`` also writes the figures as tidy
+rows into ``PATH`` (``tidy_csv``).
 """
 
 from __future__ import annotations
@@ -21,9 +22,10 @@ import numpy as np
 
 from attentive_gym.wrappers import VARIANTS, make_env
 from bench_env import steps_per_second
+from tidy_csv import Figures
 
 
-def compare_variants(seconds: float, rounds: int) -> None:
+def compare_variants(seconds: float, rounds: int, figures: Figures) -> None:
     peer = gym.make("BipedalWalker-v3").unwrapped
     envs = {variant: make_env(variant) for variant in VARIANTS}
     for env in envs.values():
@@ -39,10 +41,11 @@ def compare_variants(seconds: float, rounds: int) -> None:
     for name, values in rates.items():
         rate = statistics.median(values)
         print(f"{name:<18} {rate:9.0f} {1e6 / rate:9.1f} {rate / peer_rate:6.2f}x")
+        figures.add("variants", name, {"steps_per_s": rate})
     print("target: attended variants (focus, saliency, masked, goal-action) >= 1.0x")
 
 
-def split_focus_step(steps: int = 3000) -> None:
+def split_focus_step(figures: Figures, steps: int = 3000) -> None:
     """Time the base env, the model and the encoder separately within focus steps."""
     env = make_env("focus")
     env.reset(seed=0)
@@ -55,8 +58,8 @@ def split_focus_step(steps: int = 3000) -> None:
         t1 = time.perf_counter()
         output = model.step(info["time_s"], raw["sonar"], raw["laser"], raw["odometry"])
         t2 = time.perf_counter()
-        view, event = env._attended(output)
-        encoder.encode(raw, view, event, env._remember(output, view))
+        region, event = env._attended(output)
+        encoder.encode_region(raw, output, region, event, env._remember(output, region))
         t3 = time.perf_counter()
         totals += (t1 - t0, t2 - t1, t3 - t2)
         if terminated or truncated:
@@ -66,15 +69,20 @@ def split_focus_step(steps: int = 3000) -> None:
     print("== one focus step, split ==")
     print(f"base env {env_us:6.1f} µs   model {model_us:6.1f} µs   encoding and memory {encode_us:6.1f} µs")
     print(f"model / env: {model_us / env_us:.2f} (target < 0.5)")
+    figures.add("split", "focus", {"base_env_us": env_us, "model_us": model_us, "encoding_us": encode_us})
 
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=1.0, help="wall time per measurement (s)")
     parser.add_argument("--rounds", type=int, default=3, help="alternating measurement rounds")
+    parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
     args = parser.parse_args(argv)
-    compare_variants(args.seconds, args.rounds)
-    split_focus_step()
+    figures = Figures("wrappers")
+    compare_variants(args.seconds, args.rounds, figures)
+    split_focus_step(figures)
+    if args.csv:
+        figures.write(args.csv)
 
 
 if __name__ == "__main__":

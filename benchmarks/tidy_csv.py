@@ -1,0 +1,70 @@
+"""The speed benchmarks' figures as tidy CSV rows, all benchmarks in one file.
+
+``Figures(benchmark)`` collects one row per (section, subject, number of envs, metric);
+``write(path)`` merges them into ``path``: the rows of other benchmarks stay, this
+benchmark's previous rows are replaced, and a ``run`` section records the machine the run
+had (``cpus``: the cores this process may use; ``numba_threads``). ``tools/report.py
+render`` turns the file (``docs/results/performance.csv``) into ``docs/results/performance.md``.
+Metric names carry their unit: ``*_us`` µs, ``*_per_s`` per second, ``*_mib`` MiB, and
+``*_fraction`` / ``*_ratio`` no unit.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from collections.abc import Mapping
+from pathlib import Path
+
+import numba
+
+from attentive_gym._atomic import atomic_file
+
+#: The file's columns; ``num_envs`` is empty where the figure is not a vector env's.
+COLUMNS = ("benchmark", "section", "subject", "num_envs", "metric", "value")
+
+
+def cpus() -> int:
+    """The cores this process may run on (its affinity where the OS tells it)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+class Figures:
+    """One benchmark's figures, as rows of ``COLUMNS``."""
+
+    def __init__(self, benchmark: str):
+        self.benchmark = benchmark
+        self.rows: list[dict[str, str]] = []
+
+    def add(self, section: str, subject: str, metrics: Mapping[str, float], num_envs: int | None = None) -> None:
+        """One row per entry of ``metrics`` (name → value in the name's unit)."""
+        for metric, value in metrics.items():
+            self.rows.append(
+                {
+                    "benchmark": self.benchmark,
+                    "section": section,
+                    "subject": subject,
+                    "num_envs": "" if num_envs is None else str(num_envs),
+                    "metric": metric,
+                    "value": f"{float(value):.6g}",
+                }
+            )
+
+    def write(self, path: str | os.PathLike) -> Path:
+        """Merge the rows into the CSV at ``path`` (created if missing), with the ``run`` rows."""
+        path = Path(path)
+        kept = []
+        if path.is_file():
+            with open(path, newline="", encoding="utf-8") as handle:
+                kept = [row for row in csv.DictReader(handle) if row["benchmark"] != self.benchmark]
+        run = Figures(self.benchmark)
+        run.add("run", "machine", {"cpus": cpus(), "numba_threads": numba.get_num_threads()})
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=list(COLUMNS), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows([*kept, *run.rows, *self.rows])
+        with atomic_file(path) as handle:
+            handle.write(buffer.getvalue())
+        print(f"wrote {len(self.rows)} rows of {self.benchmark} to {path}")
+        return path
