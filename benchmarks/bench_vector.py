@@ -21,7 +21,8 @@ Prints:
 Random actions, no rendering; resets are part of the stepping (autoreset).
 
 Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-envs 256]
-[--sections peers,vmas,scaling,floor]``
+[--sections peers,vmas,scaling,floor] [--csv PATH]``; ``--csv`` also writes the figures as tidy rows
+into ``PATH`` (``tidy_csv``)
 (the compiled kernels run on ``NUMBA_NUM_THREADS`` threads, all cores by default)
 (BipedalWalker needs ``pip install -e ".[bench]"``; VMAS ``pip install vmas``, skipped if absent).
 """
@@ -46,6 +47,7 @@ from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.sensors import suite as sensor_suite
 from bench_env import steps_per_second
 from call_timer import CallTimer
+from tidy_csv import Figures
 
 
 def vector_rate(env, seconds: float, seed: int = 0) -> float:
@@ -66,7 +68,7 @@ def make_vector(variant: str, num_envs: int, mode: str):
     return gym.make_vec(VARIANT_IDS[variant], num_envs=num_envs, vectorization_mode=mode)
 
 
-def peers_at_16(seconds: float, rounds: int) -> None:
+def peers_at_16(seconds: float, rounds: int, figures: Figures) -> None:
     walker = gym.make("BipedalWalker-v3")
     for variant in ("focus", "raw"):
         envs = {"native": make_vector(variant, 16, "vector_entry_point"), "sync": make_vector(variant, 16, "sync")}
@@ -82,6 +84,8 @@ def peers_at_16(seconds: float, rounds: int) -> None:
             print(f"{name:<18} {rate:12.0f} {1e6 / rate:12.1f}")
         print(f"native / sync: {med['native'] / med['sync']:.2f}x   native / BipedalWalker-v3: "
               f"{med['native'] / med['BipedalWalker-v3']:.2f}x" + ("   (targets: 4x, 3x)" if variant == "focus" else ""))
+        figures.add("peers", variant, {"native_us": 1e6 / med["native"], "sync_us": 1e6 / med["sync"],
+                                       "bipedal_walker_us": 1e6 / med["BipedalWalker-v3"]}, num_envs=16)
         for env in envs.values():
             env.close()
 
@@ -113,7 +117,7 @@ class Vmas:
         return steps * self.num_envs / (time.perf_counter() - start)
 
 
-def against_vmas(seconds: float, rounds: int, sizes) -> None:
+def against_vmas(seconds: float, rounds: int, sizes, figures: Figures) -> None:
     try:
         import vmas  # noqa: F401
     except ImportError:
@@ -130,6 +134,8 @@ def against_vmas(seconds: float, rounds: int, sizes) -> None:
                 rates[name].append(env.rate(seconds) if name == "VMAS" else vector_rate(env, seconds))
         us = {name: 1e6 / statistics.median(values) for name, values in rates.items()}
         print(f"{n:5d} {us['VMAS']:8.1f} {us['focus']:8.1f} {us['raw']:8.1f} {us['VMAS'] / us['focus']:16.2f}x")
+        figures.add("vmas", "env-step", {"vmas_us": us["VMAS"], "focus_us": us["focus"], "raw_us": us["raw"]},
+                    num_envs=n)
 
 
 _MEMORY_PROBE = """
@@ -162,14 +168,16 @@ def memory_per_env(n: int) -> float:
     return float(result.stdout.strip()) / 2**20
 
 
-def scaling(seconds: float, sizes) -> None:
+def scaling(seconds: float, sizes, figures: Figures) -> None:
     print("== native focus env, scaling ==")
     print(f"{'N':>5} {'µs/env-step':>12} {'env-steps/s':>12} {'MiB per env':>12}")
     for n in sizes:
         env = make_vector("focus", n, "vector_entry_point")
         rate = vector_rate(env, seconds)
         env.close()
-        print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory_per_env(n):12.2f}")
+        memory_mib = memory_per_env(n)
+        print(f"{n:5d} {1e6 / rate:12.1f} {rate:12.0f} {memory_mib:12.2f}")
+        figures.add("scaling", "focus", {"env_step_us": 1e6 / rate, "memory_per_env_mib": memory_mib}, num_envs=n)
 
 
 def pymunk_floor_us(envs, steps: int = 300) -> float:
@@ -196,7 +204,7 @@ def pymunk_floor_us(envs, steps: int = 300) -> float:
     return (time.perf_counter() - start) / (steps * len(worlds)) * 1e6
 
 
-def floor_at_16(seconds: float, steps: int = 400) -> None:
+def floor_at_16(seconds: float, figures: Figures, steps: int = 400) -> None:
     """Section 4: the native ``focus`` env's floor at N = 16 against the targets' budgets."""
     env = make_vector("focus", 16, "vector_entry_point")
     whole_us = 1e6 / vector_rate(env, seconds)
@@ -219,6 +227,9 @@ def floor_at_16(seconds: float, steps: int = 400) -> None:
                         ("the whole step", whole_us), ("budget of >= 3x BipedalWalker-v3", walker_us / 3),
                         ("budget of >= 4x the sync vector env", sync_us / 4)):
         print(f"{name:<38} {value:8.1f}")
+    figures.add("floor", "focus", {"sensor_sweep_us": sensing_us, "models_us": models_us, "pymunk_us": pymunk_us,
+                                   "floor_us": floor, "whole_step_us": whole_us, "bipedal_walker_us": walker_us,
+                                   "sync_us": sync_us}, num_envs=16)
     print(f"left above the floor for everything else: {walker_us / 3 - floor:.1f} µs (3x BipedalWalker-v3), "
           f"{sync_us / 4 - floor:.1f} µs (4x sync); the step spends {whole_us - floor:.1f} µs there today")
 
@@ -234,20 +245,24 @@ def main(argv=None) -> None:
     parser.add_argument("--max-envs", type=int, default=256, help="largest N of the VMAS comparison and the scaling table")
     parser.add_argument("--sections", default=",".join(SECTIONS),
                         help=f"comma-separated sections to run, of {', '.join(SECTIONS)} (default: all)")
+    parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
     args = parser.parse_args(argv)
     sections = args.sections.split(",")
     unknown = sorted(set(sections) - set(SECTIONS))
     if unknown:
         parser.error(f"unknown section(s) {', '.join(unknown)}; allowed: {', '.join(SECTIONS)}")
     sizes = [n for n in (1, 2, 4, 8, 16, 32, 64, 128, 256) if n <= args.max_envs]
+    figures = Figures("vector")
     if "peers" in sections:
-        peers_at_16(args.seconds, args.rounds)
+        peers_at_16(args.seconds, args.rounds, figures)
     if "vmas" in sections:
-        against_vmas(args.seconds, args.rounds, [n for n in (16, 64, 256) if n <= args.max_envs])
+        against_vmas(args.seconds, args.rounds, [n for n in (16, 64, 256) if n <= args.max_envs], figures)
     if "scaling" in sections:
-        scaling(args.seconds, sizes)
+        scaling(args.seconds, sizes, figures)
     if "floor" in sections:
-        floor_at_16(args.seconds)
+        floor_at_16(args.seconds, figures)
+    if args.csv:
+        figures.write(args.csv)
 
 
 if __name__ == "__main__":
