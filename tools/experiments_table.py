@@ -18,8 +18,8 @@ import csv
 import io
 import json
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 from attentive_gym._atomic import atomic_file
 from attentive_gym.experiments.table import CSV_COLUMNS, markdown, measure, to_rows
@@ -46,7 +46,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--noise", type=float, default=0.05, help="Gaussian noise σ of the noisy runs (default 0.05)")
     parser.add_argument("--config", default=None, help="extra AttentionConfig fields as a JSON object")
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
-    parser.add_argument("--csv", type=Path, default=DEFAULT_CSV, help=f"where to write the rows (default {DEFAULT_CSV})")
+    parser.add_argument(
+        "--csv", type=Path, default=DEFAULT_CSV, help=f"where to write the rows (default {DEFAULT_CSV})"
+    )
     args = parser.parse_args(argv)
     try:
         config = json.loads(args.config) if args.config else None
