@@ -166,6 +166,16 @@ class AttentiveRescueEnv(gym.Env):
     ``env.sonar_scan_interval_s`` and ``env.laser_scan_interval_s``. Both sensors draw their
     noise every step whatever the intervals (a held reading keeps its scan's noise), so the
     RNG stream, and with it the readings at scan steps, do not depend on the intervals.
+
+    **Version History** (the registered ids' version; any change of a default that can
+    change learning results bumps it, as Gymnasium does, and adds a line here):
+
+    - v0: the current version of all eight ids. ``dt`` 0.05 s; 5 % Gaussian noise and a
+      scan every step; the spaces above; ``RewardConfig()``, ``RobotConfig()``,
+      ``SonarConfig()``, ``LaserConfig()``; the procedural arena of 10 m with 3
+      distractors, 6 rubble pieces per 100 m², movers up to 1 m/s and the task goals
+      speed in [0.5, 0.9] or [0.15, 0.45] m/s with a 40 s limit; for the attended
+      variants, ``AttentionConfig()`` and a working memory of 3 bodies.
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}
