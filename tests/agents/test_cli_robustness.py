@@ -82,10 +82,11 @@ def _assert_group_ends(pgid, timeout_s=STOP_WITHIN_S):
 
 
 # --- Ctrl-C and SIGTERM ------------------------------------------------------------------
+@pytest.mark.slow
 def test_ctrl_c_stops_compare_at_once_and_the_same_command_resumes(tmp_path, tiny):
     out = tmp_path / "cmp"
     argv = _command("compare", "--variants", "raw", "--seeds", "2", "--workers", "1", "--out", str(out),
-                    *_tiny_options(tiny))
+                    *_tiny_options(tiny, steps=1024))
     proc = _start(argv)
     checkpoint = out / "runs" / "raw-seed0" / "checkpoint" / "meta.json"
     _wait_for(checkpoint, proc)
@@ -105,10 +106,11 @@ def test_ctrl_c_stops_compare_at_once_and_the_same_command_resumes(tmp_path, tin
     assert rerun.returncode == 0, rerun.stderr
     resumed = json.loads((out / "runs" / "raw-seed0" / "metrics.json").read_text())
     fresh = json.loads((out / "runs" / "raw-seed1" / "metrics.json").read_text())
-    assert resumed["resumed_from"] == kept_steps > 0 and resumed["env_steps"] == fresh["env_steps"] == 2048
+    assert resumed["resumed_from"] == kept_steps > 0 and resumed["env_steps"] == fresh["env_steps"] == 1024
     assert fresh["resumed_from"] == 0
 
 
+@pytest.mark.slow
 def test_sigterm_to_compare_alone_stops_its_run_processes(tmp_path, tiny):
     out = tmp_path / "cmp"
     proc = _start(_command("compare", "--variants", "raw,focus", "--seeds", "1", "--workers", "1", "--out", str(out),
@@ -122,6 +124,7 @@ def test_sigterm_to_compare_alone_stops_its_run_processes(tmp_path, tiny):
     _assert_group_ends(proc.pid)  # no run process trains on, orphaned
 
 
+@pytest.mark.slow
 def test_ctrl_c_stops_train_keeping_its_checkpoint(tmp_path, tiny):
     out = tmp_path / "run"
     argv = ["train", "--variant", "raw", "--no-progress", "--out", str(out), *_tiny_options(tiny)]
@@ -287,6 +290,7 @@ def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends
     assert json.loads((tmp_path / "new" / "spec.json").read_text())["algo_defaults"] == 2  # a new folder: the latest
 
 
+@pytest.mark.slow
 def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_does_not_lock_the_folder(tmp_path, tiny,
                                                                                                     capsys):
     out = tmp_path / "cmp"

@@ -32,6 +32,7 @@ def compared(tmp_path_factory, tiny):
     return out, argv
 
 
+@pytest.mark.slow
 def test_outputs_are_well_formed(compared):
     out, _ = compared
     rows = read_csv(out / "results.csv")
@@ -50,6 +51,7 @@ def test_outputs_are_well_formed(compared):
     assert len(table) == 2 + len(VARIANTS) and all(line.startswith("|") for line in table)
 
 
+@pytest.mark.slow
 def test_rerun_after_a_kill_trains_only_the_missing_run(compared):
     out, argv = compared
     killed = out / "runs" / "focus-seed1"
@@ -75,6 +77,7 @@ def _spec_from(out):
     return RunSpec(variant=settings["variants"][0], seed=settings["seeds"][0], **settings["run"])
 
 
+@pytest.mark.slow
 def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tiny):
     out = tmp_path / "cmp"
 
@@ -98,6 +101,7 @@ def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tin
     assert main(argv(256, "--extend")) == 2  # a budget never shrinks
 
 
+@pytest.mark.slow
 def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
     good = tiny(total_steps=128)
     bad = tiny(total_steps=128, seed=1).to_dict() | {"env_kwargs": {"bogus_knob": 1}}
@@ -143,6 +147,7 @@ def _run_processes_of(parent_pid):
     return pids
 
 
+@pytest.mark.slow
 def test_a_run_whose_process_dies_fails_alone(tmp_path, tiny):
     import os
     import signal
@@ -172,6 +177,7 @@ def test_bad_backend_and_workers(tmp_path):
         list(run_many([], workers=0))
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not ray_available(), reason="ray is not importable (install the 'ray' extra: pip install -e '.[ray]')")
 def test_ray_backend_runs_the_same_jobs(tmp_path, tiny):
     import ray
@@ -198,7 +204,7 @@ def test_a_killed_compare_process_reruns_only_the_missing_runs(tmp_path, tiny):
 
     out = tmp_path / "cmp"
     argv = [sys.executable, "-m", "attentive_gym.cli", "compare", "--variants", "raw,focus", "--seeds", "2",
-            "--steps", "2048", "--n-envs", "2", "--eval-every", "512", "--eval-episodes", "2",
+            "--steps", "1024", "--n-envs", "2", "--eval-every", "512", "--eval-episodes", "2",
             "--checkpoint-every", "256", "--env-kwargs", json.dumps(tiny.env_kwargs),
             "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--workers", "2", "--out", str(out)]
     proc = subprocess.Popen(argv, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -215,10 +221,10 @@ def test_a_killed_compare_process_reruns_only_the_missing_runs(tmp_path, tiny):
     assert f"{len(finished)} run(s) already done, {4 - len(finished)} to train" in rerun.stdout
     assert {name: (out / "runs" / name / "metrics.json").stat().st_mtime_ns for name in finished} == stamps
     rows = read_csv(out / "results.csv")
-    assert len(rows) == 4 * 5 and all(r["env_steps"] <= 2048 for r in rows)
+    assert len(rows) == 4 * 3 and all(r["env_steps"] <= 1024 for r in rows)  # evaluations at 0, 512 and 1024
     for run in (out / "runs").iterdir():
         steps = [r["env_steps"] for r in read_csv(run / "eval.csv")]
-        assert steps == sorted(set(steps)) and steps[-1] == 2048
+        assert steps == sorted(set(steps)) and steps[-1] == 1024
 
 
 @pytest.mark.slow

@@ -10,6 +10,7 @@ from attentive_gym.cli import main
 NOTEBOOK = Path(__file__).resolve().parents[2] / "notebooks" / "train_and_compare.ipynb"
 
 
+@pytest.mark.slow
 def test_notebook_executes():
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")

@@ -2,11 +2,14 @@
 
 import json
 
+import pytest
+
 from attentive_gym.agents.results import read_csv
 from attentive_gym.agents.sweep import SWEEP_COLUMNS, SWEEP_SUMMARY_COLUMNS
 from attentive_gym.cli import main
 
 
+@pytest.mark.slow
 def test_compare_distractors_sweeps_the_clutter(tmp_path, tiny, capsys):
     out = tmp_path / "sweep"
     argv = ["compare", "--variants", "raw,focus", "--seeds", "1", "--steps", "128", "--n-envs", "2",

@@ -149,6 +149,7 @@ print(digest.hexdigest())
 """
 
 
+@pytest.mark.slow
 def test_same_seed_same_trajectory_in_another_process():
     runs = [subprocess.run([sys.executable, "-c", _TRAJECTORY_DIGEST], capture_output=True, text=True, check=True)
             for _ in range(2)]

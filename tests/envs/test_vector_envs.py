@@ -26,6 +26,7 @@ def test_make_vec_matches_single_envs(mode):
     vec.close()
 
 
+@pytest.mark.slow
 def test_sb3_subproc_vec_env_with_spawn():
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import SubprocVecEnv

@@ -4,7 +4,10 @@ import shutil
 from pathlib import Path
 
 import nbformat
+import pytest
 from nbclient import NotebookClient
+
+pytestmark = pytest.mark.slow  # a kernel runs the whole notebook
 
 NOTEBOOK = Path(__file__).resolve().parents[2] / "notebooks" / "experiments.ipynb"
 

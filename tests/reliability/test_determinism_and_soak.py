@@ -150,6 +150,7 @@ def test_invariants_hold_on_a_normal_episode_and_catch_planted_faults():
     assert any("turn rate" in v for v in check_invariants(env, obs, contact=False))
 
 
+@pytest.mark.slow
 def test_short_soak_has_no_violations():
     benchmarks = str(BENCHMARKS)
     sys.path.insert(0, benchmarks)  # the spawned workers import ``soak`` too: keep it on the path

@@ -33,6 +33,7 @@ def test_async_vector_env_matches_sync(variant):
             np.testing.assert_array_equal(a[key], b[key])
 
 
+@pytest.mark.slow
 def test_ppo_multi_input_policy_trains_on_focus_observations_in_subprocesses():
     envs = SubprocVecEnv([lambda: make_env("focus") for _ in range(2)], start_method="spawn")
     try:
