@@ -14,8 +14,17 @@ from __future__ import annotations
 
 import pymunk
 
-__all__ = ["FAST", "position", "velocity", "pose", "poses", "set_velocity", "set_angle",
-           "set_angular_velocity", "contact_count"]
+__all__ = [
+    "FAST",
+    "position",
+    "velocity",
+    "pose",
+    "poses",
+    "set_velocity",
+    "set_angle",
+    "set_angular_velocity",
+    "contact_count",
+]
 
 
 def _probe() -> bool:
@@ -30,9 +39,12 @@ def _probe() -> bool:
         lib.cpBodySetVelocity(body._body, (3.0, -1.0))
         lib.cpBodySetAngle(body._body, -0.5)
         lib.cpBodySetAngularVelocity(body._body, 2.0)
-        return ((p.x, p.y, v.x, v.y, lib.cpBodyGetAngle(body._body)) == (1.5, -2.0, 0.25, 4.0, -0.5)
-                and tuple(body.velocity) == (3.0, -1.0) and body.angular_velocity == 2.0
-                and callable(lib.cpArbiterGetCount))
+        return (
+            (p.x, p.y, v.x, v.y, lib.cpBodyGetAngle(body._body)) == (1.5, -2.0, 0.25, 4.0, -0.5)
+            and tuple(body.velocity) == (3.0, -1.0)
+            and body.angular_velocity == 2.0
+            and callable(lib.cpArbiterGetCount)
+        )
     except Exception:  # an internal layout we do not know: use the public properties
         return False
 
@@ -123,4 +135,3 @@ else:  # pragma: no cover - depends on the pymunk build
 
     def contact_count(arbiter: pymunk.Arbiter) -> int:
         return len(arbiter.contact_point_set.points)
-

@@ -24,12 +24,12 @@ import argparse
 import json
 import signal
 import sys
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Callable, Sequence
 
 from attentive_gym._optional import MissingExtraError, require
-from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
+from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.experiments.cli import add_experiment_parser
 
 __all__ = ["main", "build_parser"]
@@ -55,36 +55,55 @@ def _add_attend(subparsers) -> None:
     )
     parser.add_argument("log", type=Path, help="the logged run (.csv, .npz, .bag, .db3, .mcap or a ROS 2 bag folder)")
     parser.add_argument("--out", type=Path, required=True, help="output folder")
-    parser.add_argument("--goal", action="append", default=[], metavar="SPEC",
-                        help="a top-down goal, e.g. speed:between:0.5:0.9, speed:greater:0.6, "
-                             "distance:smaller:2, direction:towards (repeatable, one per feature)")
-    parser.add_argument("--maps", metavar="SPEC",
-                        help="active maps and weights, e.g. F1,F3 or F1=1,F4=2 (default: the configuration's)")
-    parser.add_argument("--state", metavar="STATE",
-                        help="Global Attentive State: drowsy, alert, vigilant or a gain > 0")
-    parser.add_argument("--config", metavar="JSON",
-                        help="AttentionConfig fields as a JSON object, or the path of a .json file holding one")
+    parser.add_argument(
+        "--goal",
+        action="append",
+        default=[],
+        metavar="SPEC",
+        help="a top-down goal, e.g. speed:between:0.5:0.9, speed:greater:0.6, "
+        "distance:smaller:2, direction:towards (repeatable, one per feature)",
+    )
+    parser.add_argument(
+        "--maps", metavar="SPEC", help="active maps and weights, e.g. F1,F3 or F1=1,F4=2 (default: the configuration's)"
+    )
+    parser.add_argument(
+        "--state", metavar="STATE", help="Global Attentive State: drowsy, alert, vigilant or a gain > 0"
+    )
+    parser.add_argument(
+        "--config",
+        metavar="JSON",
+        help="AttentionConfig fields as a JSON object, or the path of a .json file holding one",
+    )
     parser.add_argument("--no-figure", action="store_true", help="write trace.npz only")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace trace.npz and trace.png where --out already holds them (refused otherwise)")
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace trace.npz and trace.png where --out already holds them (refused otherwise)",
+    )
     bag = parser.add_argument_group("ROS bags", "topics of a bag, when they are not one of each message type")
     bag.add_argument("--laser-topic", metavar="TOPIC", help="the sensor_msgs/LaserScan topic (the time base)")
-    bag.add_argument("--sonar-topics", metavar="A,B,...",
-                     help="the sensor_msgs/Range topics, P2AT sonar 0 first: 8 (front) or 16 (whole ring), "
-                          "or any number with --sonar-bearings (default: all Range topics in natural name order; "
-                          "none: the front sonars are read from the laser)")
+    bag.add_argument(
+        "--sonar-topics",
+        metavar="A,B,...",
+        help="the sensor_msgs/Range topics, P2AT sonar 0 first: 8 (front) or 16 (whole ring), "
+        "or any number with --sonar-bearings (default: all Range topics in natural name order; "
+        "none: the front sonars are read from the laser)",
+    )
     bag.add_argument("--odom-topic", metavar="TOPIC", help="the nav_msgs/Odometry topic (ego-motion)")
-    bag.add_argument("--sonar-bearings", metavar="DEG,DEG,...",
-                     help="one bearing (deg, counter-clockwise from the heading) per sonar topic, for sonars "
-                          "that are not the P2AT ring: each stands in for the nearest front sonar, the laser "
-                          "for the others")
+    bag.add_argument(
+        "--sonar-bearings",
+        metavar="DEG,DEG,...",
+        help="one bearing (deg, counter-clockwise from the heading) per sonar topic, for sonars "
+        "that are not the P2AT ring: each stands in for the nearest front sonar, the laser "
+        "for the others",
+    )
     parser.set_defaults(handler=_run_attend)
 
 
 def _run_attend(args: argparse.Namespace) -> int:
+    from attentive_gym._atomic import refuse_existing
     from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
     from attentive_gym.attention.io.rosbag import parse_bag_topics
-    from attentive_gym._atomic import refuse_existing
     from attentive_gym.attention.io.trace import save_trace
 
     if args.out.exists() and not args.out.is_dir():
@@ -142,10 +161,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="attentive-gym",
         description="attentive_gym: a bio-inspired attentional model for multi-sensor robots, its Gymnasium "
-                    "rescue environment, and RL comparisons of attended against raw observations.",
+        "rescue environment, and RL comparisons of attended against raw observations.",
         epilog="start with: 'attentive-gym compare --quick' (PPO on raw, focus and oracle observations, about "
-               "10 minutes on 2 cores) or 'attentive-gym experiment all' (the paper's five experiments); "
-               "'attentive-gym COMMAND --help' lists a command's options.",
+        "10 minutes on 2 cores) or 'attentive-gym experiment all' (the paper's five experiments); "
+        "'attentive-gym COMMAND --help' lists a command's options.",
     )
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for add in _SUBCOMMANDS.values():

@@ -9,7 +9,7 @@ assumes the remaining items take as long, on average, as the finished ones.
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from attentive_gym._checks import check_int
 

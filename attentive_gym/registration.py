@@ -35,8 +35,14 @@ def register_environments() -> None:
         if env_id in registry:
             continue
         if variant == "raw":
-            register(id=env_id, entry_point=_BASE_ENTRY_POINT, vector_entry_point=_VECTOR_ENTRY_POINT,
-                     max_episode_steps=None)
+            register(
+                id=env_id, entry_point=_BASE_ENTRY_POINT, vector_entry_point=_VECTOR_ENTRY_POINT, max_episode_steps=None
+            )
         else:
-            register(id=env_id, entry_point=_VARIANT_ENTRY_POINT, vector_entry_point=_VECTOR_ENTRY_POINT,
-                     kwargs={"variant": variant}, max_episode_steps=None)
+            register(
+                id=env_id,
+                entry_point=_VARIANT_ENTRY_POINT,
+                vector_entry_point=_VECTOR_ENTRY_POINT,
+                kwargs={"variant": variant},
+                max_episode_steps=None,
+            )

@@ -106,8 +106,10 @@ def main(argv=None) -> None:
     still, still_cpu, fired_still = time_model(args.steps, None)
     moving, moving_cpu, fired_moving = time_model(args.steps, (0.4, 0.2))
     env = time_env(min(args.steps, 2000))
-    rows = [("model step, robot still (6 maps, J=8)", still, still_cpu),
-            ("model step, robot moving (ego-motion)", moving, moving_cpu)]
+    rows = [
+        ("model step, robot still (6 maps, J=8)", still, still_cpu),
+        ("model step, robot moving (ego-motion)", moving, moving_cpu),
+    ]
     if env is not None:
         rows.append(("raw AttentiveRescue-v0 step", env, None))
     print(f"{'what':45s} {'us/step':>9s} {'cpu us':>8s}")

@@ -194,8 +194,9 @@ def perception_records(modes: Iterable[str], episodes: int, seconds: float, goal
                 continue
             for robot in ROBOT_MODES:
                 records = [
-                    record_episode(env, seed, goals[seed % len(goals)],
-                                   stand_still if robot == "still" else Wander(seed), seconds)
+                    record_episode(
+                        env, seed, goals[seed % len(goals)], stand_still if robot == "still" else Wander(seed), seconds
+                    )
                     for seed in range(episodes)
                 ]
                 yield mode, noise.name, robot, records
@@ -204,16 +205,26 @@ def perception_records(modes: Iterable[str], episodes: int, seconds: float, goal
 
 #: (column header, metric key) of the speed table and of the track table.
 SPEED_COLUMNS = (
-    ("steady pairs", "region_pairs"), ("median", "region_median_mps"), ("p90", "region_p90_mps"),
-    ("RMSE", "region_rmse_mps"), ("transient pairs", "transient_region_pairs"),
-    ("transient median", "transient_region_median_mps"), ("transient RMSE", "transient_region_rmse_mps"),
-    ("static median m/s", "static_median_mps"), ("static p90 m/s", "static_p90_mps"),
+    ("steady pairs", "region_pairs"),
+    ("median", "region_median_mps"),
+    ("p90", "region_p90_mps"),
+    ("RMSE", "region_rmse_mps"),
+    ("transient pairs", "transient_region_pairs"),
+    ("transient median", "transient_region_median_mps"),
+    ("transient RMSE", "transient_region_rmse_mps"),
+    ("static median m/s", "static_median_mps"),
+    ("static p90 m/s", "static_p90_mps"),
     ("goal agreement", "goal_agreement_region"),
 )
 TRACK_COLUMNS = (
-    ("matched pairs", "track_pairs"), ("unmatched", "track_unmatched_frac"), ("median", "track_median_mps"),
-    ("p90", "track_p90_mps"), ("RMSE", "track_rmse_mps"), ("transient median", "transient_track_median_mps"),
-    ("transient RMSE", "transient_track_rmse_mps"), ("goal agreement", "goal_agreement_track"),
+    ("matched pairs", "track_pairs"),
+    ("unmatched", "track_unmatched_frac"),
+    ("median", "track_median_mps"),
+    ("p90", "track_p90_mps"),
+    ("RMSE", "track_rmse_mps"),
+    ("transient median", "transient_track_median_mps"),
+    ("transient RMSE", "transient_track_rmse_mps"),
+    ("goal agreement", "goal_agreement_track"),
 )
 
 
@@ -247,67 +258,94 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
         for goal, (rate, steps) in focus.items():
             if "focus" in sections:
                 results.add("focus", config, {"focus_on_target": rate, "target_in_view_steps": steps}, goal=goal)
-        focus_rows.append(label + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})"
-                                   for g in goal_names])
+        focus_rows.append(
+            label + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})" for g in goal_names]
+        )
         cases = target_cases(records)
         if not math.isnan(cases[case_key(TARGET_CASES[0])]):
             after_turns = focus_after_turns(records)
             if "focus" in sections:
                 results.add("focus", config, {**cases, **after_turns})
-            case_rows.append(label + [_fmt(cases[case_key(case)], 3) for case in TARGET_CASES]
-                             + [_fmt(after_turns[key], 3) for key in after_turns])
+            case_rows.append(
+                label
+                + [_fmt(cases[case_key(case)], 3) for case in TARGET_CASES]
+                + [_fmt(after_turns[key], 3) for key in after_turns]
+            )
         by_age = focus_by_track_age(records)
         if by_age:
             if "focus" in sections:
                 results.add("focus", config, by_age)
             rates = [key for key in by_age if key.startswith("focus_on_target_")]
-            age_rows.append(label + [f"{_fmt(by_age[key])} "
-                                     f"({_fmt(by_age['steps_' + key[len('focus_on_target_'):]], 2)})"
-                                     for key in rates])
+            age_rows.append(
+                label
+                + [
+                    f"{_fmt(by_age[key])} ({_fmt(by_age['steps_' + key[len('focus_on_target_') :]], 2)})"
+                    for key in rates
+                ]
+            )
     header = ["mode", "robot", "noise"]
-    print(f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
-          f"10 m arena, 3 distractors; goals in turn: {', '.join(goal_names)})")
+    print(
+        f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
+        f"10 m arena, 3 distractors; goals in turn: {', '.join(goal_names)})"
+    )
     if "speed" in sections:
-        print("\nSpeed of the region a mover lies in vs its true speed, |error| in m/s, over (mover, step) pairs "
-              f"in front within {VIEW_RANGE_M:g} m for ≥ {SETTLE_S:g} s; transient = within {TRANSIENT_S:g} s after "
-              "a turn; static = regions whose echoes all come from static structure; goal agreement = "
-              "`goal.is_fulfilled` of the estimate equals that of the truth (steady pairs, speed goals).\n")
+        print(
+            "\nSpeed of the region a mover lies in vs its true speed, |error| in m/s, over (mover, step) pairs "
+            f"in front within {VIEW_RANGE_M:g} m for ≥ {SETTLE_S:g} s; transient = within {TRANSIENT_S:g} s after "
+            "a turn; static = regions whose echoes all come from static structure; goal agreement = "
+            "`goal.is_fulfilled` of the estimate equals that of the truth (steady pairs, speed goals).\n"
+        )
         print(markdown_table(header + [name for name, _ in SPEED_COLUMNS], speed_rows))
         if track_rows:
-            print(f"\nTrack speed (nearest confirmed track within {TRACK_MATCH_M:g} m of the mover) vs true speed, "
-                  "|error| in m/s, same pairs; unmatched = fraction of steady pairs without a track.\n")
+            print(
+                f"\nTrack speed (nearest confirmed track within {TRACK_MATCH_M:g} m of the mover) vs true speed, "
+                "|error| in m/s, same pairs; unmatched = fraction of steady pairs without a track.\n"
+            )
             print(markdown_table(header + [name for name, _ in TRACK_COLUMNS], track_rows))
     if "focus" in sections:
-        print("\nFocus on target: fraction of the steps with the target in front within "
-              f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
-              f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}.\n")
+        print(
+            "\nFocus on target: fraction of the steps with the target in front within "
+            f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
+            f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}.\n"
+        )
         print(markdown_table(header + [f"`{g}`" for g in goal_names], focus_rows))
         relative_rows = _focus_relative_to_noise_free(results, focus_by_setting, goal_names)
         if relative_rows:
-            print(f"\nFocus on target relative to the same mode and robot noise-free (`{NOISE_SETTINGS[0].name}`): "
-                  "how much of the model's own noise-free focus each noise setting leaves.\n")
+            print(
+                f"\nFocus on target relative to the same mode and robot noise-free (`{NOISE_SETTINGS[0].name}`): "
+                "how much of the model's own noise-free focus each noise setting leaves.\n"
+            )
             print(markdown_table(header + [f"`{g}`" for g in goal_names], relative_rows))
         if case_rows:
-            print("\nWhy the focus is or is not on the target, as fractions of the same steps (both goals; "
-                  f"`TARGET_CASES`): perception misses it (hidden from the laser; seen but no confirmed track within "
-                  f"{TRACK_MATCH_M:g} m; a track younger or older than {SETTLE_S:g} s, but the goal is not judged to "
-                  "hold in the target's region), or the goal holds there and the selection goes elsewhere. "
-                  f"Then the focus on target within {TRANSIENT_S:g} s after the target turned, and at the other "
-                  "steps.\n")
-            print(markdown_table(header + list(TARGET_CASES) + ["on target after a turn", "on target otherwise"],
-                                 case_rows))
+            print(
+                "\nWhy the focus is or is not on the target, as fractions of the same steps (both goals; "
+                f"`TARGET_CASES`): perception misses it (hidden from the laser; seen but no confirmed track within "
+                f"{TRACK_MATCH_M:g} m; a track younger or older than {SETTLE_S:g} s, but the goal is not judged to "
+                "hold in the target's region), or the goal holds there and the selection goes elsewhere. "
+                f"Then the focus on target within {TRANSIENT_S:g} s after the target turned, and at the other "
+                "steps.\n"
+            )
+            print(
+                markdown_table(
+                    header + list(TARGET_CASES) + ["on target after a turn", "on target otherwise"], case_rows
+                )
+            )
         if age_rows:
-            bins = [f"{lo:g}–{hi:g} s" if math.isfinite(hi) else f"≥ {lo:g} s"
-                    for lo, hi in zip(TRACK_AGE_BINS_S, TRACK_AGE_BINS_S[1:])]
-            print("\nFocus on target by the age of the target's track (the confirmed track nearest to it within "
-                  f"{TRACK_MATCH_M:g} m), both goals; each group's share of the steps in brackets. A young track's "
-                  "speed is not yet known well enough to judge the goal.\n")
+            bins = [
+                f"{lo:g}–{hi:g} s" if math.isfinite(hi) else f"≥ {lo:g} s"
+                for lo, hi in zip(TRACK_AGE_BINS_S, TRACK_AGE_BINS_S[1:])
+            ]
+            print(
+                "\nFocus on target by the age of the target's track (the confirmed track nearest to it within "
+                f"{TRACK_MATCH_M:g} m), both goals; each group's share of the steps in brackets. A young track's "
+                "speed is not yet known well enough to judge the goal.\n"
+            )
             print(markdown_table(header + ["no track"] + bins, age_rows))
 
 
-def _focus_relative_to_noise_free(results: Results,
-                                  focus_by_setting: Mapping[tuple[str, str, str], Mapping[str, float]],
-                                  goal_names: list[str]) -> list[list[str]]:
+def _focus_relative_to_noise_free(
+    results: Results, focus_by_setting: Mapping[tuple[str, str, str], Mapping[str, float]], goal_names: list[str]
+) -> list[list[str]]:
     """Rows of the focus on target of every noisy setting divided by that of the same mode and
     robot noise-free (NaN where either is undefined), each ratio also added to ``results``
     as ``focus_over_noise_free``."""
@@ -320,13 +358,12 @@ def _focus_relative_to_noise_free(results: Results,
         for goal in goal_names:
             reference = noise_free.get(goal, math.nan)
             ratio = rates.get(goal, math.nan) / reference if reference > 0.0 else math.nan
-            results.add("focus", {"mode": mode, "robot": robot, "noise": noise}, {"focus_over_noise_free": ratio},
-                        goal=goal)
+            results.add(
+                "focus", {"mode": mode, "robot": robot, "noise": noise}, {"focus_over_noise_free": ratio}, goal=goal
+            )
             cells.append(_fmt(ratio))
         rows.append([mode, robot, noise] + cells)
     return rows
-
-
 
 
 def print_clutter(results: Results, modes, episodes: int, seconds: float, control_episodes: int) -> None:
@@ -343,8 +380,9 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
         raw.close()
         for mode in modes:
             env = make_attentive_env(mode, noise, **world)
-            records = [record_episode(env, seed, goals[seed % len(goals)], Wander(seed), seconds)
-                       for seed in range(episodes)]
+            records = [
+                record_episode(env, seed, goals[seed % len(goals)], Wander(seed), seconds) for seed in range(episodes)
+            ]
             per_goal = [(rate * n, n) for rate, n in focus_on_target(records).values() if n]  # both goals together
             on, steps = sum(on for on, _ in per_goal), sum(n for _, n in per_goal)
             focus = on / steps if steps else math.nan
@@ -354,21 +392,53 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
             focus_env.close()
             memory_ratio = memory / oracle if oracle else math.nan
             cases = target_cases(records)
-            results.add("clutter", {"mode": mode, "robot": "driving", "noise": noise.name, "distractors": distractors},
-                        {"focus_on_target": focus, "target_in_view_steps": int(steps), **cases})
+            results.add(
+                "clutter",
+                {"mode": mode, "robot": "driving", "noise": noise.name, "distractors": distractors},
+                {"focus_on_target": focus, "target_in_view_steps": int(steps), **cases},
+            )
             if not math.isnan(cases[case_key(TARGET_CASES[0])]):
                 case_rows.append([str(distractors), mode] + [_fmt(cases[case_key(case)]) for case in TARGET_CASES])
-            results.add("clutter", {"mode": mode, "robot": "controller", "noise": noise.name,
-                                    "distractors": distractors},
-                        {"success_memory": memory, "success_true_bearing": oracle, "success_random": random,
-                         "memory_over_true_bearing": memory_ratio})
-            rows.append([str(distractors), mode, f"{_fmt(focus)} ({int(steps)})", _fmt(memory, 2), _fmt(oracle, 2),
-                         _fmt(random, 2), _fmt(memory_ratio, 2)])
-    print(f"\n### Clutter (8 m arena, 3 rubble pieces per 100 m², {noise.name} noise; focus on target: "
-          f"{episodes} episodes × {seconds:g} s, robot driving, both goals; "
-          f"controllers: {control_episodes} episodes)\n")
-    print(markdown_table(["distractors", "mode", "focus on target (steps)", "memory controller", "true bearing",
-                          "random", "memory / true bearing"], rows))
+            results.add(
+                "clutter",
+                {"mode": mode, "robot": "controller", "noise": noise.name, "distractors": distractors},
+                {
+                    "success_memory": memory,
+                    "success_true_bearing": oracle,
+                    "success_random": random,
+                    "memory_over_true_bearing": memory_ratio,
+                },
+            )
+            rows.append(
+                [
+                    str(distractors),
+                    mode,
+                    f"{_fmt(focus)} ({int(steps)})",
+                    _fmt(memory, 2),
+                    _fmt(oracle, 2),
+                    _fmt(random, 2),
+                    _fmt(memory_ratio, 2),
+                ]
+            )
+    print(
+        f"\n### Clutter (8 m arena, 3 rubble pieces per 100 m², {noise.name} noise; focus on target: "
+        f"{episodes} episodes × {seconds:g} s, robot driving, both goals; "
+        f"controllers: {control_episodes} episodes)\n"
+    )
+    print(
+        markdown_table(
+            [
+                "distractors",
+                "mode",
+                "focus on target (steps)",
+                "memory controller",
+                "true bearing",
+                "random",
+                "memory / true bearing",
+            ],
+            rows,
+        )
+    )
     if case_rows:
         print("\nWhy the focus is or is not on the target (`TARGET_CASES`, as in the focus section), robot driving:\n")
         print(markdown_table(["distractors", "mode", *TARGET_CASES], case_rows))
@@ -391,23 +461,59 @@ def print_control(results: Results, modes, episodes: int) -> None:
         for mode in modes:
             env = make_attentive_env(mode, noise, **CONTROL_ARENA)
             focus = control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
-            memory = control_success(make_attentive_env(mode, noise, "focus", **CONTROL_ARENA),
-                                     lambda env, seed: memory_controller, seeds)
+            memory = control_success(
+                make_attentive_env(mode, noise, "focus", **CONTROL_ARENA), lambda env, seed: memory_controller, seeds
+            )
             ratio = focus / oracle if oracle else math.nan
             memory_ratio = memory / oracle if oracle else math.nan
-            results.add("control", {"mode": mode, "robot": "controller", "noise": noise_name},
-                        {"success_focus": focus, "success_memory": memory, "success_true_bearing": oracle,
-                         "success_random": random, "focus_over_true_bearing": ratio,
-                         "memory_over_true_bearing": memory_ratio})
-            rows.append([mode, noise_name, _fmt(focus, 2), _fmt(memory, 2), _fmt(oracle, 2), _fmt(random, 2),
-                         _fmt(ratio, 2), _fmt(memory_ratio, 2)])
-    print(f"\n### Steering controllers (8 m arena, 2 distractors, {episodes} episodes, seeds 0..{episodes - 1}; "
-          "success = target reached before the time limit)\n")
+            results.add(
+                "control",
+                {"mode": mode, "robot": "controller", "noise": noise_name},
+                {
+                    "success_focus": focus,
+                    "success_memory": memory,
+                    "success_true_bearing": oracle,
+                    "success_random": random,
+                    "focus_over_true_bearing": ratio,
+                    "memory_over_true_bearing": memory_ratio,
+                },
+            )
+            rows.append(
+                [
+                    mode,
+                    noise_name,
+                    _fmt(focus, 2),
+                    _fmt(memory, 2),
+                    _fmt(oracle, 2),
+                    _fmt(random, 2),
+                    _fmt(ratio, 2),
+                    _fmt(memory_ratio, 2),
+                ]
+            )
+    print(
+        f"\n### Steering controllers (8 m arena, 2 distractors, {episodes} episodes, seeds 0..{episodes - 1}; "
+        "success = target reached before the time limit)\n"
+    )
     print("The true-bearing and random controllers do not use the model: their rates are the same in every mode.\n")
-    print("The memory controller reads only the `focus` observation: the first row of its working memory when "
-          "that body matched the goal.\n")
-    print(markdown_table(["mode", "noise", "focus controller", "memory controller", "true bearing (oracle)", "random",
-                          "focus / true bearing", "memory / true bearing"], rows))
+    print(
+        "The memory controller reads only the `focus` observation: the first row of its working memory when "
+        "that body matched the goal.\n"
+    )
+    print(
+        markdown_table(
+            [
+                "mode",
+                "noise",
+                "focus controller",
+                "memory controller",
+                "true bearing (oracle)",
+                "random",
+                "focus / true bearing",
+                "memory / true bearing",
+            ],
+            rows,
+        )
+    )
 
 
 def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:
@@ -449,8 +555,19 @@ def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, 
         dt = 0.0 if previous_t is None else t - previous_t
         previous_t = t
         begin = time.perf_counter()
-        tracker.step(t, dt, (float(odometry[0]), float(odometry[1])), True, True, clipped, valid, rates, speeds,
-                     moving, wanted_speed)
+        tracker.step(
+            t,
+            dt,
+            (float(odometry[0]), float(odometry[1])),
+            True,
+            True,
+            clipped,
+            valid,
+            rates,
+            speeds,
+            moving,
+            wanted_speed,
+        )
         inside += time.perf_counter() - begin
     return elapsed / len(readings) * 1e6, compiled, inside / len(readings) * 1e6
 
@@ -505,21 +622,50 @@ def print_cost(results: Results, modes, rounds: int) -> None:
     rows = []
     for mode in modes:
         model_us, compiled_us = statistics.median(times[mode]), statistics.median(times[f"{mode} compiled"])
-        metrics = {"model_step_us": model_us, "env_step_us": env_us, "model_over_env": model_us / env_us,
-                   "compiled_step_us": compiled_us, "compiled_over_env": compiled_us / env_us}
+        metrics = {
+            "model_step_us": model_us,
+            "env_step_us": env_us,
+            "model_over_env": model_us / env_us,
+            "compiled_step_us": compiled_us,
+            "compiled_over_env": compiled_us / env_us,
+        }
         tracker_cells = ["—", "—"]
         if models[mode]._tracker is not None:
             tracker_us = statistics.median(times[f"{mode} tracker"])
             metrics.update(tracker_step_us=tracker_us, tracker_over_env=tracker_us / env_us)
             tracker_cells = [f"{tracker_us:.1f}", f"{tracker_us / env_us:.2f}"]
         results.add("cost", {"mode": mode, "robot": "driving", "noise": COST_NOISE}, metrics)
-        rows.append([mode, f"{model_us:.1f}", f"{compiled_us:.1f}", tracker_cells[0], f"{env_us:.1f}",
-                     f"{model_us / env_us:.2f}", f"{compiled_us / env_us:.2f}", tracker_cells[1]])
-    print(f"\n### Model step cost (readings of a {len(readings)}-step driving episode at 5 % noise; "
-          f"medians of {rounds} alternating rounds)\n")
-    print(markdown_table(["mode", "model step µs", "of which the compiled step µs", "the tracker alone µs",
-                          "raw env step µs", "model / env step", "compiled step / env step", "tracker / env step"],
-                         rows))
+        rows.append(
+            [
+                mode,
+                f"{model_us:.1f}",
+                f"{compiled_us:.1f}",
+                tracker_cells[0],
+                f"{env_us:.1f}",
+                f"{model_us / env_us:.2f}",
+                f"{compiled_us / env_us:.2f}",
+                tracker_cells[1],
+            ]
+        )
+    print(
+        f"\n### Model step cost (readings of a {len(readings)}-step driving episode at 5 % noise; "
+        f"medians of {rounds} alternating rounds)\n"
+    )
+    print(
+        markdown_table(
+            [
+                "mode",
+                "model step µs",
+                "of which the compiled step µs",
+                "the tracker alone µs",
+                "raw env step µs",
+                "model / env step",
+                "compiled step / env step",
+                "tracker / env step",
+            ],
+            rows,
+        )
+    )
 
 
 def write_csv(path: Path, rows: list[dict[str, Any]]) -> None:
@@ -547,8 +693,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seconds", type=float, default=20.0, help="length of those episodes (s)")
     parser.add_argument("--control-episodes", type=int, default=40, help="episodes per controller (seeds 0..N-1)")
     parser.add_argument("--rounds", type=int, default=5, help="timing rounds of the cost section")
-    parser.add_argument("--sections", type=lambda s: _choices(s, SECTIONS), default=list(DEFAULT_SECTIONS),
-                        help=f"comma-separated, of {', '.join(SECTIONS)} (default: {','.join(DEFAULT_SECTIONS)})")
+    parser.add_argument(
+        "--sections",
+        type=lambda s: _choices(s, SECTIONS),
+        default=list(DEFAULT_SECTIONS),
+        help=f"comma-separated, of {', '.join(SECTIONS)} (default: {','.join(DEFAULT_SECTIONS)})",
+    )
     parser.add_argument("--csv", type=Path, default=None, help="also write the figures as a tidy CSV")
     args = parser.parse_args(argv)
     start = time.perf_counter()

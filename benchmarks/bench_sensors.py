@@ -51,8 +51,12 @@ def arena(num_shapes: int, seed: int = 0):
     entries = [(ROBOT_ID, robot, [robot_shape])]
     half = ARENA_M / 2
     owner = 1
-    for x0, y0, x1, y1 in [(-half, -half, half, -half + WALL_M), (half - WALL_M, -half, half, half),
-                           (-half, half - WALL_M, half, half), (-half, -half, -half + WALL_M, half)]:
+    for x0, y0, x1, y1 in [
+        (-half, -half, half, -half + WALL_M),
+        (half - WALL_M, -half, half, half),
+        (-half, half - WALL_M, half, half),
+        (-half, -half, -half + WALL_M, half),
+    ]:
         wall = pymunk.Poly(space.static_body, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
         space.add(wall)
         entries.append((owner, space.static_body, [wall]))
@@ -115,8 +119,13 @@ def _sweepers(space, entries, pose):
     c, s = math.cos(theta), math.sin(theta)
     laser = LaserConfig()
     laser_origin = (x + c * laser.mount_x_m, y + s * laser.mount_x_m)
-    laser_ends = [(laser_origin[0] + laser.max_range_m * math.cos(theta + b),
-                   laser_origin[1] + laser.max_range_m * math.sin(theta + b)) for b in laser.bearings_rad]
+    laser_ends = [
+        (
+            laser_origin[0] + laser.max_range_m * math.cos(theta + b),
+            laser_origin[1] + laser.max_range_m * math.sin(theta + b),
+        )
+        for b in laser.bearings_rad
+    ]
     sonar = SonarConfig()
     spread = np.radians(np.linspace(-sonar.cone_half_width_deg, sonar.cone_half_width_deg, RAYS_PER_SONAR))
     sonar_rays = []
@@ -124,8 +133,9 @@ def _sweepers(space, entries, pose):
         apex = (x + c * mx - s * my, y + s * mx + c * my)
         for offset in spread:
             angle = theta + bearing + offset
-            sonar_rays.append((apex, (apex[0] + sonar.max_range_m * math.cos(angle),
-                                      apex[1] + sonar.max_range_m * math.sin(angle))))
+            sonar_rays.append(
+                (apex, (apex[0] + sonar.max_range_m * math.cos(angle), apex[1] + sonar.max_range_m * math.sin(angle)))
+            )
     query_filter = pymunk.ShapeFilter(mask=pymunk.ShapeFilter.ALL_MASKS() ^ ROBOT_CATEGORY)
     query = space.segment_query_first
 
@@ -151,8 +161,10 @@ def compare_with_pymunk(repeats: int, figures: Figures) -> None:
     analytic, per_ray, update, suite_read, geometry = _sweepers(space, entries, pose)
     a = _median_us(analytic, repeats, 200)
     p = _median_us(per_ray, repeats, 5)
-    print(f"== one sweep: laser 180 beams + 16 sonar cones, {len(geometry.segments)} segments + "
-          f"{len(geometry.circles)} circles (medians of {repeats}) ==")
+    print(
+        f"== one sweep: laser 180 beams + 16 sonar cones, {len(geometry.segments)} segments + "
+        f"{len(geometry.circles)} circles (medians of {repeats}) =="
+    )
     print(f"analytic kernels (exact cones)        : {a:8.1f} µs/sweep  (target <= 60 µs)")
     print(f"pymunk per-ray ({180 + 16 * RAYS_PER_SONAR} segment queries)  : {p:8.1f} µs/sweep")
     print(f"ratio                                 : {p / a:8.1f}x  (target >= 10x)")

@@ -93,8 +93,11 @@ def train_rate(make_one, steps: int, vec_env: str, seed: int = 0, clock=time.pro
     numba.set_num_threads(spec.torch_threads)  # as train does
     env_time = [0.0]
     members = [make_one() for _ in range(spec.n_envs)]
-    vec = timed(NativeVecEnv(members) if vec_env == "native" else DummyVecEnv([lambda env=env: env for env in members]),
-                env_time, clock)
+    vec = timed(
+        NativeVecEnv(members) if vec_env == "native" else DummyVecEnv([lambda env=env: env for env in members]),
+        env_time,
+        clock,
+    )
     model = PPO("MultiInputPolicy", vec, seed=seed, device="cpu", **spec.merged_algo_kwargs())
     model.learn(spec.n_envs * spec.merged_algo_kwargs()["n_steps"])  # warm-up: numba, torch
     env_time[0] = 0.0
@@ -111,8 +114,12 @@ def main(argv=None) -> None:
     parser.add_argument("--rounds", type=int, default=2, help="alternating rounds (default: 2)")
     parser.add_argument("--variant", default="focus", help="observation variant (default: focus)")
     parser.add_argument("--clock", choices=sorted(CLOCKS), default="cpu", help="cpu (process time, default) or wall")
-    parser.add_argument("--vec-env", choices=("native", "dummy"), default="native",
-                        help="the attended env's vectorisation (default: native, as train uses)")
+    parser.add_argument(
+        "--vec-env",
+        choices=("native", "dummy"),
+        default="native",
+        help="the attended env's vectorisation (default: native, as train uses)",
+    )
     parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
     args = parser.parse_args(argv)
 
@@ -135,12 +142,26 @@ def main(argv=None) -> None:
     print(f"{'environment':<12} {'steps/s':>9} {'µs/step':>9} {'time in env':>12}")
     for name in makers:
         print(f"{name:<12} {med[name]:9.0f} {1e6 / med[name]:9.1f} {100 * frac[name]:11.1f}%")
-    print(f"{args.variant} trains at {med[args.variant] / med['trivial']:.2f}x the trivial env's speed; "
-          f"time in env: {100 * frac[args.variant]:.1f}% measured, {100 * estimate:.1f}% from the speed ratio "
-          f"(target <= 25%)")
-    print(json.dumps({"variant": args.variant, "vec_env": args.vec_env, "clock": args.clock, "steps": args.steps,
-                      "rounds": args.rounds, "steps_per_s": med, "env_fraction": frac,
-                      "env_fraction_from_ratio": estimate, "rates": rates}))
+    print(
+        f"{args.variant} trains at {med[args.variant] / med['trivial']:.2f}x the trivial env's speed; "
+        f"time in env: {100 * frac[args.variant]:.1f}% measured, {100 * estimate:.1f}% from the speed ratio "
+        f"(target <= 25%)"
+    )
+    print(
+        json.dumps(
+            {
+                "variant": args.variant,
+                "vec_env": args.vec_env,
+                "clock": args.clock,
+                "steps": args.steps,
+                "rounds": args.rounds,
+                "steps_per_s": med,
+                "env_fraction": frac,
+                "env_fraction_from_ratio": estimate,
+                "rates": rates,
+            }
+        )
+    )
     if args.csv:
         figures = Figures("training")
         for name in makers:

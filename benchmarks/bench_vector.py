@@ -82,10 +82,20 @@ def peers_at_16(seconds: float, rounds: int, figures: Figures) -> None:
         print(f"{'env':<18} {'env-steps/s':>12} {'µs/env-step':>12}")
         for name, rate in med.items():
             print(f"{name:<18} {rate:12.0f} {1e6 / rate:12.1f}")
-        print(f"native / sync: {med['native'] / med['sync']:.2f}x   native / BipedalWalker-v3: "
-              f"{med['native'] / med['BipedalWalker-v3']:.2f}x" + ("   (targets: 4x, 3x)" if variant == "focus" else ""))
-        figures.add("peers", variant, {"native_us": 1e6 / med["native"], "sync_us": 1e6 / med["sync"],
-                                       "bipedal_walker_us": 1e6 / med["BipedalWalker-v3"]}, num_envs=16)
+        print(
+            f"native / sync: {med['native'] / med['sync']:.2f}x   native / BipedalWalker-v3: "
+            f"{med['native'] / med['BipedalWalker-v3']:.2f}x" + ("   (targets: 4x, 3x)" if variant == "focus" else "")
+        )
+        figures.add(
+            "peers",
+            variant,
+            {
+                "native_us": 1e6 / med["native"],
+                "sync_us": 1e6 / med["sync"],
+                "bipedal_walker_us": 1e6 / med["BipedalWalker-v3"],
+            },
+            num_envs=16,
+        )
         for env in envs.values():
             env.close()
 
@@ -98,8 +108,9 @@ class Vmas:
         import vmas
 
         torch.set_num_threads(1)
-        self.env = vmas.make_env("flocking", num_envs=num_envs, device="cpu", continuous_actions=True, seed=0,
-                                 n_agents=1, n_lidar_rays=196)
+        self.env = vmas.make_env(
+            "flocking", num_envs=num_envs, device="cpu", continuous_actions=True, seed=0, n_agents=1, n_lidar_rays=196
+        )
         self.num_envs = num_envs
         self.env.reset()
 
@@ -126,16 +137,20 @@ def against_vmas(seconds: float, rounds: int, sizes, figures: Figures) -> None:
     print("== against VMAS (flocking, 1 agent, 196 lidar rays, CPU, 1 torch thread), µs per env-step ==")
     print(f"{'N':>5} {'VMAS':>8} {'focus':>8} {'raw':>8} {'focus/VMAS speed':>17}")
     for n in sizes:
-        peers = {"VMAS": Vmas(n), "focus": make_vector("focus", n, "vector_entry_point"),
-                 "raw": make_vector("raw", n, "vector_entry_point")}
+        peers = {
+            "VMAS": Vmas(n),
+            "focus": make_vector("focus", n, "vector_entry_point"),
+            "raw": make_vector("raw", n, "vector_entry_point"),
+        }
         rates = {name: [] for name in peers}
         for _ in range(rounds):
             for name, env in peers.items():
                 rates[name].append(env.rate(seconds) if name == "VMAS" else vector_rate(env, seconds))
         us = {name: 1e6 / statistics.median(values) for name, values in rates.items()}
         print(f"{n:5d} {us['VMAS']:8.1f} {us['focus']:8.1f} {us['raw']:8.1f} {us['VMAS'] / us['focus']:16.2f}x")
-        figures.add("vmas", "env-step", {"vmas_us": us["VMAS"], "focus_us": us["focus"], "raw_us": us["raw"]},
-                    num_envs=n)
+        figures.add(
+            "vmas", "env-step", {"vmas_us": us["VMAS"], "focus_us": us["focus"], "raw_us": us["raw"]}, num_envs=n
+        )
 
 
 _MEMORY_PROBE = """
@@ -163,8 +178,9 @@ def memory_per_env(n: int) -> float:
     """Resident memory (MiB) that building and resetting ``n`` native ``focus`` envs adds, per env,
     measured in a fresh process."""
     here = os.path.dirname(os.path.abspath(__file__))
-    result = subprocess.run([sys.executable, "-c", _MEMORY_PROBE.format(n=n)], capture_output=True, text=True,
-                            cwd=here, check=True)
+    result = subprocess.run(
+        [sys.executable, "-c", _MEMORY_PROBE.format(n=n)], capture_output=True, text=True, cwd=here, check=True
+    )
     return float(result.stdout.strip()) / 2**20
 
 
@@ -222,16 +238,34 @@ def floor_at_16(seconds: float, figures: Figures, steps: int = 400) -> None:
     sync.close()
     floor = sensing_us + models_us + pymunk_us
     print(f"== floor of the native focus env, N = 16, {numba.get_num_threads()} numba thread(s), µs per env-step ==")
-    for name, value in (("compiled sensor sweep", sensing_us), ("compiled attentional models", models_us),
-                        ("pymunk's fewest calls", pymunk_us), ("floor (their sum)", floor),
-                        ("the whole step", whole_us), ("budget of >= 3x BipedalWalker-v3", walker_us / 3),
-                        ("budget of >= 4x the sync vector env", sync_us / 4)):
+    for name, value in (
+        ("compiled sensor sweep", sensing_us),
+        ("compiled attentional models", models_us),
+        ("pymunk's fewest calls", pymunk_us),
+        ("floor (their sum)", floor),
+        ("the whole step", whole_us),
+        ("budget of >= 3x BipedalWalker-v3", walker_us / 3),
+        ("budget of >= 4x the sync vector env", sync_us / 4),
+    ):
         print(f"{name:<38} {value:8.1f}")
-    figures.add("floor", "focus", {"sensor_sweep_us": sensing_us, "models_us": models_us, "pymunk_us": pymunk_us,
-                                   "floor_us": floor, "whole_step_us": whole_us, "bipedal_walker_us": walker_us,
-                                   "sync_us": sync_us}, num_envs=16)
-    print(f"left above the floor for everything else: {walker_us / 3 - floor:.1f} µs (3x BipedalWalker-v3), "
-          f"{sync_us / 4 - floor:.1f} µs (4x sync); the step spends {whole_us - floor:.1f} µs there today")
+    figures.add(
+        "floor",
+        "focus",
+        {
+            "sensor_sweep_us": sensing_us,
+            "models_us": models_us,
+            "pymunk_us": pymunk_us,
+            "floor_us": floor,
+            "whole_step_us": whole_us,
+            "bipedal_walker_us": walker_us,
+            "sync_us": sync_us,
+        },
+        num_envs=16,
+    )
+    print(
+        f"left above the floor for everything else: {walker_us / 3 - floor:.1f} µs (3x BipedalWalker-v3), "
+        f"{sync_us / 4 - floor:.1f} µs (4x sync); the step spends {whole_us - floor:.1f} µs there today"
+    )
 
 
 #: The benchmark's sections, in the order they run.
@@ -242,9 +276,14 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--seconds", type=float, default=2.0, help="wall time per measurement (s)")
     parser.add_argument("--rounds", type=int, default=3, help="alternating rounds for the peer comparisons")
-    parser.add_argument("--max-envs", type=int, default=256, help="largest N of the VMAS comparison and the scaling table")
-    parser.add_argument("--sections", default=",".join(SECTIONS),
-                        help=f"comma-separated sections to run, of {', '.join(SECTIONS)} (default: all)")
+    parser.add_argument(
+        "--max-envs", type=int, default=256, help="largest N of the VMAS comparison and the scaling table"
+    )
+    parser.add_argument(
+        "--sections",
+        default=",".join(SECTIONS),
+        help=f"comma-separated sections to run, of {', '.join(SECTIONS)} (default: all)",
+    )
     parser.add_argument("--csv", default=None, help="also write the figures as tidy rows into this CSV")
     args = parser.parse_args(argv)
     sections = args.sections.split(",")

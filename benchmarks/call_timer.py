@@ -34,7 +34,7 @@ class CallTimer:
         self.calls += 1
         return result
 
-    def __enter__(self) -> "CallTimer":
+    def __enter__(self) -> CallTimer:
         setattr(self.module, self.name, self)
         return self
 

@@ -33,10 +33,14 @@ CONFIGS: tuple[tuple[str, dict[str, Any]], ...] = (
     ("rescue-default", {}),
     ("rescue-empty", {"num_distractors": 0, "rubble_per_100m2": 0.0}),
     ("rescue-crowded", {"arena_size_m": 12.0, "num_distractors": 6, "rubble_per_100m2": 10.0}),
-    ("rescue-small-fast", {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0,
-                           "max_mover_speed_mps": 2.0, "dt": 0.1}),
-    ("rescue-wide-direction", {"arena_size_m": (20.0, 8.0), "num_distractors": 4, "sensor_noise": 0.2,
-                               "dt": 0.02, "goals": "direction"}),
+    (
+        "rescue-small-fast",
+        {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0, "max_mover_speed_mps": 2.0, "dt": 0.1},
+    ),
+    (
+        "rescue-wide-direction",
+        {"arena_size_m": (20.0, 8.0), "num_distractors": 4, "sensor_noise": 0.2, "dt": 0.02, "goals": "direction"},
+    ),
     ("rescue-noiseless-coarse", {"sensor_noise": 0.0, "dt": 0.25, "rubble_per_100m2": 12.0}),
     ("exp01", {"scenario": "exp01"}),
     ("exp02", {"scenario": "exp02"}),
@@ -51,8 +55,12 @@ def _env_kwargs(kwargs: dict[str, Any]) -> dict[str, Any]:
 
     kwargs = dict(kwargs)
     if kwargs.get("goals") == "direction":
-        kwargs["goals"] = (Goal.direction_is("towards"), Goal.direction_is("away"), Goal.direction_is("static"),
-                           Goal.between("speed", 0.5, 0.9))
+        kwargs["goals"] = (
+            Goal.direction_is("towards"),
+            Goal.direction_is("away"),
+            Goal.direction_is("static"),
+            Goal.between("speed", 0.5, 0.9),
+        )
     return kwargs
 
 
@@ -124,14 +132,21 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
             if problems:
                 n_violations += len(problems)
                 if len(violations) < 20:
-                    violations.extend(f"{label} seed {seed} episode {episodes} t={info['time_s']:.2f}: {p}"
-                                      for p in problems)
+                    violations.extend(
+                        f"{label} seed {seed} episode {episodes} t={info['time_s']:.2f}: {p}" for p in problems
+                    )
             if terminated or truncated:
                 break
     return {
-        "label": label, "steps": done, "episodes": episodes, "violations": n_violations,
-        "examples": violations, "seconds": time.perf_counter() - start,
-        "max_penetration_m": checker.max_penetration_m, "track_rows": track_rows, "max_live_tracks": most_tracks,
+        "label": label,
+        "steps": done,
+        "episodes": episodes,
+        "violations": n_violations,
+        "examples": violations,
+        "seconds": time.perf_counter() - start,
+        "max_penetration_m": checker.max_penetration_m,
+        "track_rows": track_rows,
+        "max_live_tracks": most_tracks,
     }
 
 
@@ -148,8 +163,13 @@ def make_tasks(steps: int, chunk: int, first_seed: int = 0) -> list[tuple[int, i
     return tasks
 
 
-def soak(steps: int = 1_000_000, workers: int | None = None, chunk: int | None = None,
-         progress: bool = False, first_seed: int = 0) -> dict[str, Any]:
+def soak(
+    steps: int = 1_000_000,
+    workers: int | None = None,
+    chunk: int | None = None,
+    progress: bool = False,
+    first_seed: int = 0,
+) -> dict[str, Any]:
     """Run the soak; returns the summary (see the module docstring)."""
     workers = workers or os.cpu_count() or 1
     chunk = chunk or max(200, min(5000, steps // (2 * len(CONFIGS)) or 1))
@@ -167,8 +187,12 @@ def soak(steps: int = 1_000_000, workers: int | None = None, chunk: int | None =
             results.append(result)
             if progress:
                 done = sum(r["steps"] for r in results)
-                print(f"  {done:>9} steps, {sum(r['violations'] for r in results)} violations, "
-                      f"{done / (time.perf_counter() - start):.0f} steps/s", file=sys.stderr, flush=True)
+                print(
+                    f"  {done:>9} steps, {sum(r['violations'] for r in results)} violations, "
+                    f"{done / (time.perf_counter() - start):.0f} steps/s",
+                    file=sys.stderr,
+                    flush=True,
+                )
     finally:
         if pool is not None:
             pool.close()
@@ -202,8 +226,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=1_000_000, help="environment steps in all (default 1,000,000)")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
     parser.add_argument("--chunk", type=int, default=None, help="steps per task (default: up to 5000)")
-    parser.add_argument("--first-seed", type=int, default=0, help="seed of the first chunk (default 0): another "
-                        "value soaks episodes no earlier run saw")
+    parser.add_argument(
+        "--first-seed",
+        type=int,
+        default=0,
+        help="seed of the first chunk (default 0): another value soaks episodes no earlier run saw",
+    )
     parser.add_argument("--json", default=None, help="also write the summary to this file")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
@@ -220,8 +248,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"deepest wall/rubble overlap: {summary['max_penetration_m']:.4f} m")
     print(f"tracks      {summary['track_rows']} track rows checked, at most {summary['max_live_tracks']} live at once")
     for label, c in summary["per_config"].items():
-        print(f"  {label:<26} {c['steps']:>8} steps {c['episodes']:>6} episodes {c['violations']:>4} violations "
-              f"overlap {c['max_penetration_m']:.3f} m")
+        print(
+            f"  {label:<26} {c['steps']:>8} steps {c['episodes']:>6} episodes {c['violations']:>4} violations "
+            f"overlap {c['max_penetration_m']:.3f} m"
+        )
     for example in summary["examples"]:
         print("  VIOLATION", example)
     if args.json:

@@ -156,17 +156,28 @@ def test_the_graph_finder_sees_lazy_and_relative_imports(tmp_path):
     package.mkdir(parents=True)
     (package / "__init__.py").write_text("from .a import thing\n")
     source = package / "a.py"
-    source.write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from attentive_gym.world import World\n"
-                      "def f():\n    from . import b\n    import attentive_gym.attention.model as m\n")
-    assert imported_names(f"{PACKAGE}.agents.a", source) == {"typing.TYPE_CHECKING", f"{PACKAGE}.agents.b",
-                                                              f"{PACKAGE}.attention.model"}
+    source.write_text(
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from attentive_gym.world import World\n"
+        "def f():\n    from . import b\n    import attentive_gym.attention.model as m\n"
+    )
+    assert imported_names(f"{PACKAGE}.agents.a", source) == {
+        "typing.TYPE_CHECKING",
+        f"{PACKAGE}.agents.b",
+        f"{PACKAGE}.attention.model",
+    }
     assert imported_names(f"{PACKAGE}.agents", package / "__init__.py") == {f"{PACKAGE}.agents.a.thing"}
     (package / "b.py").write_text("from attentive_gym.agents.a import f\n")
-    modules = {f"{PACKAGE}.agents": package / "__init__.py", f"{PACKAGE}.agents.a": source,
-               f"{PACKAGE}.agents.b": package / "b.py"}
+    modules = {
+        f"{PACKAGE}.agents": package / "__init__.py",
+        f"{PACKAGE}.agents.a": source,
+        f"{PACKAGE}.agents.b": package / "b.py",
+    }
     graph = import_graph(modules)
-    assert graph == {f"{PACKAGE}.agents": {f"{PACKAGE}.agents.a"}, f"{PACKAGE}.agents.a": {f"{PACKAGE}.agents.b"},
-                     f"{PACKAGE}.agents.b": {f"{PACKAGE}.agents.a"}}
+    assert graph == {
+        f"{PACKAGE}.agents": {f"{PACKAGE}.agents.a"},
+        f"{PACKAGE}.agents.a": {f"{PACKAGE}.agents.b"},
+        f"{PACKAGE}.agents.b": {f"{PACKAGE}.agents.a"},
+    }
     assert cycles(graph) == [[f"{PACKAGE}.agents.a", f"{PACKAGE}.agents.b", f"{PACKAGE}.agents.a"]]
 
 
@@ -188,15 +199,19 @@ def test_no_import_circle():
     assert not found, "import circles (each module imports the next):\n" + "\n".join(" -> ".join(c) for c in found)
 
 
-@pytest.mark.parametrize("name", sorted(n for n in package_modules() if n == f"{PACKAGE}.attention"
-                                        or n.startswith(f"{PACKAGE}.attention.")))
+@pytest.mark.parametrize(
+    "name", sorted(n for n in package_modules() if n == f"{PACKAGE}.attention" or n.startswith(f"{PACKAGE}.attention."))
+)
 def test_the_attention_library_imports_no_layer_above_it(name):
     """``attentive_gym.attention`` is pure numpy (+ numba): no simulator, no RL stack, nothing above it."""
     imported = imported_names(name, package_modules()[name])
     forbidden = sorted(
-        i for i in imported
+        i
+        for i in imported
         if i.split(".")[0] in ATTENTION_FORBIDS_EXTERNAL
         or any(i == layer or i.startswith(layer + ".") for layer in ATTENTION_FORBIDS_INTERNAL)
     )
-    assert not forbidden, f"{name} imports {forbidden}; the attention library may import numpy, numba, the " \
-                          f"standard library, its own modules and {PACKAGE}'s private helpers"
+    assert not forbidden, (
+        f"{name} imports {forbidden}; the attention library may import numpy, numba, the "
+        f"standard library, its own modules and {PACKAGE}'s private helpers"
+    )

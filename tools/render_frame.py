@@ -3,8 +3,8 @@
 The robot stands still in a procedural arena while the attentional model runs; the frame
 is taken at the first step, from ``--min-time-s`` on, whose focus is top-down (a body that
 meets the episode's goal) and holds the task's target (outlined in yellow), so the picture
-shows the model attending the mover it should. The overlay shades each region by its saliency and outlines the focus (see
-``attentive_gym.wrappers.overlay``).
+shows the model attending the mover it should. The overlay shades each region by its
+saliency and outlines the focus (see ``attentive_gym.wrappers.overlay``).
 
 Run from the repository root (needs the ``render`` extra, pygame)::
 
@@ -52,13 +52,18 @@ def render_frame(seed: int = 0, min_time_s: float = 2.0, max_steps: int = 800) -
         for _ in range(max_steps):
             _, _, terminated, truncated, info = env.step(STILL)
             output = info["attention"]
-            if (info["time_s"] >= min_time_s and output.origin == "top-down"
-                    and target_in_region(info, grid.beam_slices[output.focus])):
+            if (
+                info["time_s"] >= min_time_s
+                and output.origin == "top-down"
+                and target_in_region(info, grid.beam_slices[output.focus])
+            ):
                 return env.render(), float(info["time_s"])
             if terminated or truncated:
                 break
-        raise RuntimeError(f"seed {seed}: no top-down focus on the target from {min_time_s} s within {max_steps} steps; "
-                           "try another --seed")
+        raise RuntimeError(
+            f"seed {seed}: no top-down focus on the target from {min_time_s} s within {max_steps} steps; "
+            "try another --seed"
+        )
     finally:
         env.close()
 
@@ -85,8 +90,9 @@ def save_png(frame: np.ndarray, path: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seed", type=int, default=0, help="the arena's seed (default 0)")
-    parser.add_argument("--min-time-s", type=float, default=2.0,
-                        help="take no frame before this simulated time, s (default 2)")
+    parser.add_argument(
+        "--min-time-s", type=float, default=2.0, help="take no frame before this simulated time, s (default 2)"
+    )
     parser.add_argument("--max-steps", type=int, default=800, help="steps to search (default 800)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"PNG to write (default {DEFAULT_OUT})")
     args = parser.parse_args(argv)

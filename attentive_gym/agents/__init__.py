@@ -21,8 +21,19 @@ from attentive_gym.agents.config import ALGOS, RunSpec, parse_seeds, parse_varia
 from attentive_gym.agents.results import summarise
 from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
 
-__all__ = ["ALGOS", "RunSpec", "parse_seeds", "parse_variants", "summarise", "bootstrap_ci", "iqm", "probability_of_improvement",
-           "train", "evaluate_policy", "load_model"]
+__all__ = [
+    "ALGOS",
+    "RunSpec",
+    "parse_seeds",
+    "parse_variants",
+    "summarise",
+    "bootstrap_ci",
+    "iqm",
+    "probability_of_improvement",
+    "train",
+    "evaluate_policy",
+    "load_model",
+]
 
 
 def __getattr__(name):

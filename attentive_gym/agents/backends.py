@@ -24,9 +24,10 @@ import os
 import sys
 import time
 import traceback
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterable, Iterator, Sequence
+from typing import Any
 
 from attentive_gym._checks import check_int
 from attentive_gym.agents.stopping import (
@@ -42,8 +43,19 @@ from attentive_gym.agents.stopping import (
 
 # STOP_SIGNALS, Interrupted, raise_on_stop_signals, raise_if_stopped and signals_blocked live in
 # ``stopping`` (which ``training`` imports too); they stay importable from here.
-__all__ = ["BACKENDS", "STOP_SIGNALS", "STOP_GRACE_S", "Interrupted", "JobOutcome", "raise_on_stop_signals",
-           "raise_if_stopped", "signals_blocked", "run_job", "run_many", "ray_available"]
+__all__ = [
+    "BACKENDS",
+    "STOP_SIGNALS",
+    "STOP_GRACE_S",
+    "Interrupted",
+    "JobOutcome",
+    "raise_on_stop_signals",
+    "raise_if_stopped",
+    "signals_blocked",
+    "run_job",
+    "run_many",
+    "ray_available",
+]
 
 #: Backends of ``run_many``.
 BACKENDS = ("process", "ray")
@@ -109,7 +121,9 @@ def _check(backend: str, workers: int) -> None:
         raise ValueError("backend 'ray' needs Ray: pip install -e '.[ray]' (or pip install ray)")
 
 
-def run_many(jobs: Sequence[tuple[dict[str, Any], str]], backend: str = "process", workers: int = 2) -> Iterator[JobOutcome]:
+def run_many(
+    jobs: Sequence[tuple[dict[str, Any], str]], backend: str = "process", workers: int = 2
+) -> Iterator[JobOutcome]:
     """Run ``(spec_dict, run_dir)`` jobs with ``workers`` in parallel; yields outcomes as they finish.
 
     Raises ``Interrupted`` on SIGINT or SIGTERM (see the module docstring); closing the
@@ -159,8 +173,12 @@ def _collect(run: _RunProcess) -> JobOutcome:
     try:
         return run.outcome.recv()
     except EOFError:  # it exited without sending one
-        return JobOutcome(run.run_dir, False, error=f"its process died (exit status {run.process.exitcode})",
-                          wall_s=time.monotonic() - run.start_s)
+        return JobOutcome(
+            run.run_dir,
+            False,
+            error=f"its process died (exit status {run.process.exitcode})",
+            wall_s=time.monotonic() - run.start_s,
+        )
     finally:
         run.outcome.close()
 

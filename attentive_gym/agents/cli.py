@@ -11,12 +11,22 @@ from __future__ import annotations
 import argparse
 import json
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from attentive_gym.agents.backends import BACKENDS
-from attentive_gym.agents.config import (ALGO_DEFAULTS, ALGOS, OBS_SCALINGS, QUICK, SCHEDULE_KEYS,
-                                         STEPS_PER_EVAL_EPISODE, VEC_ENVS, RunSpec, default_eval_episodes)
+from attentive_gym.agents.config import (
+    ALGO_DEFAULTS,
+    ALGOS,
+    OBS_SCALINGS,
+    QUICK,
+    SCHEDULE_KEYS,
+    STEPS_PER_EVAL_EPISODE,
+    VEC_ENVS,
+    RunSpec,
+    default_eval_episodes,
+)
 from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -81,9 +91,11 @@ _COMPARE_SEEDS = 5
 
 
 #: ``--extend``'s help; ``what`` names the existing runs.
-_EXTEND_HELP = ("train {what}, trained with a smaller --steps and otherwise the same options, on to --steps from "
-                "its latest checkpoint (its evaluations so far are kept; the final model is replaced; without "
-                "--eval-every, --eval-episodes and --checkpoint-every it keeps their values from the existing runs)")
+_EXTEND_HELP = (
+    "train {what}, trained with a smaller --steps and otherwise the same options, on to --steps from "
+    "its latest checkpoint (its evaluations so far are kept; the final model is replaced; without "
+    "--eval-every, --eval-episodes and --checkpoint-every it keeps their values from the existing runs)"
+)
 
 
 def _with_quick(text: str, key: str, quick: bool) -> str:
@@ -93,42 +105,78 @@ def _with_quick(text: str, key: str, quick: bool) -> str:
 
 def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
     """Options shared by ``train`` and ``compare``; ``quick``: the command has ``--quick`` (help shows its budget)."""
-    parser.add_argument("--algo", choices=ALGOS, default=RunSpec.algo,
-                        help=f"SB3 algorithm; recurrent-ppo is sb3-contrib's RecurrentPPO with an LSTM policy "
-                             f"(default: {RunSpec.algo})")
+    parser.add_argument(
+        "--algo",
+        choices=ALGOS,
+        default=RunSpec.algo,
+        help=f"SB3 algorithm; recurrent-ppo is sb3-contrib's RecurrentPPO with an LSTM policy "
+        f"(default: {RunSpec.algo})",
+    )
     steps = _with_quick(str(RunSpec.total_steps), "total_steps", quick)
-    parser.add_argument("--steps", type=_positive_int, default=None,
-                        help=f"training budget in env steps per run {steps}")
-    parser.add_argument("--n-envs", type=_positive_int, default=RunSpec.n_envs,
-                        help=f"vectorised training envs (default: {RunSpec.n_envs})")
-    parser.add_argument("--vec-env", "--vec", choices=VEC_ENVS, default=RunSpec.vec_env,
-                        help="native (one process, all sensors in one call), dummy (SB3 DummyVecEnv) or subproc "
-                             f"(SB3 SubprocVecEnv, one process per env); same numbers (default: {RunSpec.vec_env})")
-    parser.add_argument("--obs-scaling", choices=OBS_SCALINGS, default=RunSpec.obs_scaling,
-                        help="running: the policy sees every observation entry normalised by running mean and "
-                             "standard deviation (SB3 VecNormalize; saved with the model, frozen in evaluation); "
-                             f"none: in its own units (metres, seconds, flags) (default: {RunSpec.obs_scaling})")
-    parser.add_argument("--eval-every", type=_positive_int,
-                        help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}")
-    episodes = _with_quick(f"steps/{STEPS_PER_EVAL_EPISODE}, at least 1, at most {RunSpec.eval_episodes}",
-                           "eval_episodes", quick)
+    parser.add_argument(
+        "--steps", type=_positive_int, default=None, help=f"training budget in env steps per run {steps}"
+    )
+    parser.add_argument(
+        "--n-envs",
+        type=_positive_int,
+        default=RunSpec.n_envs,
+        help=f"vectorised training envs (default: {RunSpec.n_envs})",
+    )
+    parser.add_argument(
+        "--vec-env",
+        "--vec",
+        choices=VEC_ENVS,
+        default=RunSpec.vec_env,
+        help="native (one process, all sensors in one call), dummy (SB3 DummyVecEnv) or subproc "
+        f"(SB3 SubprocVecEnv, one process per env); same numbers (default: {RunSpec.vec_env})",
+    )
+    parser.add_argument(
+        "--obs-scaling",
+        choices=OBS_SCALINGS,
+        default=RunSpec.obs_scaling,
+        help="running: the policy sees every observation entry normalised by running mean and "
+        "standard deviation (SB3 VecNormalize; saved with the model, frozen in evaluation); "
+        f"none: in its own units (metres, seconds, flags) (default: {RunSpec.obs_scaling})",
+    )
+    parser.add_argument(
+        "--eval-every",
+        type=_positive_int,
+        help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}",
+    )
+    episodes = _with_quick(
+        f"steps/{STEPS_PER_EVAL_EPISODE}, at least 1, at most {RunSpec.eval_episodes}", "eval_episodes", quick
+    )
     parser.add_argument("--eval-episodes", type=_positive_int, help=f"episodes per evaluation {episodes}")
-    parser.add_argument("--checkpoint-every", type=_positive_int,
-                        help=f"env steps between checkpoints {_with_quick('steps/5', 'checkpoint_every', quick)}")
-    parser.add_argument("--env-kwargs", metavar="JSON",
-                        help='make_env keyword arguments, e.g. \'{"arena_size_m": 8, "num_distractors": 2}\' '
-                             f"{_with_quick('none', 'env_kwargs', quick)}")
-    parser.add_argument("--algo-kwargs", metavar="JSON",
-                        help='SB3 keyword arguments over the run\'s defaults, e.g. \'{"n_steps": 128}\'; '
-                             f'{", ".join(SCHEDULE_KEYS)} also take "lin_<number>", a linear decay to 0 over the '
-                             'budget (defaults: '
-                             f"ppo {json.dumps(RunSpec().default_algo_kwargs())}, recurrent-ppo the same with "
-                             f"{json.dumps({'policy_kwargs': RunSpec(algo='recurrent-ppo').default_algo_kwargs()['policy_kwargs']})}, "
-                             f"sac {json.dumps(RunSpec(algo='sac').default_algo_kwargs())})")
+    parser.add_argument(
+        "--checkpoint-every",
+        type=_positive_int,
+        help=f"env steps between checkpoints {_with_quick('steps/5', 'checkpoint_every', quick)}",
+    )
+    parser.add_argument(
+        "--env-kwargs",
+        metavar="JSON",
+        help='make_env keyword arguments, e.g. \'{"arena_size_m": 8, "num_distractors": 2}\' '
+        f"{_with_quick('none', 'env_kwargs', quick)}",
+    )
+    parser.add_argument(
+        "--algo-kwargs",
+        metavar="JSON",
+        help="SB3 keyword arguments over the run's defaults, e.g. '{\"n_steps\": 128}'; "
+        f'{", ".join(SCHEDULE_KEYS)} also take "lin_<number>", a linear decay to 0 over the '
+        "budget (defaults: "
+        f"ppo {json.dumps(RunSpec().default_algo_kwargs())}, recurrent-ppo the same with "
+        f"{json.dumps({'policy_kwargs': RunSpec(algo='recurrent-ppo').default_algo_kwargs()['policy_kwargs']})}, "
+        f"sac {json.dumps(RunSpec(algo='sac').default_algo_kwargs())})",
+    )
 
 
-def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
-                    defaults: dict[str, Any] | None = None, stored: dict[str, Any] | None = None) -> RunSpec:
+def _spec_from_args(
+    args: argparse.Namespace,
+    variant: str,
+    seed: int,
+    defaults: dict[str, Any] | None = None,
+    stored: dict[str, Any] | None = None,
+) -> RunSpec:
     """The ``RunSpec`` of the parsed options; ``defaults`` (``QUICK``) fill what was not given.
 
     Without ``defaults``, the evaluation and checkpoint settings follow ``--steps``: an
@@ -145,17 +193,27 @@ def _spec_from_args(args: argparse.Namespace, variant: str, seed: int,
     defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
     if stored is not None and steps >= stored.get("total_steps", steps):
-        defaults.update({key: stored[key] for key in ("eval_every", "eval_episodes", "checkpoint_every")
-                         if key in stored})
+        defaults.update(
+            {key: stored[key] for key in ("eval_every", "eval_episodes", "checkpoint_every") if key in stored}
+        )
     return RunSpec(
-        variant=variant, algo=args.algo, total_steps=steps, seed=seed, n_envs=args.n_envs, vec_env=args.vec_env,
+        variant=variant,
+        algo=args.algo,
+        total_steps=steps,
+        seed=seed,
+        n_envs=args.n_envs,
+        vec_env=args.vec_env,
         eval_every=args.eval_every or defaults.get("eval_every", max(1, steps // 10)),
         eval_episodes=args.eval_episodes or defaults.get("eval_episodes", default_eval_episodes(steps)),
         checkpoint_every=args.checkpoint_every or defaults.get("checkpoint_every", max(1, steps // 5)),
-        env_kwargs=(parse_json_object(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None
-                    else dict(defaults.get("env_kwargs", {}))),
+        env_kwargs=(
+            parse_json_object(args.env_kwargs, "--env-kwargs")
+            if args.env_kwargs is not None
+            else dict(defaults.get("env_kwargs", {}))
+        ),
         algo_kwargs=parse_json_object(args.algo_kwargs, "--algo-kwargs"),
-        torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads), obs_scaling=args.obs_scaling,
+        torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads),
+        obs_scaling=args.obs_scaling,
         algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
     )
 
@@ -178,21 +236,28 @@ def _trained_settings(path: Path, trained: bool, *keys: str) -> dict[str, Any] |
 # --- train ------------------------------------------------------------------------------
 def add_train(subparsers) -> None:
     parser = subparsers.add_parser(
-        "train", help="train an SB3 policy on one observation variant",
+        "train",
+        help="train an SB3 policy on one observation variant",
         description="Train PPO (or SAC, or RecurrentPPO) on one observation variant with periodic evaluation, "
-                    "TensorBoard logs and checkpoints. Writes DIR/spec.json, eval.csv, checkpoint/, tb/, "
-                    "final_model.zip, metrics.json, done. The spec is checked (one env built, the SB3 keywords "
-                    "checked) before anything is written. Rerunning into an unfinished DIR, after Ctrl-C or a "
-                    "kill, resumes from its checkpoint; with --extend and a larger --steps, a finished run trains "
-                    "on from its final checkpoint.",
+        "TensorBoard logs and checkpoints. Writes DIR/spec.json, eval.csv, checkpoint/, tb/, "
+        "final_model.zip, metrics.json, done. The spec is checked (one env built, the SB3 keywords "
+        "checked) before anything is written. Rerunning into an unfinished DIR, after Ctrl-C or a "
+        "kill, resumes from its checkpoint; with --extend and a larger --steps, a finished run trains "
+        "on from its final checkpoint.",
     )
-    parser.add_argument("--variant", default="focus", metavar="NAME", help=f"one of {', '.join(VARIANTS)} (default: focus)")
+    parser.add_argument(
+        "--variant", default="focus", metavar="NAME", help=f"one of {', '.join(VARIANTS)} (default: focus)"
+    )
     parser.add_argument("--seed", type=_non_negative_int, default=0, help="seed (default: 0)")
     parser.add_argument("--out", type=Path, help="run folder (default: runs/train-<variant>-seed<seed>)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--extend", action="store_true", help=_EXTEND_HELP.format(what="the run in --out"))
-    parser.add_argument("--torch-threads", type=_positive_int, default=RunSpec.torch_threads,
-                        help=f"threads of torch and of the sensor sweep (default: {RunSpec.torch_threads})")
+    parser.add_argument(
+        "--torch-threads",
+        type=_positive_int,
+        default=RunSpec.torch_threads,
+        help=f"threads of torch and of the sensor sweep (default: {RunSpec.torch_threads})",
+    )
     _add_run_options(parser, quick=False)
     parser.set_defaults(handler=_run_train)
 
@@ -201,18 +266,25 @@ def _run_train(args: argparse.Namespace) -> int:
     from attentive_gym.agents.training import holds_progress, train
 
     out = args.out or Path("runs") / f"train-{RunSpec(variant=args.variant, seed=args.seed).run_name}"
-    spec = _spec_from_args(args, args.variant, args.seed,
-                           stored=_trained_settings(out / "spec.json", holds_progress(out)))
-    print(f"{spec.run_name}: {spec.total_steps} env steps, evaluated on {_count(spec.eval_episodes, 'episode')} at 0 "
-          f"env steps, every {spec.eval_every} and at the end (--eval-episodes, --eval-every)", flush=True)
+    spec = _spec_from_args(
+        args, args.variant, args.seed, stored=_trained_settings(out / "spec.json", holds_progress(out))
+    )
+    print(
+        f"{spec.run_name}: {spec.total_steps} env steps, evaluated on {_count(spec.eval_episodes, 'episode')} at 0 "
+        f"env steps, every {spec.eval_every} and at the end (--eval-episodes, --eval-every)",
+        flush=True,
+    )
     try:
         with raise_on_stop_signals():
             metrics = train(spec, out, progress_bar=not args.no_progress, extend=args.extend)
     except Interrupted as stop:
         raise Interrupted(stop.signum, _train_resume_hint(out, spec)) from None
     final = metrics.get("final") or {}
-    print(f"{spec.run_name}: {metrics['env_steps']} env steps; final success rate {final.get('success_rate', float('nan')):.2f}, "
-          f"return {final.get('mean_return', float('nan')):.2f}; wrote {out}")
+    print(
+        f"{spec.run_name}: {metrics['env_steps']} env steps; "
+        f"final success rate {final.get('success_rate', float('nan')):.2f}, "
+        f"return {final.get('mean_return', float('nan')):.2f}; wrote {out}"
+    )
     return 0
 
 
@@ -222,22 +294,27 @@ def _train_resume_hint(out: Path, spec: RunSpec) -> str:
 
     steps = checkpoint_steps(out)
     if steps is None:
-        return (f"no checkpoint yet in {out} (one every {spec.checkpoint_every} env steps); "
-                "rerun the same command to start again")
+        return (
+            f"no checkpoint yet in {out} (one every {spec.checkpoint_every} env steps); "
+            "rerun the same command to start again"
+        )
     return f"the checkpoint at {steps} env steps is kept in {out}; rerun the same command to resume from it"
 
 
 # --- evaluate ---------------------------------------------------------------------------
 def add_evaluate(subparsers) -> None:
     parser = subparsers.add_parser(
-        "evaluate", help="evaluate a trained model",
+        "evaluate",
+        help="evaluate a trained model",
         description="Evaluate a model saved by 'train' (its run folder or a .zip in it) on fixed episode seeds: "
-                    "success rate, mean return, collision steps and episode length. --video records MP4s "
-                    "(gymnasium RecordVideo, needs moviepy).",
+        "success rate, mean return, collision steps and episode length. --video records MP4s "
+        "(gymnasium RecordVideo, needs moviepy).",
     )
     parser.add_argument("model", type=Path, help="run folder or .zip model")
     parser.add_argument("--episodes", type=_positive_int, default=20, help="episodes (default: 20)")
-    parser.add_argument("--seed", type=_non_negative_int, default=None, help="first episode seed (default: the run's eval seed)")
+    parser.add_argument(
+        "--seed", type=_non_negative_int, default=None, help="first episode seed (default: the run's eval seed)"
+    )
     parser.add_argument("--video", type=Path, metavar="DIR", help="also record --video-episodes episodes into DIR")
     parser.add_argument("--video-episodes", type=_positive_int, default=1, help="episodes to record (default: 1)")
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -257,9 +334,12 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(row))
     else:
-        print(f"{spec.variant}: {result.n_episodes} episodes, success rate {result.success_rate:.2f}, "
-              f"return {result.mean_return:.2f} ± {result.std_return:.2f}, collision steps {result.mean_collision_steps:.1f}, "
-              f"length {result.mean_episode_length:.0f} steps")
+        print(
+            f"{spec.variant}: {result.n_episodes} episodes, success rate {result.success_rate:.2f}, "
+            f"return {result.mean_return:.2f} ± {result.std_return:.2f}, "
+            f"collision steps {result.mean_collision_steps:.1f}, "
+            f"length {result.mean_episode_length:.0f} steps"
+        )
     if args.video:
         for path in record_videos(model, lambda **kw: env_factory(spec, **kw)(), args.video, args.video_episodes, seed):
             print(f"wrote {path}")
@@ -269,33 +349,56 @@ def _run_evaluate(args: argparse.Namespace) -> int:
 # --- compare ----------------------------------------------------------------------------
 def add_compare(subparsers) -> None:
     parser = subparsers.add_parser(
-        "compare", help="train every (variant, seed) pair and compare learning curves",
+        "compare",
+        help="train every (variant, seed) pair and compare learning curves",
         description="Train every (variant, seed) pair in parallel, then write DIR/results.csv (one row per variant, "
-                    "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds) and "
-                    "DIR/summary.md + summary.csv (final success rate and return with 95 % CIs, env steps to the "
-                    "success threshold). Every run's spec is checked before anything is trained. Ctrl-C (or "
-                    "SIGTERM) stops the runs in progress and starts no queued one; a rerun into DIR trains only "
-                    "the unfinished runs, each from its last checkpoint.",
+        "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds) and "
+        "DIR/summary.md + summary.csv (final success rate and return with 95 % CIs, env steps to the "
+        "success threshold). Every run's spec is checked before anything is trained. Ctrl-C (or "
+        "SIGTERM) stops the runs in progress and starts no queued one; a rerun into DIR trains only "
+        "the unfinished runs, each from its last checkpoint.",
     )
-    parser.add_argument("--variants", default=None, metavar="LIST",
-                        help=f"comma list of {', '.join(VARIANTS)} (default: {','.join(_COMPARE_VARIANTS)})")
-    parser.add_argument("--seeds", default=None, metavar="N|LIST",
-                        help=f"a count (5 = seeds 0..4) or a comma list of distinct seeds "
-                             f"(default: {_COMPARE_SEEDS}; {_QUICK_SEEDS} with --quick)")
-    parser.add_argument("--out", type=Path, default=None, help="output folder (default: runs/compare, or runs/compare-quick)")
+    parser.add_argument(
+        "--variants",
+        default=None,
+        metavar="LIST",
+        help=f"comma list of {', '.join(VARIANTS)} (default: {','.join(_COMPARE_VARIANTS)})",
+    )
+    parser.add_argument(
+        "--seeds",
+        default=None,
+        metavar="N|LIST",
+        help=f"a count (5 = seeds 0..4) or a comma list of distinct seeds "
+        f"(default: {_COMPARE_SEEDS}; {_QUICK_SEEDS} with --quick)",
+    )
+    parser.add_argument(
+        "--out", type=Path, default=None, help="output folder (default: runs/compare, or runs/compare-quick)"
+    )
     parser.add_argument("--backend", choices=BACKENDS, default="process", help="process pool or ray (default: process)")
     workers = os.cpu_count() or 1
-    parser.add_argument("--workers", type=_positive_int, default=workers,
-                        help=f"runs in parallel (default: the CPU count, {workers} here)")
-    parser.add_argument("--threshold", type=float, default=0.5, help="success rate for 'steps to threshold' (default: 0.5)")
-    parser.add_argument("--quick", action="store_true",
-                        help=f"a ~10-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
-                             f"{QUICK['total_steps']} steps in an {QUICK['env_kwargs']['arena_size_m']:g} m arena "
-                             "(explicit options still win)")
-    parser.add_argument("--distractors", metavar="LIST",
-                        help="a clutter sweep: the comparison at each distractor count of the comma list (e.g. 1,3,6), "
-                             "into DIR/distractors-N/, then DIR/sweep.csv, sweep_summary.csv and "
-                             "success_vs_distractors.png (final success against distractors per variant)")
+    parser.add_argument(
+        "--workers",
+        type=_positive_int,
+        default=workers,
+        help=f"runs in parallel (default: the CPU count, {workers} here)",
+    )
+    parser.add_argument(
+        "--threshold", type=float, default=0.5, help="success rate for 'steps to threshold' (default: 0.5)"
+    )
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help=f"a ~10-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
+        f"{QUICK['total_steps']} steps in an {QUICK['env_kwargs']['arena_size_m']:g} m arena "
+        "(explicit options still win)",
+    )
+    parser.add_argument(
+        "--distractors",
+        metavar="LIST",
+        help="a clutter sweep: the comparison at each distractor count of the comma list (e.g. 1,3,6), "
+        "into DIR/distractors-N/, then DIR/sweep.csv, sweep_summary.csv and "
+        "success_vs_distractors.png (final success against distractors per variant)",
+    )
     parser.add_argument("--extend", action="store_true", help=_EXTEND_HELP.format(what="the comparison in --out"))
     _add_run_options(parser, quick=True)
     parser.set_defaults(handler=_run_compare)
@@ -306,8 +409,11 @@ def _run_compare(args: argparse.Namespace) -> int:
     from attentive_gym.agents.config import parse_seeds, parse_variants
 
     defaults = dict(QUICK) if args.quick else {}  # _spec_from_args holds the plain defaults
-    variants = (parse_variants(args.variants) if args.variants is not None
-                else tuple(defaults.get("variants", _COMPARE_VARIANTS)))
+    variants = (
+        parse_variants(args.variants)
+        if args.variants is not None
+        else tuple(defaults.get("variants", _COMPARE_VARIANTS))
+    )
     seeds = parse_seeds(args.seeds) if args.seeds is not None else tuple(defaults.get("seeds", range(_COMPARE_SEEDS)))
     if not 0.0 <= args.threshold <= 1.0:
         raise ValueError(f"--threshold must be a success rate in [0, 1], got {args.threshold}")
@@ -317,15 +423,31 @@ def _run_compare(args: argparse.Namespace) -> int:
         from attentive_gym.agents.sweep import parse_distractors
 
         points = [out / f"distractors-{n}" for n in parse_distractors(args.distractors)]
-        stored = next(filter(None, (_trained_settings(point / "compare.json", runs_hold_progress(point), "run")
-                                    for point in points)), None)
+        stored = next(
+            filter(
+                None, (_trained_settings(point / "compare.json", runs_hold_progress(point), "run") for point in points)
+            ),
+            None,
+        )
     base = _spec_from_args(args, variants[0], seeds[0], defaults, stored)
     if args.distractors is not None:
         return _run_sweep(args, variants, seeds, base, out)
-    print(f"compare: {_count(len(variants), 'variant')} × {_count(len(seeds), 'seed')} × {base.total_steps} env steps "
-          f"({args.backend}, {_count(args.workers, 'worker')}) → {out}", flush=True)
-    result = compare(variants, seeds, base, out, backend=args.backend, workers=args.workers, threshold=args.threshold,
-                     extend=args.extend, log=lambda line: print(line, flush=True))
+    print(
+        f"compare: {_count(len(variants), 'variant')} × {_count(len(seeds), 'seed')} × {base.total_steps} env steps "
+        f"({args.backend}, {_count(args.workers, 'worker')}) → {out}",
+        flush=True,
+    )
+    result = compare(
+        variants,
+        seeds,
+        base,
+        out,
+        backend=args.backend,
+        workers=args.workers,
+        threshold=args.threshold,
+        extend=args.extend,
+        log=lambda line: print(line, flush=True),
+    )
     if result.summary_md is not None:
         print(result.summary_md.read_text(), end="")
         print(f"wrote {result.results_csv}, {result.figure}, {result.summary_csv}, {result.summary_md}")
@@ -347,11 +469,24 @@ def _run_sweep(args: argparse.Namespace, variants, seeds, base, out: Path) -> in
     counts = parse_distractors(args.distractors)
     if "num_distractors" in base.env_kwargs and args.env_kwargs is not None:
         raise ValueError("--distractors sets num_distractors; leave it out of --env-kwargs")
-    print(f"compare: clutter sweep over {_count(len(counts), 'distractor count')} × {_count(len(variants), 'variant')} "
-          f"× {_count(len(seeds), 'seed')} × {base.total_steps} env steps ({args.backend}, "
-          f"{_count(args.workers, 'worker')}) → {out}", flush=True)
-    result = clutter_sweep(variants, seeds, base, counts, out, backend=args.backend, workers=args.workers,
-                           threshold=args.threshold, extend=args.extend, log=lambda line: print(line, flush=True))
+    print(
+        f"compare: clutter sweep over {_count(len(counts), 'distractor count')} × {_count(len(variants), 'variant')} "
+        f"× {_count(len(seeds), 'seed')} × {base.total_steps} env steps ({args.backend}, "
+        f"{_count(args.workers, 'worker')}) → {out}",
+        flush=True,
+    )
+    result = clutter_sweep(
+        variants,
+        seeds,
+        base,
+        counts,
+        out,
+        backend=args.backend,
+        workers=args.workers,
+        threshold=args.threshold,
+        extend=args.extend,
+        log=lambda line: print(line, flush=True),
+    )
     if result.summary_csv is not None:
         print(f"wrote {result.results_csv}, {result.summary_csv}, {result.figure}")
     if result.failed:

@@ -24,9 +24,10 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 from attentive_gym.agents.backends import JobOutcome, run_many
 from attentive_gym.agents.config import QUICK, RunSpec
@@ -152,11 +153,14 @@ def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: b
         same_runs = (old["variants"], old["seeds"]) == (list(settings["variants"]), list(settings["seeds"]))
         if same_runs and budget_grows(old_base, base):
             if not extend:
-                raise ValueError(f"{out} holds this comparison with {old_base.total_steps} env steps per run; "
-                                 f"extend it to {base.total_steps} (--extend) or use another --out folder")
+                raise ValueError(
+                    f"{out} holds this comparison with {old_base.total_steps} env steps per run; "
+                    f"extend it to {base.total_steps} (--extend) or use another --out folder"
+                )
         elif differences:  # anything but the vectorisation or the threshold
-            raise ValueError(f"{out} holds a comparison with other settings ({path}: {differences}); "
-                             "use another --out folder")
+            raise ValueError(
+                f"{out} holds a comparison with other settings ({path}: {differences}); use another --out folder"
+            )
     write_json_atomic(path, settings)
 
 
@@ -165,8 +169,11 @@ def settings_differences(old: dict[str, Any], variants: Sequence[str], seeds: Se
     ``seeds`` and the run template ``base``, the vectorisation aside (it changes no number):
     e.g. ``"seeds [0] → [0, 1], eval_every 25 → 51"``; "" when they do not."""
     old_base = _stored_base(old, base)
-    lists = [f"{key} {old[key]} → {list(new)}" for key, new in (("variants", variants), ("seeds", seeds))
-             if old[key] != list(new)]
+    lists = [
+        f"{key} {old[key]} → {list(new)}"
+        for key, new in (("variants", variants), ("seeds", seeds))
+        if old[key] != list(new)
+    ]
     return ", ".join(filter(None, [*lists, old_base.differences(base)]))
 
 
@@ -193,8 +200,10 @@ def _outcome_text(name: str, outcome: JobOutcome) -> str:
 def _resume_hint(out: Path, specs: Sequence[RunSpec]) -> str:
     """What an interrupted comparison finished, and how to train the rest."""
     missing = [spec for spec in specs if not is_done(run_dir_of(out, spec), spec.total_steps)]
-    return (f"{len(specs) - len(missing)}/{len(specs)} runs done in {out}; rerun the same command to train only "
-            f"the {len(missing)} missing one(s) (a stopped run resumes from its last checkpoint)")
+    return (
+        f"{len(specs) - len(missing)}/{len(specs)} runs done in {out}; rerun the same command to train only "
+        f"the {len(missing)} missing one(s) (a stopped run resumes from its last checkpoint)"
+    )
 
 
 def collect(out: str | os.PathLike, specs: Sequence[RunSpec], threshold: float = 0.5) -> CompareResult:

@@ -11,15 +11,29 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from attentive_gym._checks import check_int
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["ALGOS", "VEC_ENVS", "OBS_SCALINGS", "ALGO_DEFAULTS", "QUICK", "SCHEDULE_KEYS", "SB3_LEARNING_RATE",
-           "STEPS_PER_EVAL_EPISODE", "RunSpec", "canonical_rate", "default_eval_episodes", "parse_schedule",
-           "parse_variants", "parse_seeds"]
+__all__ = [
+    "ALGOS",
+    "VEC_ENVS",
+    "OBS_SCALINGS",
+    "ALGO_DEFAULTS",
+    "QUICK",
+    "SCHEDULE_KEYS",
+    "SB3_LEARNING_RATE",
+    "STEPS_PER_EVAL_EPISODE",
+    "RunSpec",
+    "canonical_rate",
+    "default_eval_episodes",
+    "parse_schedule",
+    "parse_variants",
+    "parse_seeds",
+]
 
 #: Algorithms ``train`` knows: SB3 ``PPO`` (default) and ``SAC``, and sb3-contrib's
 #: ``RecurrentPPO`` (an LSTM policy; the ``agents`` extra installs sb3-contrib).
@@ -150,8 +164,14 @@ class RunSpec:
         """
         if self.algo in ("ppo", "recurrent-ppo"):
             learning_rate = SB3_LEARNING_RATE if self.algo_defaults == 1 else "lin_3e-4"
-            ppo = {"n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": learning_rate, "gamma": 0.99,
-                   "ent_coef": 0.005}
+            ppo = {
+                "n_steps": 256,
+                "batch_size": 256,
+                "n_epochs": 5,
+                "learning_rate": learning_rate,
+                "gamma": 0.99,
+                "ent_coef": 0.005,
+            }
             return ppo if self.algo == "ppo" else {**ppo, "policy_kwargs": {"lstm_hidden_size": 64}}
         return {"buffer_size": 100_000, "learning_starts": 1_000, "batch_size": 256}
 
@@ -186,8 +206,10 @@ class RunSpec:
         defaults and a command asking for the same hyper-parameters agree."""
         data = self.to_dict()
         del data["algo_defaults"]
-        data["algo_kwargs"] = {key: canonical_rate(key, value) if key in SCHEDULE_KEYS else value
-                               for key, value in self.hyper_parameters().items()}
+        data["algo_kwargs"] = {
+            key: canonical_rate(key, value) if key in SCHEDULE_KEYS else value
+            for key, value in self.hyper_parameters().items()
+        }
         return data
 
     def to_dict(self) -> dict[str, Any]:
@@ -195,7 +217,7 @@ class RunSpec:
         return dataclasses.asdict(self)
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> "RunSpec":
+    def from_dict(cls, data: Mapping[str, Any]) -> RunSpec:
         """Build from ``to_dict``'s output; unknown keys raise ``ValueError``. A spec without
         ``obs_scaling`` was written before observations were scaled: it reads as ``"none"``;
         one without ``algo_defaults`` before the learning rate decayed by default: it reads as 1."""
@@ -208,22 +230,25 @@ class RunSpec:
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)
 
-    def replace(self, **changes: Any) -> "RunSpec":
+    def replace(self, **changes: Any) -> RunSpec:
         """A copy with ``changes`` applied (validated again)."""
         return dataclasses.replace(self, **changes)
 
-    def same_settings(self, other: "RunSpec") -> bool:
+    def same_settings(self, other: RunSpec) -> bool:
         """Whether ``other`` has the same ``settings``."""
         return self.settings() == other.settings()
 
-    def differences(self, other: "RunSpec") -> str:
+    def differences(self, other: RunSpec) -> str:
         """The ``settings`` where ``other`` differs, as ``"eval_every 25 → 51, total_steps 256 → 512"``;
         within ``algo_kwargs`` the entries that differ (``"algo_kwargs.n_epochs 1 → 2"``)."""
         mine, theirs = self.settings(), other.settings()
         hyper = (mine.pop("algo_kwargs"), theirs.pop("algo_kwargs"))
         changed = [(key, mine[key], theirs[key]) for key in mine if mine[key] != theirs[key]]
-        changed += [(f"algo_kwargs.{key}", hyper[0].get(key), hyper[1].get(key))
-                    for key in dict.fromkeys([*hyper[0], *hyper[1]]) if hyper[0].get(key) != hyper[1].get(key)]
+        changed += [
+            (f"algo_kwargs.{key}", hyper[0].get(key), hyper[1].get(key))
+            for key in dict.fromkeys([*hyper[0], *hyper[1]])
+            if hyper[0].get(key) != hyper[1].get(key)
+        ]
         return ", ".join(f"{key} {json.dumps(old)} → {json.dumps(new)}" for key, old, new in changed)
 
 
@@ -250,7 +275,9 @@ def _check_finite(name: str, value: Any) -> None:
     included) is NaN or infinite: SB3 would take it and train on NaN."""
     if isinstance(value, float) and not math.isfinite(value):
         raise ValueError(f"{name} must hold finite numbers, got {value}")
-    items = value.items() if isinstance(value, Mapping) else enumerate(value) if isinstance(value, (list, tuple)) else ()
+    items = (
+        value.items() if isinstance(value, Mapping) else enumerate(value) if isinstance(value, (list, tuple)) else ()
+    )
     for key, item in items:
         _check_finite(f"{name}[{key!r}]", item)
 
@@ -273,14 +300,16 @@ def parse_schedule(key: str, text: str):
     the budget that remains, so a run resumed from a checkpoint continues the same decay,
     and ``--extend`` stretches it over the new budget (the value rises again where the
     extension starts). ``ValueError`` for any other string."""
-    number = text[len(_LINEAR_PREFIX):] if text.startswith(_LINEAR_PREFIX) else ""
+    number = text[len(_LINEAR_PREFIX) :] if text.startswith(_LINEAR_PREFIX) else ""
     try:
         start = float(number)
     except ValueError:
         start = math.nan
     if not (math.isfinite(start) and start > 0.0):
-        raise ValueError(f"algo_kwargs[{key!r}] = {text!r}: a schedule is a number or "
-                         f"'{_LINEAR_PREFIX}<number > 0>' (a linear decay to 0 over the budget), e.g. 'lin_3e-4'")
+        raise ValueError(
+            f"algo_kwargs[{key!r}] = {text!r}: a schedule is a number or "
+            f"'{_LINEAR_PREFIX}<number > 0>' (a linear decay to 0 over the budget), e.g. 'lin_3e-4'"
+        )
     from stable_baselines3.common.utils import LinearSchedule
 
     return LinearSchedule(start, 0.0, 1.0)

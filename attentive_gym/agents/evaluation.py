@@ -12,15 +12,24 @@ first step of each episode (``episode_start`` True). Feed-forward policies retur
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
-from typing import Any, Callable, NamedTuple
+from typing import Any, NamedTuple
 
 import gymnasium as gym
 import numpy as np
 
 from attentive_gym._checks import check_int
 
-__all__ = ["EvalResult", "evaluate_policy", "record_videos", "check_video_dir", "PolicyMemory", "predict_batch", "EVAL_SEED_OFFSET"]
+__all__ = [
+    "EvalResult",
+    "evaluate_policy",
+    "record_videos",
+    "check_video_dir",
+    "PolicyMemory",
+    "predict_batch",
+    "EVAL_SEED_OFFSET",
+]
 
 #: Evaluation episodes use seeds ``run seed + EVAL_SEED_OFFSET + i`` (disjoint from training's).
 EVAL_SEED_OFFSET = 10_000
@@ -90,15 +99,22 @@ class PolicyMemory:
             kept[:, envs] = part
 
 
-def predict_batch(model: Any, observations: list[Any], memory: PolicyMemory, envs: list[int],
-                  episode_start: np.ndarray, deterministic: bool) -> np.ndarray:
+def predict_batch(
+    model: Any,
+    observations: list[Any],
+    memory: PolicyMemory,
+    envs: list[int],
+    episode_start: np.ndarray,
+    deterministic: bool,
+) -> np.ndarray:
     """Actions for the environments ``envs`` (one observation each), carrying ``memory``.
 
     ``episode_start[k]`` is True at the first step of environment ``envs[k]``'s episode: a
     recurrent policy resets that environment's state to zeros before this step.
     """
-    actions, state = model.predict(_stack(observations), state=memory.take(envs), episode_start=episode_start,
-                                   deterministic=deterministic)
+    actions, state = model.predict(
+        _stack(observations), state=memory.take(envs), episode_start=episode_start, deterministic=deterministic
+    )
     memory.store(envs, state)
     return actions
 
@@ -147,8 +163,14 @@ def evaluate_policy(
                 active.append(_Running(slot, next_episode, obs, True))
                 next_episode += 1
         while active:
-            actions = predict_batch(model, [a.obs for a in active], memory, [a.slot for a in active],
-                                    np.array([a.episode_start for a in active]), deterministic)
+            actions = predict_batch(
+                model,
+                [a.obs for a in active],
+                memory,
+                [a.slot for a in active],
+                np.array([a.episode_start for a in active]),
+                deterministic,
+            )
             still = []
             for (slot, index, _, _), action in zip(active, actions):
                 obs, reward, terminated, truncated, info = envs[slot].step(action)
@@ -194,8 +216,10 @@ def check_video_dir(video_dir) -> None:
         raise ValueError(f"--video {video_dir} is a file; give a folder")
     existing = sorted(video_dir.glob(f"{VIDEO_PREFIX}-episode-*.mp4")) if video_dir.is_dir() else []
     if existing:
-        raise ValueError(f"--video {video_dir} already holds {len(existing)} video(s) ({existing[0].name}, ...) that "
-                         "would be overwritten; give another folder")
+        raise ValueError(
+            f"--video {video_dir} already holds {len(existing)} video(s) ({existing[0].name}, ...) that "
+            "would be overwritten; give another folder"
+        )
 
 
 def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, episodes: int, seed: int) -> list[str]:
@@ -209,12 +233,19 @@ def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, ep
     try:
         import moviepy  # noqa: F401
     except ImportError:
-        raise ValueError("--video needs moviepy (gymnasium's RecordVideo writes MP4 with it): pip install moviepy") from None
+        raise ValueError(
+            "--video needs moviepy (gymnasium's RecordVideo writes MP4 with it): pip install moviepy"
+        ) from None
     from pathlib import Path
 
     check_video_dir(video_dir)
-    env = gym.wrappers.RecordVideo(make_env_fn(render_mode="rgb_array"), str(video_dir),
-                                   episode_trigger=lambda _: True, name_prefix=VIDEO_PREFIX, disable_logger=True)
+    env = gym.wrappers.RecordVideo(
+        make_env_fn(render_mode="rgb_array"),
+        str(video_dir),
+        episode_trigger=lambda _: True,
+        name_prefix=VIDEO_PREFIX,
+        disable_logger=True,
+    )
     memory = PolicyMemory(1)
     try:
         for i in range(episodes):

@@ -101,8 +101,10 @@ class NativeVecEnv(VecEnv):
             setattr(self.envs[i], attr_name, value)
 
     def env_method(self, method_name: str, *method_args, indices: VecEnvIndices = None, **method_kwargs) -> list[Any]:
-        return [self.envs[i].get_wrapper_attr(method_name)(*method_args, **method_kwargs)
-                for i in self._get_indices(indices)]
+        return [
+            self.envs[i].get_wrapper_attr(method_name)(*method_args, **method_kwargs)
+            for i in self._get_indices(indices)
+        ]
 
     def env_is_wrapped(self, wrapper_class: type[gym.Wrapper], indices: VecEnvIndices = None) -> list[bool]:
         return [is_wrapped(self.envs[i], wrapper_class) for i in self._get_indices(indices)]

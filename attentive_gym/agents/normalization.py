@@ -18,8 +18,9 @@ deviation, clipped to ±``CLIP``), as the RL Baselines3 Zoo does for continuous 
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -46,8 +47,10 @@ def normalize(vec_env, stats: Path | None = None):
 def save_stats(vec_normalize, path: Path) -> None:
     """Write ``vec_normalize``'s observation statistics to ``path`` (``.npz``), atomically."""
     keys = _keys(vec_normalize)
-    arrays = {"keys": np.array([str(key) for key in keys]),
-              "count": np.array([_rms(vec_normalize, key).count for key in keys])}
+    arrays = {
+        "keys": np.array([str(key) for key in keys]),
+        "count": np.array([_rms(vec_normalize, key).count for key in keys]),
+    }
     for i, key in enumerate(keys):
         arrays[f"mean_{i}"], arrays[f"var_{i}"] = _rms(vec_normalize, key).mean, _rms(vec_normalize, key).var
     tmp = path.with_name(f".{path.stem}.tmp.npz")
@@ -78,8 +81,12 @@ class NormalizedPolicy:
         self.vec_normalize = vec_normalize
 
     def predict(self, observation, state=None, episode_start=None, deterministic: bool = False):
-        return self.model.predict(self.vec_normalize.normalize_obs(observation), state=state,
-                                  episode_start=episode_start, deterministic=deterministic)
+        return self.model.predict(
+            self.vec_normalize.normalize_obs(observation),
+            state=state,
+            episode_start=episode_start,
+            deterministic=deterministic,
+        )
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.model, name)
@@ -98,11 +105,14 @@ def _set_stats(vec_normalize, path: Path) -> None:
     with np.load(path) as data:
         saved = [None if key == "None" else str(key) for key in data["keys"]]
         if saved != _keys(vec_normalize):
-            raise ValueError(f"{path} holds the statistics of the observation entries {saved}, "
-                             f"not of this environment's {_keys(vec_normalize)}")
+            raise ValueError(
+                f"{path} holds the statistics of the observation entries {saved}, "
+                f"not of this environment's {_keys(vec_normalize)}"
+            )
         for i, key in enumerate(saved):
             rms = _rms(vec_normalize, key)
             if data[f"mean_{i}"].shape != rms.mean.shape:
-                raise ValueError(f"{path}: entry {key!r} has shape {data[f'mean_{i}'].shape}, "
-                                 f"this environment's {rms.mean.shape}")
+                raise ValueError(
+                    f"{path}: entry {key!r} has shape {data[f'mean_{i}'].shape}, this environment's {rms.mean.shape}"
+                )
             rms.mean, rms.var, rms.count = data[f"mean_{i}"].copy(), data[f"var_{i}"].copy(), float(data["count"][i])

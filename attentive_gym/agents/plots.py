@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -15,12 +16,21 @@ from attentive_gym._optional import require
 from attentive_gym.agents.statistics import bootstrap_ci
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["curve_stats", "plot_learning_curves", "plot_success_vs_distractors", "split_label", "steps_label",
-           "METRIC_BOUNDS"]
+__all__ = [
+    "curve_stats",
+    "plot_learning_curves",
+    "plot_success_vs_distractors",
+    "split_label",
+    "steps_label",
+    "METRIC_BOUNDS",
+]
 
 #: The range of each bounded metric; confidence bands are clipped to it.
-METRIC_BOUNDS = {"success_rate": (0.0, 1.0), "mean_collision_steps": (0.0, float("inf")),
-                 "mean_episode_length": (0.0, float("inf"))}
+METRIC_BOUNDS = {
+    "success_rate": (0.0, 1.0),
+    "mean_collision_steps": (0.0, float("inf")),
+    "mean_episode_length": (0.0, float("inf")),
+}
 
 
 def steps_label(steps: float, _position=None) -> str:
@@ -31,7 +41,9 @@ def steps_label(steps: float, _position=None) -> str:
     return f"{steps:.0f}"
 
 
-def curve_stats(rows: Sequence[Mapping[str, Any]], variant: str, metric: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def curve_stats(
+    rows: Sequence[Mapping[str, Any]], variant: str, metric: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(env_steps, mean, ci_low, ci_high) of ``metric`` across seeds at each eval point of ``variant``.
 
     The band is the 95 % bootstrap interval of the mean, clipped to ``METRIC_BOUNDS``; NaN
@@ -72,9 +84,13 @@ def _line_styles(labels: Sequence[str]) -> dict[str, dict[str, str]]:
     parts = {label: split_label(label) for label in labels}
     variants = list(dict.fromkeys([*VARIANTS, *(variant for variant, _ in parts.values())]))
     settings = list(dict.fromkeys(setting for _, setting in parts.values()))
-    return {label: {"color": f"C{variants.index(variant) % 10}",
-                    "linestyle": _SETTING_STYLES[settings.index(setting) % len(_SETTING_STYLES)]}
-            for label, (variant, setting) in parts.items()}
+    return {
+        label: {
+            "color": f"C{variants.index(variant) % 10}",
+            "linestyle": _SETTING_STYLES[settings.index(setting) % len(_SETTING_STYLES)],
+        }
+        for label, (variant, setting) in parts.items()
+    }
 
 
 def plot_learning_curves(
@@ -91,8 +107,12 @@ def plot_learning_curves(
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     if not variants:
         raise ValueError("no evaluation rows to plot")
-    labels = {"success_rate": "success rate", "mean_return": "mean return",
-              "mean_collision_steps": "collision steps / episode", "mean_episode_length": "episode length (steps)"}
+    labels = {
+        "success_rate": "success rate",
+        "mean_return": "mean return",
+        "mean_collision_steps": "collision steps / episode",
+        "mean_episode_length": "episode length (steps)",
+    }
     fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 3.8), squeeze=False)
     styles = _line_styles(variants)
     for ax, metric in zip(axes[0], metrics):
@@ -109,15 +129,21 @@ def plot_learning_curves(
     if len(variants) <= _LEGEND_INSIDE:
         axes[0][0].legend(loc="best", fontsize=8)
         return _save(fig, path)
-    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=min(len(variants), _LEGEND_COLUMNS),
-               fontsize=8, frameon=False)
+    fig.legend(
+        *axes[0][0].get_legend_handles_labels(),
+        loc="lower center",
+        ncol=min(len(variants), _LEGEND_COLUMNS),
+        fontsize=8,
+        frameon=False,
+    )
     rows = math.ceil(len(variants) / _LEGEND_COLUMNS)
     fig.tight_layout(rect=(0, 0.06 * rows, 1, 1))  # room for the legend's rows below the panels
     return _save(fig, path, layout=False)
 
 
-def plot_success_vs_distractors(summary: Sequence[Mapping[str, Any]], path: str | os.PathLike,
-                                budget: int | None = None) -> Path:
+def plot_success_vs_distractors(
+    summary: Sequence[Mapping[str, Any]], path: str | os.PathLike, budget: int | None = None
+) -> Path:
     """Write a PNG of final success rate (mean, 95 % bootstrap CI as error bars) against the
     number of distractors, one line per variant, from rows of ``sweep.sweep_tables``; a
     variant has one colour, its settings (``split_label``) different line styles, as in

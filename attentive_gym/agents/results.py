@@ -15,13 +15,13 @@ import io
 import json
 import math
 import os
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
 from attentive_gym._atomic import atomic_file
-
 from attentive_gym.agents.statistics import bootstrap_ci, iqm, mean, probability_of_improvement
 
 __all__ = [
@@ -39,17 +39,41 @@ __all__ = [
 #: returns (reward units), collision_steps (steps in contact per episode), episode_length
 #: (steps), wall_s (s since the run started).
 EVAL_COLUMNS = (
-    "variant", "seed", "env_steps", "n_episodes", "success_rate", "mean_return", "std_return",
-    "mean_collision_steps", "mean_episode_length", "wall_s",
+    "variant",
+    "seed",
+    "env_steps",
+    "n_episodes",
+    "success_rate",
+    "mean_return",
+    "std_return",
+    "mean_collision_steps",
+    "mean_episode_length",
+    "wall_s",
 )
 SUMMARY_COLUMNS = (
-    "variant", "n_seeds", "final_env_steps",
-    "final_success_mean", "final_success_ci_low", "final_success_ci_high",
-    "final_success_iqm", "final_success_iqm_ci_low", "final_success_iqm_ci_high",
-    "final_return_mean", "final_return_ci_low", "final_return_ci_high",
-    "final_return_iqm", "final_return_iqm_ci_low", "final_return_iqm_ci_high",
-    "improvement_over", "prob_improvement", "prob_improvement_ci_low", "prob_improvement_ci_high",
-    "threshold", "seeds_reaching_threshold", "steps_to_threshold_mean", "steps_to_threshold_ci_low",
+    "variant",
+    "n_seeds",
+    "final_env_steps",
+    "final_success_mean",
+    "final_success_ci_low",
+    "final_success_ci_high",
+    "final_success_iqm",
+    "final_success_iqm_ci_low",
+    "final_success_iqm_ci_high",
+    "final_return_mean",
+    "final_return_ci_low",
+    "final_return_ci_high",
+    "final_return_iqm",
+    "final_return_iqm_ci_low",
+    "final_return_iqm_ci_high",
+    "improvement_over",
+    "prob_improvement",
+    "prob_improvement_ci_low",
+    "prob_improvement_ci_high",
+    "threshold",
+    "seeds_reaching_threshold",
+    "steps_to_threshold_mean",
+    "steps_to_threshold_ci_low",
     "steps_to_threshold_ci_high",
 )
 
@@ -116,8 +140,9 @@ def _finals(runs: Sequence[list[Mapping[str, Any]]], metric: str, final_points: 
     return [float(np.mean([r[metric] for r in run[-final_points:]])) for run in runs]
 
 
-def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_points: int = 1,
-              baseline: str | None = "raw") -> list[dict[str, Any]]:
+def summarise(
+    rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_points: int = 1, baseline: str | None = "raw"
+) -> list[dict[str, Any]]:
     """One summary row per variant (in first-seen order) from tidy evaluation rows.
 
     Args:
@@ -142,8 +167,10 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
     for row in rows:
         success = row["success_rate"]
         if not (isinstance(success, (int, float, np.number)) and 0.0 <= success <= 1.0):
-            raise ValueError(f"success_rate must be a number in [0, 1] at every evaluation; {row['variant']} seed "
-                             f"{row['seed']} at {row['env_steps']} env steps has {success!r}")
+            raise ValueError(
+                f"success_rate must be a number in [0, 1] at every evaluation; {row['variant']} seed "
+                f"{row['seed']} at {row['env_steps']} env steps has {success!r}"
+            )
     by_run = _by_run(rows)
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     runs = {variant: [run for key, run in by_run.items() if key[0] == variant] for variant in variants}
@@ -154,8 +181,13 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
     for variant in variants:
         success = _finals(runs[variant], "success_rate", final_points)
         returns = _finals(runs[variant], "mean_return", final_points)
-        reached = [float(hit) for hit in (next((r["env_steps"] for r in run if r["success_rate"] >= threshold), None)
-                                          for run in runs[variant]) if hit is not None]
+        reached = [
+            float(hit)
+            for hit in (
+                next((r["env_steps"] for r in run if r["success_rate"] >= threshold), None) for run in runs[variant]
+            )
+            if hit is not None
+        ]
         final_steps = int(min(run[-1]["env_steps"] for run in runs[variant]))
         longest = float(max(run[-1]["env_steps"] for run in runs[variant]))  # a seed may reach it past final_steps
         row = {"variant": variant, "n_seeds": len(runs[variant]), "final_env_steps": final_steps}
@@ -166,13 +198,28 @@ def summarise(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_p
             ("final_return_iqm", returns, iqm, (-math.inf, math.inf)),
         ):
             point, low, high = bootstrap_ci(values, statistic, bounds)
-            row.update({f"{key}{'' if key.endswith('iqm') else '_mean'}": point, f"{key}_ci_low": low, f"{key}_ci_high": high})
+            row.update(
+                {f"{key}{'' if key.endswith('iqm') else '_mean'}": point, f"{key}_ci_low": low, f"{key}_ci_high": high}
+            )
         improvement = probability_of_improvement(success, baseline_success)
-        row.update({"improvement_over": baseline, "prob_improvement": improvement[0],
-                    "prob_improvement_ci_low": improvement[1], "prob_improvement_ci_high": improvement[2]})
+        row.update(
+            {
+                "improvement_over": baseline,
+                "prob_improvement": improvement[0],
+                "prob_improvement_ci_low": improvement[1],
+                "prob_improvement_ci_high": improvement[2],
+            }
+        )
         steps = bootstrap_ci(reached, mean, (0.0, longest))
-        row.update({"threshold": threshold, "seeds_reaching_threshold": len(reached), "steps_to_threshold_mean": steps[0],
-                    "steps_to_threshold_ci_low": steps[1], "steps_to_threshold_ci_high": steps[2]})
+        row.update(
+            {
+                "threshold": threshold,
+                "seeds_reaching_threshold": len(reached),
+                "steps_to_threshold_mean": steps[0],
+                "steps_to_threshold_ci_low": steps[1],
+                "steps_to_threshold_ci_high": steps[2],
+            }
+        )
         summary.append(row)
     return summary
 
@@ -205,7 +252,8 @@ def summary_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
             f"| {ci(row, 'final_success_mean', 'final_success', '.2f')} "
             f"| {ci(row, 'final_success_iqm', 'final_success_iqm', '.2f')} "
             f"| {ci(row, 'prob_improvement', 'prob_improvement', '.2f', single(row, f'{baseline} has 1 seed: no CI'))} "
-            f"| {ci(row, 'final_return_mean', 'final_return', '.2f')} | {row['seeds_reaching_threshold']}/{row['n_seeds']} "
+            f"| {ci(row, 'final_return_mean', 'final_return', '.2f')} "
+            f"| {row['seeds_reaching_threshold']}/{row['n_seeds']} "
             f"(≥ {row['threshold']:.2f}) "
             f"| {ci(row, 'steps_to_threshold_mean', 'steps_to_threshold', '.0f', single(row, '1 seed reached it'))} |"
         )

@@ -18,7 +18,7 @@ interval (NaN bounds): one seed says nothing about the spread across seeds.
 from __future__ import annotations
 
 import math
-from typing import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -97,8 +97,9 @@ def bootstrap_ci(
     return (point, *_percentile_interval(resampled, point, confidence, bounds))
 
 
-def _percentile_interval(resampled: np.ndarray, point: float, confidence: float,
-                         bounds: tuple[float, float]) -> tuple[float, float]:
+def _percentile_interval(
+    resampled: np.ndarray, point: float, confidence: float, bounds: tuple[float, float]
+) -> tuple[float, float]:
     """The central ``confidence`` interval of the bootstrap distribution ``resampled``,
     clipped to ``bounds`` and widened to hold ``point``."""
     tail = 50.0 * (1.0 - confidence)
@@ -114,7 +115,10 @@ def _improvement(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def probability_of_improvement(
-    x_values: Sequence[float], y_values: Sequence[float], confidence: float = 0.95, reps: int = BOOTSTRAP_REPS,
+    x_values: Sequence[float],
+    y_values: Sequence[float],
+    confidence: float = 0.95,
+    reps: int = BOOTSTRAP_REPS,
 ) -> tuple[float, float, float]:
     """(P(X > Y), low, high): the probability that a seed of X scores above a seed of Y
     (ties count half), with a bootstrap interval resampling both; in [0, 1].
@@ -131,6 +135,7 @@ def probability_of_improvement(
     if x.size == 1 or y.size == 1:
         return point, math.nan, math.nan
     rng = np.random.default_rng(_SEED)
-    resampled = _improvement(x[rng.integers(0, x.size, size=(reps, x.size))],
-                             y[rng.integers(0, y.size, size=(reps, y.size))])
+    resampled = _improvement(
+        x[rng.integers(0, x.size, size=(reps, x.size))], y[rng.integers(0, y.size, size=(reps, y.size))]
+    )
     return (point, *_percentile_interval(resampled, point, confidence, (0.0, 1.0)))

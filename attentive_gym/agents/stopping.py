@@ -24,8 +24,16 @@ import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
-__all__ = ["STOP_SIGNALS", "Interrupted", "raise_if_stopped", "raise_if_stopped_from", "raise_on_stop_signals",
-           "signals_blocked", "stop_on_sigterm_only", "stop_signals_ignored"]
+__all__ = [
+    "STOP_SIGNALS",
+    "Interrupted",
+    "raise_if_stopped",
+    "raise_if_stopped_from",
+    "raise_on_stop_signals",
+    "signals_blocked",
+    "stop_on_sigterm_only",
+    "stop_signals_ignored",
+]
 
 #: Signals that stop ``run_many`` (and ``attentive-gym train``).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)

@@ -18,16 +18,24 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 from attentive_gym.agents.compare import compare, settings_differences
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.plots import plot_success_vs_distractors
 from attentive_gym.agents.results import EVAL_COLUMNS, SUMMARY_COLUMNS, read_csv, summarise, write_csv_atomic
 
-__all__ = ["SWEEP_COLUMNS", "SWEEP_SUMMARY_COLUMNS", "SweepResult", "clutter_sweep", "sweep_tables", "parse_distractors"]
+__all__ = [
+    "SWEEP_COLUMNS",
+    "SWEEP_SUMMARY_COLUMNS",
+    "SweepResult",
+    "clutter_sweep",
+    "sweep_tables",
+    "parse_distractors",
+]
 
 SWEEP_COLUMNS = ("num_distractors", *EVAL_COLUMNS)
 SWEEP_SUMMARY_COLUMNS = ("num_distractors", *SUMMARY_COLUMNS)
@@ -83,15 +91,26 @@ def clutter_sweep(
     result = SweepResult(out)
     for n, spec in specs.items():
         log(f"sweep: {n} distractor(s)")
-        outcome = compare(variants, seeds, spec, out / f"distractors-{n}", backend=backend, workers=workers,
-                          threshold=threshold, extend=extend, log=log)
+        outcome = compare(
+            variants,
+            seeds,
+            spec,
+            out / f"distractors-{n}",
+            backend=backend,
+            workers=workers,
+            threshold=threshold,
+            extend=extend,
+            log=log,
+        )
         result.failed.update({f"distractors-{n}/{name}": error for name, error in outcome.failed.items()})
     rows = []
     for n in _counts_in(out):  # every count in ``out``: a rerun at some counts keeps the others in the tables
         differences = _differences(out / f"distractors-{n}" / "compare.json", variants, seeds, base)
         if differences:
-            log(f"sweep: note: distractors-{n} was trained with other settings than this command's ({differences}); "
-                "its rows enter the tables as they are")
+            log(
+                f"sweep: note: distractors-{n} was trained with other settings than this command's ({differences}); "
+                "its rows enter the tables as they are"
+            )
         rows.extend({"num_distractors": n, **row} for row in read_csv(out / f"distractors-{n}" / "results.csv"))
     if not rows:
         return result

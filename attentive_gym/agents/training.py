@@ -42,20 +42,33 @@ import signal
 import sys
 import time
 import warnings
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import gymnasium as gym
 
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
-from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
 from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, load_stats, normalize, save_stats
+from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
 from attentive_gym.agents.stopping import raise_if_stopped, signals_blocked
 from attentive_gym.wrappers.variants import make_env
 
-__all__ = ["train", "validate_spec", "load_model", "load_policy", "env_factory", "eval_seed", "is_done", "budget_grows",
-           "holds_progress", "checkpoint_steps", "DONE_MARKER", "RunResult"]
+__all__ = [
+    "train",
+    "validate_spec",
+    "load_model",
+    "load_policy",
+    "env_factory",
+    "eval_seed",
+    "is_done",
+    "budget_grows",
+    "holds_progress",
+    "checkpoint_steps",
+    "DONE_MARKER",
+    "RunResult",
+]
 
 DONE_MARKER = "done"
 _CHECKPOINT = "checkpoint"
@@ -92,8 +105,9 @@ def _algo_class(algo: str):
         try:
             from sb3_contrib import RecurrentPPO
         except ImportError:
-            raise ValueError("algo 'recurrent-ppo' needs sb3-contrib: pip install -e '.[agents]' "
-                             "(or pip install sb3-contrib)") from None
+            raise ValueError(
+                "algo 'recurrent-ppo' needs sb3-contrib: pip install -e '.[agents]' (or pip install sb3-contrib)"
+            ) from None
         return RecurrentPPO
     from stable_baselines3 import PPO, SAC
 
@@ -111,14 +125,17 @@ def _check_algo_kwargs(spec: RunSpec) -> None:
     algo_cls = _algo_class(spec.algo)
     reserved = sorted(set(spec.algo_kwargs) & set(_SET_BY_TRAIN))
     if reserved:
-        raise ValueError(f"algo_kwargs: {', '.join(map(repr, reserved))} cannot be given: train sets the policy, "
-                         "env, seed (--seed), device, verbose and tensorboard_log itself")
+        raise ValueError(
+            f"algo_kwargs: {', '.join(map(repr, reserved))} cannot be given: train sets the policy, "
+            "env, seed (--seed), device, verbose and tensorboard_log itself"
+        )
     parameters = inspect.signature(algo_cls.__init__).parameters
     allowed = sorted(name for name in parameters if name not in _SET_BY_TRAIN)
     unknown = sorted(set(spec.algo_kwargs) - set(allowed))
     if unknown:
-        raise ValueError(f"algo_kwargs: {algo_cls.__name__} takes no {', '.join(map(repr, unknown))}; "
-                         f"allowed: {', '.join(allowed)}")
+        raise ValueError(
+            f"algo_kwargs: {algo_cls.__name__} takes no {', '.join(map(repr, unknown))}; allowed: {', '.join(allowed)}"
+        )
 
 
 def _check_env_and_algo_values(spec: RunSpec) -> None:
@@ -135,11 +152,17 @@ def _check_env_and_algo_values(spec: RunSpec) -> None:
     try:
         with warnings.catch_warnings():  # one env, not n_envs: no warning about the rollout's size
             warnings.simplefilter("ignore")
-            _algo_class(spec.algo)(_policy_name(spec.algo, env.observation_space), vec, device="cpu", verbose=0,
-                                   **spec.merged_algo_kwargs())
+            _algo_class(spec.algo)(
+                _policy_name(spec.algo, env.observation_space),
+                vec,
+                device="cpu",
+                verbose=0,
+                **spec.merged_algo_kwargs(),
+            )
     except (TypeError, ValueError, AssertionError) as err:
-        raise ValueError(f"algo_kwargs {json.dumps(spec.algo_kwargs, default=str)} are refused by "
-                         f"{spec.algo}: {err}") from None
+        raise ValueError(
+            f"algo_kwargs {json.dumps(spec.algo_kwargs, default=str)} are refused by {spec.algo}: {err}"
+        ) from None
     finally:
         vec.close()
 
@@ -208,8 +231,9 @@ def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool, 
     write_json_atomic(folder / "meta.json", {"env_steps": int(model.num_timesteps), "wall_s": wall_s})
 
 
-def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: float, eval_envs: list[gym.Env],
-                   vec_normalize):
+def _make_callback(
+    spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: float, eval_envs: list[gym.Env], vec_normalize
+):
     from stable_baselines3.common.callbacks import BaseCallback
 
     class RunCallback(BaseCallback):
@@ -249,8 +273,13 @@ def _make_callback(spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: f
         def evaluate(self) -> None:
             policy = self.model if vec_normalize is None else NormalizedPolicy(self.model, vec_normalize)
             result = evaluate_policy(policy, env_factory(spec), spec.eval_episodes, eval_seed(spec), envs=eval_envs)
-            row = {"variant": spec.variant, "seed": spec.seed, "env_steps": int(self.num_timesteps),
-                   **result.row(), "wall_s": self.wall()}
+            row = {
+                "variant": spec.variant,
+                "seed": spec.seed,
+                "env_steps": int(self.num_timesteps),
+                **result.row(),
+                "wall_s": self.wall(),
+            }
             rows.append(row)
             write_csv_atomic(run_dir / "eval.csv", rows, EVAL_COLUMNS)
             for key in ("success_rate", "mean_return", "mean_collision_steps", "mean_episode_length"):
@@ -292,11 +321,15 @@ def _bind_spec(spec: RunSpec, run_dir: Path, extend: bool) -> None:
         if old.replace(vec_env=spec.vec_env).same_settings(spec):  # the vectorisation changes no number
             return
         if not budget_grows(old, spec):
-            raise ValueError(f"{run_dir} holds a run with a different spec ({path}: {old.differences(spec)}); "
-                             "use another --out folder")
+            raise ValueError(
+                f"{run_dir} holds a run with a different spec ({path}: {old.differences(spec)}); "
+                "use another --out folder"
+            )
         if not extend:
-            raise ValueError(f"{run_dir} holds a run of {old.total_steps} env steps with otherwise the same spec; "
-                             f"extend it to {spec.total_steps} (--extend) or use another --out folder")
+            raise ValueError(
+                f"{run_dir} holds a run of {old.total_steps} env steps with otherwise the same spec; "
+                f"extend it to {spec.total_steps} (--extend) or use another --out folder"
+            )
         (run_dir / DONE_MARKER).unlink(missing_ok=True)
     write_text_atomic(path, spec.to_json() + "\n")
 
@@ -374,8 +407,15 @@ def train(
         else:
             for leftover in ("eval.csv",):
                 (run_dir / leftover).unlink(missing_ok=True)
-            model = algo_cls(_policy_name(spec.algo, vec.observation_space), vec, seed=spec.seed, device="cpu",
-                             verbose=verbose, tensorboard_log=tb, **spec.merged_algo_kwargs())
+            model = algo_cls(
+                _policy_name(spec.algo, vec.observation_space),
+                vec,
+                seed=spec.seed,
+                device="cpu",
+                verbose=verbose,
+                tensorboard_log=tb,
+                **spec.merged_algo_kwargs(),
+            )
             resumed_from = 0
         if tb is None:  # SB3's own logger would make an empty folder in the temp directory
             model.set_logger(_logger_without_folder(verbose))
@@ -385,8 +425,13 @@ def train(
         if remaining > 0:
             from stable_baselines3.common.callbacks import CallbackList
 
-            model.learn(remaining, callback=CallbackList([callback, *callbacks]), progress_bar=progress_bar,
-                        reset_num_timesteps=resumed_from == 0, tb_log_name="tb")
+            model.learn(
+                remaining,
+                callback=CallbackList([callback, *callbacks]),
+                progress_bar=progress_bar,
+                reset_num_timesteps=resumed_from == 0,
+                tb_log_name="tb",
+            )
         elif not rows or rows[-1]["env_steps"] != model.num_timesteps:
             callback.init_callback(model)
             callback.evaluate()
@@ -396,10 +441,15 @@ def train(
             save_stats(vec_normalize, run_dir / STATS_FILE)
         _save_atomic_zip(model, run_dir / "final_model.zip")
         metrics = RunResult(
-            spec=spec.to_dict(), run_name=spec.run_name, env_steps=int(model.num_timesteps),
-            resumed_from=resumed_from, wall_s=callback.wall(), train_s_this_session=train_s,
+            spec=spec.to_dict(),
+            run_name=spec.run_name,
+            env_steps=int(model.num_timesteps),
+            resumed_from=resumed_from,
+            wall_s=callback.wall(),
+            train_s_this_session=train_s,
             steps_per_s_this_session=(model.num_timesteps - resumed_from) / train_s if train_s > 0 else None,
-            final=rows[-1] if rows else None, n_evals=len(rows),
+            final=rows[-1] if rows else None,
+            n_evals=len(rows),
         )
         write_json_atomic(run_dir / "metrics.json", metrics)
         write_text_atomic(run_dir / DONE_MARKER, f"{int(model.num_timesteps)}\n")

@@ -50,8 +50,25 @@ TIME_TOLERANCE_S = 1e-9
 #: units, i.e. a millionth of M's baseline): invisible in L, and it bounds the book's size.
 NEGLIGIBLE_GAIN = 1e-6
 # the course parameters of the kernels (``course_parameters``), one vector per configuration
-(_PRE, _EXC, _IOR, _COURSE, _A_EXC, _A_IOR, _RISE, _DECAY, _A_TD, _TD_ONSET, _TD_TAU_ON, _TD_TAU_OFF, _VIG_AFTER,
- _VIG_REL, _VIG_TAU, _VIG_RECOVERY, _N_COURSE_PARAMS) = range(17)
+(
+    _PRE,
+    _EXC,
+    _IOR,
+    _COURSE,
+    _A_EXC,
+    _A_IOR,
+    _RISE,
+    _DECAY,
+    _A_TD,
+    _TD_ONSET,
+    _TD_TAU_ON,
+    _TD_TAU_OFF,
+    _VIG_AFTER,
+    _VIG_REL,
+    _VIG_TAU,
+    _VIG_RECOVERY,
+    _N_COURSE_PARAMS,
+) = range(17)
 #: Columns of a top-down course's times (s): start, release (NaN while held), drop time.
 _START, _RELEASE, _DROP = 0, 1, 2
 
@@ -59,7 +76,9 @@ _START, _RELEASE, _DROP = 0, 1, 2
 @njit(cache=True)
 def _kernel_peak(rise_fraction, decay_fraction):
     """Peak of ``exp(−x/decay) − exp(−x/rise)`` over x (lengths in units of T)."""
-    x_peak = math.log(decay_fraction / rise_fraction) * rise_fraction * decay_fraction / (decay_fraction - rise_fraction)
+    x_peak = (
+        math.log(decay_fraction / rise_fraction) * rise_fraction * decay_fraction / (decay_fraction - rise_fraction)
+    )
     return math.exp(-x_peak / decay_fraction) - math.exp(-x_peak / rise_fraction)
 
 
@@ -180,8 +199,7 @@ def _top_down_components(held_s, params):
     if held_s > params[_TD_ONSET]:
         enhancement = -params[_A_TD] * math.expm1(-(held_s - params[_TD_ONSET]) / params[_TD_TAU_ON])
     if held_s > params[_VIG_AFTER]:
-        adaptation = (-params[_VIG_REL] * params[_A_TD]
-                      * math.expm1(-(held_s - params[_VIG_AFTER]) / params[_VIG_TAU]))
+        adaptation = -params[_VIG_REL] * params[_A_TD] * math.expm1(-(held_s - params[_VIG_AFTER]) / params[_VIG_TAU])
     return enhancement, adaptation
 
 

@@ -16,8 +16,9 @@ import dataclasses
 import json
 import math
 import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 __all__ = [
     "AttentionConfig",
@@ -45,8 +46,12 @@ MAX_MAP_WEIGHT = 1e6
 
 def is_map_weight(value: Any) -> bool:
     """Whether ``value`` is a feature map's weight: a real number (not a bool) in [0, ``MAX_MAP_WEIGHT``]."""
-    return (isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
-            and 0.0 <= value <= MAX_MAP_WEIGHT)
+    return (
+        isinstance(value, numbers.Real)
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+        and 0.0 <= value <= MAX_MAP_WEIGHT
+    )
 
 
 #: The six feature maps in the order of the rows of ``F``.
@@ -321,8 +326,7 @@ class AttentionConfig:
             raise ValueError(f"AttentionConfig.foreground_flank_beams must be an int >= 0 (beams), got {value!r}")
         if self.slope_samples > self.memory_window:
             raise ValueError(
-                f"AttentionConfig.slope_samples must be <= memory_window={self.memory_window}, "
-                f"got {self.slope_samples}"
+                f"AttentionConfig.slope_samples must be <= memory_window={self.memory_window}, got {self.slope_samples}"
             )
         positive = (
             ("max_speed_mps", "m/s"),
@@ -357,8 +361,14 @@ class AttentionConfig:
         for name, unit in positive:  # bounded above too: a filter's 1e300 would leave float range
             _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=False, high=_MAX_SETTING)
         # a narrower spread is no spread at all; 2σ² must stay a normal float (G's diagonal is 0/0 otherwise)
-        _check_number("lateral_sigma_regions", self.lateral_sigma_regions, "regions", low=0.01, low_inclusive=True,
-                      high=_MAX_SETTING)
+        _check_number(
+            "lateral_sigma_regions",
+            self.lateral_sigma_regions,
+            "regions",
+            low=0.01,
+            low_inclusive=True,
+            high=_MAX_SETTING,
+        )
         for name in ("laser_mount_x_m", "laser_mount_y_m"):
             _check_number(name, getattr(self, name), "m", low=-_MAX_MOUNT_M, low_inclusive=True, high=_MAX_MOUNT_M)
         non_negative = (
@@ -378,8 +388,9 @@ class AttentionConfig:
             _check_number(name, getattr(self, name), unit, low=0.0, low_inclusive=True)
         # >= 0.5 deg: every cone holds a 1-degree laser beam; <= 30 deg: only the ±90° cones
         # reach the laser's edges (front sonars are 20-40 deg apart)
-        _check_number("sonar_cone_half_width_deg", self.sonar_cone_half_width_deg, "deg", low=0.5,
-                      low_inclusive=True, high=30.0)
+        _check_number(
+            "sonar_cone_half_width_deg", self.sonar_cone_half_width_deg, "deg", low=0.5, low_inclusive=True, high=30.0
+        )
         if self.sonar_min_range_m >= self.sonar_max_range_m:
             raise ValueError(
                 f"AttentionConfig.sonar_min_range_m must be < sonar_max_range_m={self.sonar_max_range_m} m, "
@@ -391,8 +402,7 @@ class AttentionConfig:
                 f"({self.sonar_max_range_m - self.sonar_min_range_m} m), got {self.no_echo_epsilon_m}"
             )
         for name in ("kernel_rise_fraction", "kernel_decay_fraction"):
-            _check_number(name, getattr(self, name), "fraction of the phase length", low=0.0,
-                          low_inclusive=False)
+            _check_number(name, getattr(self, name), "fraction of the phase length", low=0.0, low_inclusive=False)
         if self.kernel_rise_fraction >= self.kernel_decay_fraction:
             raise ValueError(
                 "AttentionConfig.kernel_rise_fraction must be < kernel_decay_fraction "
@@ -414,8 +424,9 @@ class AttentionConfig:
         except TypeError:
             entries = ()
         if len(entries) != len(MAP_NAMES) or not all(is_map_weight(w) for w in entries):
-            raise ValueError(f"AttentionConfig.weights must be 6 numbers in [0, {MAX_MAP_WEIGHT:g}] (F1..F6), "
-                             f"got {self.weights!r}")
+            raise ValueError(
+                f"AttentionConfig.weights must be 6 numbers in [0, {MAX_MAP_WEIGHT:g}] (F1..F6), got {self.weights!r}"
+            )
         weights = tuple(float(w) for w in entries)
         object.__setattr__(self, "weights", weights)
         try:
@@ -437,15 +448,16 @@ class AttentionConfig:
     # --- serialisation --------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
         """The fields as plain JSON-compatible values (tuples become lists)."""
-        return {f.name: (list(v) if isinstance(v := getattr(self, f.name), tuple) else v)
-                for f in dataclasses.fields(self)}
+        return {
+            f.name: (list(v) if isinstance(v := getattr(self, f.name), tuple) else v) for f in dataclasses.fields(self)
+        }
 
     def to_json(self) -> str:
         """The configuration as a JSON object string (keys sorted)."""
         return json.dumps(self.to_dict(), sort_keys=True)
 
     @classmethod
-    def from_dict(cls, values: Mapping[str, Any]) -> "AttentionConfig":
+    def from_dict(cls, values: Mapping[str, Any]) -> AttentionConfig:
         """Build a configuration from a mapping of field names; missing fields keep defaults.
 
         Raises:
@@ -463,7 +475,7 @@ class AttentionConfig:
         return cls(**kwargs)
 
     @classmethod
-    def from_json(cls, text: str) -> "AttentionConfig":
+    def from_json(cls, text: str) -> AttentionConfig:
         """Inverse of ``to_json``; ``ValueError`` for malformed JSON or invalid fields."""
         try:
             values = json.loads(text)
@@ -480,8 +492,9 @@ _MAX_MOUNT_M = 5.0
 _MAX_SETTING = 1e6
 
 
-def _check_number(name: str, value: Any, unit: str, *, low: float, low_inclusive: bool,
-                  high: float | None = None) -> None:
+def _check_number(
+    name: str, value: Any, unit: str, *, low: float, low_inclusive: bool, high: float | None = None
+) -> None:
     ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
     if ok:
         ok = value >= low if low_inclusive else value > low

@@ -76,7 +76,7 @@ class Spaces:
     rarity_shift: np.ndarray
 
     @classmethod
-    def make(cls, sizes: tuple[int, ...]) -> "Spaces":
+    def make(cls, sizes: tuple[int, ...]) -> Spaces:
         """Spaces of the given sizes (each >= 2), in order."""
         if any(n < 2 for n in sizes):
             raise ValueError(f"every observation space needs >= 2 elements, got sizes {sizes}")
@@ -232,8 +232,9 @@ def goal_knots(goal: Goal, max_value: float) -> tuple[np.ndarray, np.ndarray]:
     return xp, np.asarray(fp)
 
 
-def goal_map(values: np.ndarray, goal: Goal, max_value: float,
-             knots: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+def goal_map(
+    values: np.ndarray, goal: Goal, max_value: float, knots: tuple[np.ndarray, np.ndarray] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """F4 (speed, m/s) or F6 (distance, m): ``goal_table`` over an array (§5).
 
     Args:

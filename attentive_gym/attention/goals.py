@@ -171,27 +171,27 @@ class Goal:
 
     # --- constructors -------------------------------------------------------------
     @classmethod
-    def equal(cls, feature: Feature | str, value: float, tolerance: float = 0.0) -> "Goal":
+    def equal(cls, feature: Feature | str, value: float, tolerance: float = 0.0) -> Goal:
         """``|x - value| <= tolerance`` (default tolerance: ``DEFAULT_EQUAL_TOLERANCE``)."""
         return cls(feature, Relation.EQUAL, lo=value, tolerance=tolerance)
 
     @classmethod
-    def between(cls, feature: Feature | str, lo: float, hi: float) -> "Goal":
+    def between(cls, feature: Feature | str, lo: float, hi: float) -> Goal:
         """``lo <= x <= hi``."""
         return cls(feature, Relation.BETWEEN, lo=lo, hi=hi)
 
     @classmethod
-    def greater(cls, feature: Feature | str, threshold: float) -> "Goal":
+    def greater(cls, feature: Feature | str, threshold: float) -> Goal:
         """``x >= threshold``."""
         return cls(feature, Relation.GREATER, lo=threshold)
 
     @classmethod
-    def smaller(cls, feature: Feature | str, threshold: float) -> "Goal":
+    def smaller(cls, feature: Feature | str, threshold: float) -> Goal:
         """``x <= threshold``."""
         return cls(feature, Relation.SMALLER, lo=threshold)
 
     @classmethod
-    def direction_is(cls, direction: Direction | str) -> "Goal":
+    def direction_is(cls, direction: Direction | str) -> Goal:
         """The region's direction label equals ``direction`` (towards, static, away)."""
         return cls(Feature.DIRECTION, Relation.EQUAL, direction=direction)
 
@@ -221,7 +221,7 @@ class Goal:
         return vec
 
     @classmethod
-    def decode(cls, vector) -> "Goal | None":
+    def decode(cls, vector) -> Goal | None:
         """Inverse of ``encode``; an all-zero vector decodes to ``None`` (no goal).
 
         One-hot groups are read by their largest entry, so a policy's continuous output

@@ -91,8 +91,15 @@ def planar_displacement(linear_mps, angular_rps, dt_s):
     return radius * math.sin(dtheta), radius * (1.0 - math.cos(dtheta)), dtheta
 
 
-def predict_scan(ranges_m: np.ndarray, cos_b: np.ndarray, sin_b: np.ndarray, bearings_rad: np.ndarray,
-                 dx_m: float, dy_m: float, dtheta_rad: float) -> np.ndarray:
+def predict_scan(
+    ranges_m: np.ndarray,
+    cos_b: np.ndarray,
+    sin_b: np.ndarray,
+    bearings_rad: np.ndarray,
+    dx_m: float,
+    dy_m: float,
+    dtheta_rad: float,
+) -> np.ndarray:
     """The scan a static world would give after the robot moved by ``(dx, dy, dθ)``.
 
     Each echo of the previous scan is a point ``r (cos b, sin b)``; it is moved into the
@@ -127,8 +134,9 @@ def point_range_change(dx_m: float, dy_m: float, cos_b: np.ndarray, sin_b: np.nd
     return -(dx_m * cos_b + dy_m * sin_b)
 
 
-def virtual_sonar(scan_m: np.ndarray, bearings_rad: np.ndarray,
-                  cone_plan: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+def virtual_sonar(
+    scan_m: np.ndarray, bearings_rad: np.ndarray, cone_plan: tuple[np.ndarray, np.ndarray, np.ndarray]
+) -> np.ndarray:
     """Nearest laser echo inside each sonar cone: what a sonar would read from the laser.
 
     The minimum over the beams inside the cone and the scan linearly interpolated at the
@@ -160,8 +168,23 @@ def scan_points(ranges_m, cos_b, sin_b, dx_m, dy_m, x_out, y_out):
 
 
 @njit(cache=True)
-def ego_range_change(previous, angles, x, y, dtheta_rad, dx_m, dy_m, bearings_rad, sonar_cos, sonar_sin,
-                     cone_plan, cone_edges_rad, match_m, point_model, change):
+def ego_range_change(
+    previous,
+    angles,
+    x,
+    y,
+    dtheta_rad,
+    dx_m,
+    dy_m,
+    bearings_rad,
+    sonar_cos,
+    sonar_sin,
+    cone_plan,
+    cone_edges_rad,
+    match_m,
+    point_model,
+    change,
+):
     """The range change a static world shows after the robot's move, per channel (m).
 
     The arithmetic of ``predict_scan`` for the laser and of ``virtual_sonar`` /

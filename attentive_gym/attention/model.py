@@ -211,7 +211,8 @@ class AttentionOutput:
         if not isinstance(other, AttentionOutput):
             return NotImplemented
         return self.tracks == other.tracks and all(
-            np.array_equal(getattr(self, f), getattr(other, f)) for f in _OUTPUT_FIELDS)
+            np.array_equal(getattr(self, f), getattr(other, f)) for f in _OUTPUT_FIELDS
+        )
 
     __hash__ = None  # holds arrays: mutable in practice, so not hashable
 
@@ -248,8 +249,11 @@ class AttentionOutput:
     def view_of(self, region: int) -> FocusView:
         """What the sensors see in ``region`` (an index in ``[0, J)``), focused or not."""
         grid, readings, valid, rates, nearest, region_slot, track_rows, _ = self._sources
-        if isinstance(region, (bool, np.bool_)) or not isinstance(region, numbers.Integral) \
-                or not 0 <= region < grid.n_regions:
+        if (
+            isinstance(region, (bool, np.bool_))
+            or not isinstance(region, numbers.Integral)
+            or not 0 <= region < grid.n_regions
+        ):
             raise ValueError(f"region must be an integer index in [0, {grid.n_regions}), got {region!r}")
         j = int(region)
         sonar_index = int(grid.region_sonar[j])
@@ -264,14 +268,14 @@ class AttentionOutput:
             sonar_range_m=float(readings[sonar_index]),
             sonar_echo=bool(valid[sonar_index]),
             laser_beams=grid.beam_indices[j],
-            laser_ranges_m=readings[FRONT_SONARS + beams.start:FRONT_SONARS + beams.stop].copy(),
+            laser_ranges_m=readings[FRONT_SONARS + beams.start : FRONT_SONARS + beams.stop].copy(),
             range_rate_mps=float(rates[sonar_index]),
             direction=_DIRECTIONS[self.directions[j] + 1],
             distance_m=nearest_m if math.isfinite(nearest_m) else None,
             features=self.F[:, j].copy(),
             track_id=None if track is None else int(track[_ID]),
-            track_position_m=None if track is None else track[_X:_X + 2].copy(),
-            track_velocity_mps=None if track is None else track[_VX:_VX + 2].copy(),
+            track_position_m=None if track is None else track[_X : _X + 2].copy(),
+            track_velocity_mps=None if track is None else track[_VX : _VX + 2].copy(),
             track_speed_mps=None if track is None else float(track[_SPEED]),
             track_age_s=None if track is None else float(track[_AGE]),
         )
@@ -457,8 +461,9 @@ class AttentionModel:
                 raise ValueError(f"map {MAP_NAMES[index]} is given more than one weight")
             seen.add(index)
             if not is_map_weight(value):
-                raise ValueError(f"the weight of {MAP_NAMES[index]} must be a number in [0, {MAX_MAP_WEIGHT:g}], "
-                                 f"got {value!r}")
+                raise ValueError(
+                    f"the weight of {MAP_NAMES[index]} must be a number in [0, {MAX_MAP_WEIGHT:g}], got {value!r}"
+                )
             new[index] = float(value)
         self._weights = new
         self._update_active()
@@ -506,8 +511,16 @@ class AttentionModel:
             self._tracker.reset()
         self._last_t = self._sonar_time = self._laser_time = None
 
-    def step(self, t: float, sonar, laser, odometry=None, *, sonar_time_s: float | None = None,
-             laser_time_s: float | None = None) -> AttentionOutput:
+    def step(
+        self,
+        t: float,
+        sonar,
+        laser,
+        odometry=None,
+        *,
+        sonar_time_s: float | None = None,
+        laser_time_s: float | None = None,
+    ) -> AttentionOutput:
         """Process one reading and select the focus.
 
         Args:
@@ -554,8 +567,10 @@ class AttentionModel:
         if motion is not None and self._last_t is not None:
             dt = t - self._last_t
             if not (math.isfinite(motion[0] * dt) and math.isfinite(motion[1] * dt)):
-                raise ValueError(f"odometry {odometry!r} over the {dt:g} s since the last reading is not a finite "
-                                 "displacement; call reset() after a gap this long")
+                raise ValueError(
+                    f"odometry {odometry!r} over the {dt:g} s since the last reading is not a finite "
+                    "displacement; call reset() after a gap this long"
+                )
         sonar_new, laser_new = self._check_scan_times(t, sonar_time_s, laser_time_s)
         return t, motion, sonar_new, laser_new, sonar_time_s, laser_time_s
 
@@ -580,11 +595,36 @@ class AttentionModel:
         (``batch.ModelBatch`` passes the same ones, stacked)."""
         cfg = self.config
         t, dt, moved, push, linear, angular, laser_new, sonar_new = step
-        return (self._row[:_N_CHANNELS], *self._sensing_arrays, t, dt, self._slope_samples, self._ego, moved, push,
-                self._tracker is not None, linear, angular, laser_new, sonar_new, self._wanted_speed,
-                *self._tracker_constants, *self._tracker_state, self._max_ranges, cfg.max_distance_m, cfg.laser_only,
-                cfg.laser_max_range_m, self._active, self._goal_plan, cfg.td_require_target, self._combine, self._gain,
-                cfg.threshold, self._spread, *self._courses.arrays)
+        return (
+            self._row[:_N_CHANNELS],
+            *self._sensing_arrays,
+            t,
+            dt,
+            self._slope_samples,
+            self._ego,
+            moved,
+            push,
+            self._tracker is not None,
+            linear,
+            angular,
+            laser_new,
+            sonar_new,
+            self._wanted_speed,
+            *self._tracker_constants,
+            *self._tracker_state,
+            self._max_ranges,
+            cfg.max_distance_m,
+            cfg.laser_only,
+            cfg.laser_max_range_m,
+            self._active,
+            self._goal_plan,
+            cfg.td_require_target,
+            self._combine,
+            self._gain,
+            cfg.threshold,
+            self._spread,
+            *self._courses.arrays,
+        )
 
     def _gather_kernel_arrays(self) -> None:
         """Gather the arrays ``_kernel_inputs`` passes every step: the limits and the memory's
@@ -598,8 +638,26 @@ class AttentionModel:
     def _output(self, t: float, arrays: tuple, winner: int, fired: bool, n_tracks: int) -> AttentionOutput:
         """The ``AttentionOutput`` of a step from ``attend_one``'s outputs ``arrays``
         (``new_output_arrays``) and results (``batch.ModelBatch`` calls it too)."""
-        (readings, valid, rates, _, _, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest, origins,
-         directions, fulfilled, M, L) = arrays
+        (
+            readings,
+            valid,
+            rates,
+            _,
+            _,
+            region_slot,
+            F,
+            C_BU,
+            C_TD,
+            C,
+            region_speed,
+            distances,
+            nearest,
+            origins,
+            directions,
+            fulfilled,
+            M,
+            L,
+        ) = arrays
         if self._tracker is None:
             track_rows = _NO_TRACK_ROWS
         else:
@@ -613,10 +671,24 @@ class AttentionModel:
         # them, in order) directly
         output = object.__new__(AttentionOutput)
         vars(output).update(
-            t=t, focus=focus, fired=bool(fired), origin=origin, saliency=saliency,
-            F=F, C=C, C_BU=C_BU, C_TD=C_TD, origins=origins, M=M, L=L, gain=self._gain,
-            goal_fulfilled=fulfilled, directions=directions, speeds_mps=region_speed,
-            distances_m=distances, _sources=(self.grid, readings, valid, rates, nearest, region_slot, *track_rows),
+            t=t,
+            focus=focus,
+            fired=bool(fired),
+            origin=origin,
+            saliency=saliency,
+            F=F,
+            C=C,
+            C_BU=C_BU,
+            C_TD=C_TD,
+            origins=origins,
+            M=M,
+            L=L,
+            gain=self._gain,
+            goal_fulfilled=fulfilled,
+            directions=directions,
+            speeds_mps=region_speed,
+            distances_m=distances,
+            _sources=(self.grid, readings, valid, rates, nearest, region_slot, *track_rows),
         )
         return output
 
@@ -626,19 +698,63 @@ class AttentionModel:
         cfg = self.config
         grid = self.grid
         t, dt, moved, push, linear, angular, laser_new, sonar_new = step
-        (readings, valid, rates, speeds, moving, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest,
-         origins, directions, fulfilled, M, L) = arrays
+        (
+            readings,
+            valid,
+            rates,
+            speeds,
+            moving,
+            region_slot,
+            F,
+            C_BU,
+            C_TD,
+            C,
+            region_speed,
+            distances,
+            nearest,
+            origins,
+            directions,
+            fulfilled,
+            M,
+            L,
+        ) = arrays
         # --- sensorial memory and kinematics (§2, §3, §10) ------------------------------------
-        sense(self._row[:_N_CHANNELS], self._limits, *self._memory.buffers, t, self._slope_samples, self._ego, moved,
-              push, readings, valid, rates)
+        sense(
+            self._row[:_N_CHANNELS],
+            self._limits,
+            *self._memory.buffers,
+            t,
+            self._slope_samples,
+            self._ego,
+            moved,
+            push,
+            readings,
+            valid,
+            rates,
+        )
         n_tracks = 0
         if self._tracker is None:
             window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
             region_slot[:] = -1
         else:
             # §10: the tracker takes the new scans and fills the channels' kinematics
-            n_tracks = track_step(t, dt, linear, angular, laser_new, sonar_new, readings, valid, self._wanted_speed,
-                                  *self._tracker_constants, *self._tracker_state, rates, speeds, moving, region_slot)
+            n_tracks = track_step(
+                t,
+                dt,
+                linear,
+                angular,
+                laser_new,
+                sonar_new,
+                readings,
+                valid,
+                self._wanted_speed,
+                *self._tracker_constants,
+                *self._tracker_state,
+                rates,
+                speeds,
+                moving,
+                region_slot,
+            )
         active = self._active
         labels = np.sign(rates) * (np.abs(rates) > cfg.direction_epsilon_mps)
         columns = label_columns(labels)
@@ -656,28 +772,45 @@ class AttentionModel:
                 F[2] = grid.reduce_beams(np.maximum, distance_map(o2, cfg.laser_max_range_m))
             else:
                 contrast = distance_map(readings, self._max_ranges, self._spaces)
-                F[2] = np.maximum(grid.reduce_beams(np.maximum, contrast[_LASER]),
-                                  grid.sonar_to_regions(contrast[_SONAR]))
+                F[2] = np.maximum(
+                    grid.reduce_beams(np.maximum, contrast[_LASER]), grid.sonar_to_regions(contrast[_SONAR])
+                )
 
         # --- region quantities --------------------------------------------------------------
         sonar_labels = grid.sonar_to_regions(sonar_labels8)
         region_labels = np.where(sonar_labels != 0.0, sonar_labels, labels[_LASER])
         directions[:] = region_labels
         nearest_all = np.where(valid, readings, np.inf)
-        nearest[:] = np.minimum(grid.reduce_beams(np.minimum, nearest_all[_LASER]),
-                                grid.sonar_to_regions(nearest_all[_SONAR]))
+        nearest[:] = np.minimum(
+            grid.reduce_beams(np.minimum, nearest_all[_LASER]), grid.sonar_to_regions(nearest_all[_SONAR])
+        )
         echo = nearest < np.inf
         np.minimum(nearest, cfg.max_distance_m, out=distances)
         region_speed[:] = grid.sonar_to_regions(sonar_speed)
         speed_target = grid.sonar_to_regions(moving[_SONAR])
 
         # --- top-down maps, goal masks (§5), combined map and origins (§6) -----------------
-        goal_maps(F, region_speed, speed_target, region_labels, distances, echo, self._goal_plan,
-                  cfg.td_require_target, self._combine, C_BU, C_TD, C, origins, fulfilled)
+        goal_maps(
+            F,
+            region_speed,
+            speed_target,
+            region_labels,
+            distances,
+            echo,
+            self._goal_plan,
+            cfg.td_require_target,
+            self._combine,
+            C_BU,
+            C_TD,
+            C,
+            origins,
+            fulfilled,
+        )
 
         # --- attentional map, saliency, winner (§7, §8) -----------------------------------
-        winner, fired = select(t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread,
-                               *self._courses.arrays, M, L)
+        winner, fired = select(
+            t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread, *self._courses.arrays, M, L
+        )
         return self._output(t, arrays, winner, fired, n_tracks)
 
     # --- input checks and ego-motion -----------------------------------------------------
@@ -716,8 +849,10 @@ class AttentionModel:
 
     def _check_scan_times(self, t: float, sonar_time_s, laser_time_s) -> tuple[bool, bool]:
         """Whether the sonar and the laser readings are new scans (see ``step``)."""
-        return (_is_new_scan("sonar_time_s", sonar_time_s, self._sonar_time, t),
-                _is_new_scan("laser_time_s", laser_time_s, self._laser_time, t))
+        return (
+            _is_new_scan("sonar_time_s", sonar_time_s, self._sonar_time, t),
+            _is_new_scan("laser_time_s", laser_time_s, self._laser_time, t),
+        )
 
     @staticmethod
     def _check_odometry(odometry) -> tuple[float, float] | None:
@@ -751,13 +886,30 @@ class AttentionModel:
         x, y, angles = self._scan_x, self._scan_y, self._scan_angles
         scan_points(previous[_LASER], self._beam_cos, self._beam_sin, dx, dy, x, y)
         np.arctan2(y, x, out=angles)
-        ego_range_change(previous, angles, x, y, dtheta, dx, dy, self._beam_bearings, self._sonar_cos,
-                         self._sonar_sin, self._cone_plan, self._cone_edges, self.config.sonar_ego_match_m,
-                         self.config.sonar_ego_model == "point", self._ego)
+        ego_range_change(
+            previous,
+            angles,
+            x,
+            y,
+            dtheta,
+            dx,
+            dy,
+            self._beam_bearings,
+            self._sonar_cos,
+            self._sonar_sin,
+            self._cone_plan,
+            self._cone_edges,
+            self.config.sonar_ego_match_m,
+            self.config.sonar_ego_model == "point",
+            self._ego,
+        )
         return True
+
 
 #: The tracks in the modes without a tracker.
 _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
+
+
 @functools.lru_cache(maxsize=8)
 def _idle_tracker(config: AttentionConfig) -> Tracker:
     """A tracker that never steps: its arrays fill ``attend_one``'s tracker arguments in the
@@ -768,7 +920,6 @@ def _idle_tracker(config: AttentionConfig) -> Tracker:
 #: The column of the track rows (``Tracker.step``) that holds a track's slot.
 _SLOT = TRACK_TABLE_FIELDS.index("slot")
 _ID, _X, _VX, _SPEED, _AGE = (TRACK_TABLE_FIELDS.index(name) for name in ("id", "x", "vx", "speed", "age"))
-
 
 
 @njit(cache=True)
@@ -812,7 +963,9 @@ def _is_new_scan(name: str, value, previous: float | None, t: float) -> bool:
     if value > t:
         raise ValueError(f"{name}={value!r} is after the reading's time t={t!r}; a scan cannot come from the future")
     if previous is not None and value < previous:
-        raise ValueError(f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back")
+        raise ValueError(
+            f"{name}={value!r} is before the previous scan's time {previous!r}; scan times must not go back"
+        )
     return previous is None or value > previous
 
 
@@ -824,6 +977,8 @@ def _as_float_array(values, name: str) -> np.ndarray:
     except (TypeError, ValueError):  # e.g. a ragged list
         array = np.asarray(None)
     if array.dtype.kind not in "iuf":  # bool, complex, strings, objects: not ranges
-        raise ValueError(f"{name} must be an array of ranges in metres (real numbers), got {type(values).__name__} "
-                         f"of dtype {array.dtype}")
+        raise ValueError(
+            f"{name} must be an array of ranges in metres (real numbers), got {type(values).__name__} "
+            f"of dtype {array.dtype}"
+        )
     return array.astype(float, copy=False)

@@ -37,8 +37,7 @@ __all__ = [
 ]
 
 #: Bearings of the 16 sonars of a Pioneer P2AT/P3AT ring (deg): front 0..7, rear 8..15.
-SONAR_BEARINGS_DEG: tuple[float, ...] = (90, 50, 30, 10, -10, -30, -50, -90,
-                                         -90, -130, -150, -170, 170, 150, 130, 90)
+SONAR_BEARINGS_DEG: tuple[float, ...] = (90, 50, 30, 10, -10, -30, -50, -90, -90, -130, -150, -170, 170, 150, 130, 90)
 #: Sonars of the ring (16) and of its front half (8), the observation space O1.
 SONAR_RING = 16
 FRONT_SONARS = 8
@@ -106,7 +105,9 @@ def sonar_cone_bounds(half_width_deg: float, n_beams: int = LASER_BEAMS) -> np.n
     return np.stack([start, stop], axis=1).astype(np.intp)
 
 
-def sonar_cone_reduction(half_width_deg: float, n_beams: int = LASER_BEAMS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def sonar_cone_reduction(
+    half_width_deg: float, n_beams: int = LASER_BEAMS
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A plan to reduce laser beams over every sonar cone with a single ``ufunc.reduceat``.
 
     ``ufunc.reduceat(scan, indices, axis=-1)[..., take]`` is the reduction of ``scan``
@@ -170,14 +171,14 @@ class Grid:
         for array in (self.bearings_rad, self.beam_region, self.region_sonar, self._starts, *self.beam_indices):
             array.flags.writeable = False
 
-    def __copy__(self) -> "Grid":
+    def __copy__(self) -> Grid:
         return self
 
-    def __deepcopy__(self, memo: dict) -> "Grid":
+    def __deepcopy__(self, memo: dict) -> Grid:
         return self
 
     @classmethod
-    def make(cls, name: str) -> "Grid":
+    def make(cls, name: str) -> Grid:
         """The grid called ``name`` ("sonar" or "laser")."""
         beams = laser_bearings_rad()
         sonar_of_beam = nearest_sonar(beams)
@@ -192,12 +193,30 @@ class Grid:
                 slice(int(np.flatnonzero(sonar_of_beam == j).min()), int(np.flatnonzero(sonar_of_beam == j).max()) + 1)
                 for j in range(FRONT_SONARS)
             )
-            return cls(name, FRONT_SONARS, front_sonar_bearings_rad(), sonar_of_beam, np.arange(FRONT_SONARS),
-                       slices, _indices(slices), slice(None, None, -1), starts)
+            return cls(
+                name,
+                FRONT_SONARS,
+                front_sonar_bearings_rad(),
+                sonar_of_beam,
+                np.arange(FRONT_SONARS),
+                slices,
+                _indices(slices),
+                slice(None, None, -1),
+                starts,
+            )
         if name == "laser":
             slices = tuple(slice(i, i + 1) for i in range(LASER_BEAMS))
-            return cls(name, LASER_BEAMS, beams, np.arange(LASER_BEAMS), sonar_of_beam, slices,
-                       _indices(slices), slice(None), np.arange(LASER_BEAMS))
+            return cls(
+                name,
+                LASER_BEAMS,
+                beams,
+                np.arange(LASER_BEAMS),
+                sonar_of_beam,
+                slices,
+                _indices(slices),
+                slice(None),
+                np.arange(LASER_BEAMS),
+            )
         raise ValueError(f"unknown grid {name!r}; allowed: 'sonar' (J = 8) or 'laser' (J = 180)")
 
     @property

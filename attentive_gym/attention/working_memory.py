@@ -61,22 +61,44 @@ class WorkingMemory:
         """Forget every entry."""
         self._ids[:] = -1
 
-    def attend(self, t: float, pose: np.ndarray, track_id: int, position_m: np.ndarray, velocity_mps: np.ndarray,
-               speed_mps: float, goal_match: bool) -> None:
+    def attend(
+        self,
+        t: float,
+        pose: np.ndarray,
+        track_id: int,
+        position_m: np.ndarray,
+        velocity_mps: np.ndarray,
+        speed_mps: float,
+        goal_match: bool,
+    ) -> None:
         """Write the attended track ``track_id`` at time ``t`` (s) into the first slot.
 
         ``position_m`` ``(2,)`` and ``velocity_mps`` ``(2,)`` are in the robot frame at
         ``pose``; an entry of the same track moves to the front, the oldest falls out.
         """
-        _attend(t, pose, track_id, position_m, velocity_mps, speed_mps, float(goal_match), self._ids, self._state,
-                self._speed, self._match, self._time)
+        _attend(
+            t,
+            pose,
+            track_id,
+            position_m,
+            velocity_mps,
+            speed_mps,
+            float(goal_match),
+            self._ids,
+            self._state,
+            self._speed,
+            self._match,
+            self._time,
+        )
 
     def read(self, t: float, pose: np.ndarray, max_distance_m: float) -> np.ndarray:
         """``(slots, 6)`` float32 rows of ``MEMORY_FIELDS`` at time ``t`` (s), the robot at
         ``pose``, goal matches first (see the module docstring); distances are clipped to
         ``max_distance_m``."""
         rows = np.zeros((self.slots, len(MEMORY_FIELDS)), np.float32)
-        _read(t, pose, max_distance_m, self.horizon_s, self._ids, self._state, self._speed, self._match, self._time, rows)
+        _read(
+            t, pose, max_distance_m, self.horizon_s, self._ids, self._state, self._speed, self._match, self._time, rows
+        )
         return rows
 
 

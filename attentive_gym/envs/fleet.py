@@ -71,16 +71,28 @@ class Fleet:
             self._observation_hooks.append(observations)
         first = self.bases[0]
         for i, base in enumerate(self.bases[1:], start=1):
-            if (base.sensors.sonar_ring.config, base.sensors.laser_scanner.config, base.sensors.noise_model,
-                    base.sensors.noise_std) != (first.sensors.sonar_ring.config, first.sensors.laser_scanner.config,
-                                                first.sensors.noise_model, first.sensors.noise_std):
+            if (
+                base.sensors.sonar_ring.config,
+                base.sensors.laser_scanner.config,
+                base.sensors.noise_model,
+                base.sensors.noise_std,
+            ) != (
+                first.sensors.sonar_ring.config,
+                first.sensors.laser_scanner.config,
+                first.sensors.noise_model,
+                first.sensors.noise_std,
+            ):
                 raise ValueError(f"env {i} has other sensors than env 0; a fleet's members share one sensor suite")
             if self.envs[i].action_space != self.envs[0].action_space:
-                raise ValueError(f"env {i}'s action space {self.envs[i].action_space} differs from env 0's "
-                                 f"{self.envs[0].action_space}")
+                raise ValueError(
+                    f"env {i}'s action space {self.envs[i].action_space} differs from env 0's "
+                    f"{self.envs[0].action_space}"
+                )
             if self.envs[i].observation_space != self.envs[0].observation_space:
-                raise ValueError(f"env {i}'s observation space differs from env 0's; a fleet's members are one "
-                                 "variant with the same settings")
+                raise ValueError(
+                    f"env {i}'s observation space differs from env 0's; a fleet's members are one "
+                    "variant with the same settings"
+                )
         self._attention = _attention_wrappers(self._observation_hooks)
         self._models = None if self._attention is None else ModelBatch([w.model for w in self._attention])
         self.action_space: gym.spaces.Box = self.envs[0].action_space
@@ -127,11 +139,15 @@ class Fleet:
         steps = [self.bases[i]._complete_step(hit, reading) for i, hit, reading in zip(indices, collided, readings)]
         hooks = [self._observation_hooks[i] for i in indices]
         if self._models is not None:  # every member's innermost hook: its attention wrapper, models batched
-            model_readings = [self._attention[i]._model_reading(observation, info)
-                              for i, (observation, _, _, _, info) in zip(indices, steps)]
+            model_readings = [
+                self._attention[i]._model_reading(observation, info)
+                for i, (observation, _, _, _, info) in zip(indices, steps)
+            ]
             outputs = self._models.step(model_readings, list(indices))
-            steps = [(self._attention[i]._observe_output(raw, info, output), reward, terminated, truncated, info)
-                     for i, output, (raw, reward, terminated, truncated, info) in zip(indices, outputs, steps)]
+            steps = [
+                (self._attention[i]._observe_output(raw, info, output), reward, terminated, truncated, info)
+                for i, output, (raw, reward, terminated, truncated, info) in zip(indices, outputs, steps)
+            ]
             hooks = [member_hooks[1:] for member_hooks in hooks]
         results = []
         for member_hooks, (observation, reward, terminated, truncated, info) in zip(hooks, steps):
@@ -152,8 +168,9 @@ def stack_observations(space: gym.Space, observations: Sequence[Any]) -> Any | N
     if isinstance(space, gym.spaces.Box):
         return np.array(observations).astype(space.dtype, copy=False)
     if isinstance(space, gym.spaces.Dict) and all(isinstance(s, gym.spaces.Box) for s in space.spaces.values()):
-        return {key: np.array([o[key] for o in observations]).astype(s.dtype, copy=False)
-                for key, s in space.spaces.items()}
+        return {
+            key: np.array([o[key] for o in observations]).astype(s.dtype, copy=False) for key, s in space.spaces.items()
+        }
     return None
 
 

@@ -11,8 +11,9 @@
 What is checked:
 
 1. **Nothing inside a wall or static shape**: the robot's penetration into any wall or
-   rubble (pymunk ``shape_query`` contact depth) is at most ``PENETRATION_TOL_M``. Path movers (victims and robots on scripted legs)
-   must not penetrate static shapes by more than ``PENETRATION_TOL_M`` either; pursuers and
+   rubble (pymunk ``shape_query`` contact depth) is at most ``PENETRATION_TOL_M``. Path movers
+   (victims and robots on scripted legs) must not penetrate static shapes by more than
+   ``PENETRATION_TOL_M`` either; pursuers and
    evaders steer straight at/away from the robot and, being scripted kinematic bodies, are
    allowed to pass through rubble (a documented property of ``World``), so they are
    exempt. Every body's position must be finite.
@@ -111,8 +112,9 @@ def _check_array(violations: list[str], name: str, value, space) -> np.ndarray |
         violations.append(f"obs[{name!r}] is a {type(value).__name__}, not an ndarray")
         return None
     if value.dtype != space.dtype or value.shape != space.shape:
-        violations.append(f"obs[{name!r}] has dtype {value.dtype} shape {value.shape}, space wants "
-                          f"{space.dtype} {space.shape}")
+        violations.append(
+            f"obs[{name!r}] has dtype {value.dtype} shape {value.shape}, space wants {space.dtype} {space.shape}"
+        )
         return None
     if not np.all(np.isfinite(value)):
         violations.append(f"obs[{name!r}] is not finite at indices {np.flatnonzero(~np.isfinite(value))[:10].tolist()}")
@@ -122,8 +124,9 @@ def _check_array(violations: list[str], name: str, value, space) -> np.ndarray |
     return value
 
 
-def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, model=None, contact: bool | None = None,
-                     _depth: list | None = None) -> list[str]:
+def check_invariants(
+    env, obs: dict[str, np.ndarray], output=None, *, model=None, contact: bool | None = None, _depth: list | None = None
+) -> list[str]:
     """The violated invariants (messages) of ``env`` after a step; empty when all hold.
 
     Args:
@@ -168,8 +171,9 @@ def check_invariants(env, obs: dict[str, np.ndarray], output=None, *, model=None
     # --- 2. readings -------------------------------------------------------------------
     space = env.observation_space
     if not isinstance(obs, dict) or set(obs) != set(space.spaces):
-        return violations + [f"observation keys {sorted(obs) if isinstance(obs, dict) else type(obs)} "
-                             f"are not {sorted(space.spaces)}"]
+        return violations + [
+            f"observation keys {sorted(obs) if isinstance(obs, dict) else type(obs)} are not {sorted(space.spaces)}"
+        ]
     checked = {name: _check_array(violations, name, obs[name], space[name]) for name in space.spaces}
     sonar = checked["sonar"]
     if sonar is not None:
@@ -252,31 +256,39 @@ def check_tracker(tracker, tracks=None) -> list[str]:
         asymmetry = np.abs(P - P.transpose(0, 2, 1)).max(axis=(1, 2))
         bad = asymmetry > COVARIANCE_SYMMETRY_REL * np.abs(P).max(axis=(1, 2))
         if bad.any():
-            violations.append(f"tracker covariance {name} is not symmetric at {_slots(tracker, live[bad])}: "
-                              f"largest |P - Pᵀ| {asymmetry[bad].max():.3g}")
+            violations.append(
+                f"tracker covariance {name} is not symmetric at {_slots(tracker, live[bad])}: "
+                f"largest |P - Pᵀ| {asymmetry[bad].max():.3g}"
+            )
         try:
             np.linalg.cholesky(P)  # every matrix at once; reads the lower triangle
         except np.linalg.LinAlgError:
             smallest = np.linalg.eigvalsh(P)[:, 0]  # ascending
             bad = ~(smallest > 0.0)
-            violations.append(f"tracker covariance {name} is not positive definite at {_slots(tracker, live[bad])}: "
-                              f"smallest eigenvalue {smallest[bad].min():.3g}")
+            violations.append(
+                f"tracker covariance {name} is not positive definite at {_slots(tracker, live[bad])}: "
+                f"smallest eigenvalue {smallest[bad].min():.3g}"
+            )
     p_moving = state["p_moving"]
     if p_moving.size and not (p_moving.min() >= 0.0 and p_moving.max() <= 1.0):
         bad = ~((p_moving >= 0.0) & (p_moving <= 1.0))
-        violations.append(f"tracker motion probability outside [0, 1] at {_slots(tracker, live[bad])}: "
-                          f"{p_moving[bad][:5].tolist()}")
+        violations.append(
+            f"tracker motion probability outside [0, 1] at {_slots(tracker, live[bad])}: {p_moving[bad][:5].tolist()}"
+        )
     ids = tracker.ids[tracker.alive]
     if ids.size and (ids.max() >= tracker.counters[0] or np.unique(ids).size != ids.size):
-        violations.append(f"tracker ids {sorted(ids.tolist())} are not unique or not below the next id "
-                          f"{int(tracker.counters[0])}")
+        violations.append(
+            f"tracker ids {sorted(ids.tolist())} are not unique or not below the next id {int(tracker.counters[0])}"
+        )
     if n > config.max_tracks:
         violations.append(f"tracker has {n} live tracks, more than max_tracks={config.max_tracks}")
     tentative = int(np.count_nonzero(tracker.hits[tracker.alive] < config.track_confirm_hits))
     segments = int(tracker.counters[1])
     if tentative > segments:
-        violations.append(f"tracker has {tentative} tentative tracks but the last scan had {segments} segments "
-                          f"(each tentative track holds one of them)")
+        violations.append(
+            f"tracker has {tentative} tentative tracks but the last scan had {segments} segments "
+            f"(each tentative track holds one of them)"
+        )
     if tracks is not None and len(tracks) != n:
         violations.append(f"tracks table has {len(tracks)} rows but the tracker has {n} live tracks")
     return violations
@@ -327,8 +339,7 @@ class InvariantChecker:
         """Start a new episode (forget the last contact)."""
         self._last_contact_s = -math.inf
 
-    def check(self, env, obs: dict[str, np.ndarray], output=None, info: dict | None = None, *,
-              model=None) -> list[str]:
+    def check(self, env, obs: dict[str, np.ndarray], output=None, info: dict | None = None, *, model=None) -> list[str]:
         """The violated invariants after this step (see ``check_invariants``; ``model``:
         the model that computed ``output``, for its tracker).
 

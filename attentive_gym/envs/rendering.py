@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -80,8 +80,14 @@ class WorldRenderer:
             int(round((self._origin[1] - xy[1]) * self._scale)),
         )
 
-    def render(self, world, laser_points: np.ndarray, sonar_cones: list[np.ndarray], target_index: int | None,
-               overlay: Callable[["WorldRenderer", pygame.Surface], None] | None = None) -> np.ndarray:
+    def render(
+        self,
+        world,
+        laser_points: np.ndarray,
+        sonar_cones: list[np.ndarray],
+        target_index: int | None,
+        overlay: Callable[[WorldRenderer, pygame.Surface], None] | None = None,
+    ) -> np.ndarray:
         """Draw one frame and return it as an ``(H, W, 3)`` uint8 array.
 
         Args:
@@ -137,8 +143,9 @@ class WorldRenderer:
             self._window = None
 
 
-def draw_key(surface: pygame.Surface, entries: Sequence[tuple[str, tuple[int, int, int, int]]],
-             avoid_px: tuple[int, int]) -> pygame.Rect:
+def draw_key(
+    surface: pygame.Surface, entries: Sequence[tuple[str, tuple[int, int, int, int]]], avoid_px: tuple[int, int]
+) -> pygame.Rect:
     """Draw a key on ``surface`` in the corner farthest from the pixel ``avoid_px``.
 
     Args:
@@ -175,6 +182,9 @@ def _farthest_corner(frame_px: tuple[int, int], size_px: tuple[int, int], avoid_
     """A ``size_px`` rectangle in the corner of a ``frame_px`` frame (a margin in) whose
     centre is farthest from ``avoid_px``."""
     (frame_w, frame_h), (w, h) = frame_px, size_px
-    corners = [pygame.Rect(x, y, w, h) for x in (_KEY_MARGIN_PX, frame_w - w - _KEY_MARGIN_PX)
-               for y in (_KEY_MARGIN_PX, frame_h - h - _KEY_MARGIN_PX)]
+    corners = [
+        pygame.Rect(x, y, w, h)
+        for x in (_KEY_MARGIN_PX, frame_w - w - _KEY_MARGIN_PX)
+        for y in (_KEY_MARGIN_PX, frame_h - h - _KEY_MARGIN_PX)
+    ]
     return max(corners, key=lambda r: math.dist(r.center, avoid_px))

@@ -204,7 +204,9 @@ class AttentiveRescueEnv(gym.Env):
         **unknown: Any,
     ) -> None:
         if unknown:
-            allowed = [n for n in inspect.signature(AttentiveRescueEnv.__init__).parameters if n not in ("self", "unknown")]
+            allowed = [
+                n for n in inspect.signature(AttentiveRescueEnv.__init__).parameters if n not in ("self", "unknown")
+            ]
             raise TypeError(f"unknown keyword argument(s) {sorted(unknown)}; allowed: {allowed}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
@@ -244,9 +246,15 @@ class AttentiveRescueEnv(gym.Env):
             distractor_speed_range_mps=(min(0.3, max_mover_speed_mps), min(0.9, max_mover_speed_mps)),
             goals=ArenaConfig.goals if goals is None else tuple(goals),
         )
-        self.time_limit_s = None if time_limit_s is None else _check_number("time_limit_s", time_limit_s, 0.0, 1e6, low_open=True)
-        for name, value, cls in (("reward", reward, RewardConfig), ("robot", robot, RobotConfig),
-                                 ("sonar", sonar, SonarConfig), ("laser", laser, LaserConfig)):
+        self.time_limit_s = (
+            None if time_limit_s is None else _check_number("time_limit_s", time_limit_s, 0.0, 1e6, low_open=True)
+        )
+        for name, value, cls in (
+            ("reward", reward, RewardConfig),
+            ("robot", robot, RobotConfig),
+            ("sonar", sonar, SonarConfig),
+            ("laser", laser, LaserConfig),
+        ):
             if not isinstance(value, cls):
                 raise TypeError(f"{name} must be a {cls.__name__}, got {type(value).__name__}")
         self.reward_config = reward
@@ -408,7 +416,8 @@ class AttentiveRescueEnv(gym.Env):
         if self._goal_cache[0] is not self.goal:
             goal = self.goal
             self._goal_cache = (
-                (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none") if goal is None
+                (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none")
+                if goal is None
                 else (goal, goal.encode(), str(goal))
             )
         return self._goal_cache
@@ -452,11 +461,15 @@ class AttentiveRescueEnv(gym.Env):
         if self._renderer is None or self._renderer_bounds != self.scenario.bounds:
             if self._renderer is not None:
                 self._renderer.close()
-            self._renderer = WorldRenderer(self.scenario.bounds, window=self.render_mode == "human", fps=self.metadata["render_fps"])
+            self._renderer = WorldRenderer(
+                self.scenario.bounds, window=self.render_mode == "human", fps=self.metadata["render_fps"]
+            )
             self._renderer_bounds = self.scenario.bounds
         frame = self._renderer.render(
-            self.world, self.sensors.laser_segments(self.world.robot.pose, self._reading),
-            self.sensors.sonar_cones(self.world.robot.pose, self._reading), self._target_index,
+            self.world,
+            self.sensors.laser_segments(self.world.robot.pose, self._reading),
+            self.sensors.sonar_cones(self.world.robot.pose, self._reading),
+            self._target_index,
             overlay=self.render_overlay,
         )
         return frame if self.render_mode == "rgb_array" else None

@@ -45,7 +45,9 @@ class RewardConfig:
             raise ValueError(f"RewardConfig.success_radius_m must be > 0, got {self.success_radius_m}")
 
 
-def rescue_reward(config: RewardConfig, dt_s: float, previous_distance_m: float, distance_m: float, collided: bool) -> tuple[float, bool]:
+def rescue_reward(
+    config: RewardConfig, dt_s: float, previous_distance_m: float, distance_m: float, collided: bool
+) -> tuple[float, bool]:
     """The step's reward and whether the target was reached."""
     success = distance_m <= config.success_radius_m
     reward = (

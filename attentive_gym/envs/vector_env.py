@@ -15,7 +15,8 @@ batched with ``_key`` masks as ``SyncVectorEnv`` does; ``render()`` renders memb
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -30,9 +31,16 @@ __all__ = ["AttentiveRescueVectorEnv", "make_vector_env", "batch_infos", "AUTORE
 AUTORESET_MODES = {mode.value: mode for mode in AutoresetMode}
 
 
-def make_vector_env(num_envs: int = 1, variant: str = "raw", *, autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                    render_mode: str | None = None, copy: bool = True, max_episode_steps: int | None = None,
-                    **kwargs: Any) -> "AttentiveRescueVectorEnv":
+def make_vector_env(
+    num_envs: int = 1,
+    variant: str = "raw",
+    *,
+    autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+    render_mode: str | None = None,
+    copy: bool = True,
+    max_episode_steps: int | None = None,
+    **kwargs: Any,
+) -> AttentiveRescueVectorEnv:
     """``num_envs`` environments of ``variant`` (``wrappers.make_env``'s keywords in ``kwargs``).
 
     Only member 0 gets ``render_mode``: it is the one ``render()`` draws.
@@ -42,8 +50,10 @@ def make_vector_env(num_envs: int = 1, variant: str = "raw", *, autoreset_mode: 
 
     count = _check_num_envs(num_envs)
     limit = _check_max_episode_steps(max_episode_steps)
-    envs = [make_env(variant, **kwargs, **({"render_mode": render_mode} if i == 0 and render_mode else {}))
-            for i in range(count)]
+    envs = [
+        make_env(variant, **kwargs, **({"render_mode": render_mode} if i == 0 and render_mode else {}))
+        for i in range(count)
+    ]
     return AttentiveRescueVectorEnv(envs, autoreset_mode=autoreset_mode, copy=copy, max_episode_steps=limit)
 
 
@@ -80,8 +90,13 @@ class AttentiveRescueVectorEnv(VectorEnv):
     in any member's action, raises ``ValueError`` before any member moves.
     """
 
-    def __init__(self, envs: Sequence[gym.Env], autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                 copy: bool = True, max_episode_steps: int | None = None) -> None:
+    def __init__(
+        self,
+        envs: Sequence[gym.Env],
+        autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+        copy: bool = True,
+        max_episode_steps: int | None = None,
+    ) -> None:
         self._fleet = Fleet(envs)
         self.envs = self._fleet.envs
         self.num_envs = len(self.envs)
@@ -134,8 +149,10 @@ class AttentiveRescueVectorEnv(VectorEnv):
         batch = self._fleet.check_actions(actions)
         if self.autoreset_mode == AutoresetMode.DISABLED and self._autoreset_envs.any():
             ended = np.flatnonzero(self._autoreset_envs).tolist()
-            raise RuntimeError(f"env(s) {ended} ended; with autoreset disabled, reset them "
-                               "(reset(options={'reset_mask': mask})) before stepping")
+            raise RuntimeError(
+                f"env(s) {ended} ended; with autoreset disabled, reset them "
+                "(reset(options={'reset_mask': mask})) before stepping"
+            )
         infos = []
         if self.autoreset_mode == AutoresetMode.NEXT_STEP:  # those that ended at the previous step restart
             stepping = np.flatnonzero(~self._autoreset_envs).tolist()
@@ -150,8 +167,9 @@ class AttentiveRescueVectorEnv(VectorEnv):
             else:
                 observation, reward, terminated, truncated, info = results[i]
                 self._elapsed_steps[i] += 1
-                truncated = truncated or (self.max_episode_steps is not None
-                                          and self._elapsed_steps[i] >= self.max_episode_steps)
+                truncated = truncated or (
+                    self.max_episode_steps is not None and self._elapsed_steps[i] >= self.max_episode_steps
+                )
                 self._rewards[i], self._terminations[i], self._truncations[i] = reward, terminated, truncated
                 self._env_obs[i] = observation
                 if self.autoreset_mode == AutoresetMode.SAME_STEP and (terminated or truncated):
@@ -160,15 +178,24 @@ class AttentiveRescueVectorEnv(VectorEnv):
                     self._elapsed_steps[i] = 0
             infos.append((i, info))
         self._autoreset_envs = self._terminations | self._truncations
-        return (self._batched_observations(), self._rewards.copy(), self._terminations.copy(),
-                self._truncations.copy(), batch_infos(infos, self.num_envs))
+        return (
+            self._batched_observations(),
+            self._rewards.copy(),
+            self._terminations.copy(),
+            self._truncations.copy(),
+            batch_infos(infos, self.num_envs),
+        )
 
     def _batched_observations(self):
         """The members' observations batched: into new arrays (``copy``) or into the env's buffer."""
         space, members = self.single_observation_space, self._env_obs
         if self.copy:  # one stack per entry (gymnasium's generic concatenate costs ~10x more)
             stacked = stack_observations(space, members)
-            return stacked if stacked is not None else concatenate(space, members, create_empty_array(space, self.num_envs))
+            return (
+                stacked
+                if stacked is not None
+                else concatenate(space, members, create_empty_array(space, self.num_envs))
+            )
         self._observations = concatenate(space, members, self._observations)
         return self._observations
 
@@ -251,7 +278,9 @@ def _batch_values(key: str, values: list[Any], indices: list[int], num_envs: int
         array[indices] = values
         return array
     if key != "final_obs" and isinstance(first, np.ndarray):
-        if full and first.dtype != object:  # np.stack's result at 3x its speed; numpy refuses values of different shapes
+        if (
+            full and first.dtype != object
+        ):  # np.stack's result at 3x its speed; numpy refuses values of different shapes
             try:
                 return np.array(values).astype(first.dtype, copy=False)
             except ValueError:

@@ -29,13 +29,14 @@ e.g. "s4 (region 3)".
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Callable, Mapping
+from typing import Any
 
 import numpy as np
 
-from attentive_gym.attention import AttentionConfig, AttentionModel, ORIGIN_CODES
+from attentive_gym.attention import ORIGIN_CODES, AttentionConfig, AttentionModel
 from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.attention.regions import nearest_sonar, region_name
 from attentive_gym.experiments.registry import get_experiment
@@ -136,7 +137,7 @@ class _Run:
 
     def steady(self, i: int, k: int) -> bool:
         """Robot i was seen (``seen``) at every step of the window ending at k."""
-        return bool(self.window_full[k]) and bool(self.seen[self.window_start[k]:k + 1, i].all())
+        return bool(self.window_full[k]) and bool(self.seen[self.window_start[k] : k + 1, i].all())
 
     def regions_seeing(self, i: int, k: int) -> set[int]:
         """Regions that see robot i at step k (``sees``)."""
@@ -150,7 +151,7 @@ class _Run:
         """Regions that saw robot i at every step of the window ending at k."""
         if not self.window_full[k]:
             return set()
-        return set(np.flatnonzero(self.sees[self.window_start[k]:k + 1, i].all(axis=0)).tolist())
+        return set(np.flatnonzero(self.sees[self.window_start[k] : k + 1, i].all(axis=0)).tolist())
 
     def fires(self) -> list[tuple[int, int, int]]:
         """(step, region, origin code) of every fire."""
@@ -178,8 +179,12 @@ def _refire_check(run: _Run, regions: set[int] | None = None) -> Check:
             gaps.setdefault(j, []).append(run.t[k])
     shortest = min((b - a for times in gaps.values() for a, b in zip(times, times[1:])), default=np.inf)
     where = "s4" if regions == {_S4} else "a region"
-    return _check("no_refire_within_600ms", f"{where} does not fire again within 600 ms",
-                  shortest > _COURSE + _EPS, f"shortest gap between fires at one region {shortest:.2f} s")
+    return _check(
+        "no_refire_within_600ms",
+        f"{where} does not fire again within 600 ms",
+        shortest > _COURSE + _EPS,
+        f"shortest gap between fires at one region {shortest:.2f} s",
+    )
 
 
 def _ior_shown(run: _Run, k: int, j: int) -> bool:
@@ -194,12 +199,17 @@ def _exp01(run: _Run) -> list[Check]:
     M = run.trace.M[:, _S4]
     focused = np.flatnonzero(run.focus >= 0)
     first = int(focused[0]) if focused.size else None
-    checks = [_check(
-        "first_winner_is_s4", f"the first winner is {_named([_S4])}, a few (<= 5) steps after motion starts",
-        first is not None and run.focus[first] == _S4 and 0 <= first - start <= 5,
-        "no winner" if first is None else
-        f"first winner {_named([run.focus[first]])} at {run.t[first]:.2f} s, motion starts at {run.t[start]:.2f} s",
-    )]
+    checks = [
+        _check(
+            "first_winner_is_s4",
+            f"the first winner is {_named([_S4])}, a few (<= 5) steps after motion starts",
+            first is not None and run.focus[first] == _S4 and 0 <= first - start <= 5,
+            "no winner"
+            if first is None
+            else f"first winner {_named([run.focus[first]])} at {run.t[first]:.2f} s, "
+            f"motion starts at {run.t[start]:.2f} s",
+        )
+    ]
     s4_fires = [k for k, j, _ in run.fires() if j == _S4]
     if s4_fires:
         tau = run.t - run.t[s4_fires[0]]
@@ -207,24 +217,36 @@ def _exp01(run: _Run) -> list[Check]:
         exc = (tau > _PRE + _EPS) & (tau <= _EXC + _EPS)
         ior = (tau > _EXC + _EPS) & (tau <= _COURSE + _EPS)
         ok = np.all(np.abs(M[pre] - 1) < _EPS) and np.all(M[exc] > 1) and np.all(M[ior] < 1)
-        measured = (f"course at {run.t[s4_fires[0]]:.2f} s: M(s4) in [{M[pre].min():.2f}, {M[pre].max():.2f}] for 0-150 ms, "
-                    f"[{M[exc].min():.2f}, {M[exc].max():.2f}] for 150-300 ms, [{M[ior].min():.2f}, {M[ior].max():.2f}] "
-                    "for 300-600 ms")
+        measured = (
+            f"course at {run.t[s4_fires[0]]:.2f} s: M(s4) in [{M[pre].min():.2f}, {M[pre].max():.2f}] for 0-150 ms, "
+            f"[{M[exc].min():.2f}, {M[exc].max():.2f}] for 150-300 ms, [{M[ior].min():.2f}, {M[ior].max():.2f}] "
+            "for 300-600 ms"
+        )
     else:
         ok, measured = False, "s4 never fires"
-    checks.append(_check("s4_course_shape", "M at s4 shows 150 ms of nothing, 150 ms above 1, 300 ms below 1",
-                         ok, measured))
+    checks.append(
+        _check("s4_course_shape", "M at s4 shows 150 ms of nothing, 150 ms above 1, 300 ms below 1", ok, measured)
+    )
     checks.append(_refire_check(run, {_S4}))
     static = run.last_motion()
     late = [run.t[k] for k, _, _ in run.fires() if k > static]
-    checks.append(_check(
-        "quiet_once_static", "nothing fires once the scene is static",
-        not late and static < len(run.t) - run.steps(1.0),
-        f"scene static from {run.t[min(static, len(run.t) - 1)]:.2f} s; {len(late)} fires after",
-    ))
+    checks.append(
+        _check(
+            "quiet_once_static",
+            "nothing fires once the scene is static",
+            not late and static < len(run.t) - run.steps(1.0),
+            f"scene static from {run.t[min(static, len(run.t) - 1)]:.2f} s; {len(late)} fires after",
+        )
+    )
     far = sorted({int(j) for j in run.focus if j >= 0 and abs(j - _S4) > 1})
-    checks.append(_check("far_regions_never_win", "regions more than one away from s4 never win", not far,
-                         f"far regions that won: {_named(far)}"))
+    checks.append(
+        _check(
+            "far_regions_never_win",
+            "regions more than one away from s4 never win",
+            not far,
+            f"far regions that won: {_named(far)}",
+        )
+    )
     return checks
 
 
@@ -232,33 +254,54 @@ def _exp01(run: _Run) -> list[Check]:
 def _exp02(run: _Run) -> list[Check]:
     start = run.motion_start(0)
     before = [k for k, _, _ in run.fires() if k < start]
-    checks = [_check(
-        "static_scene_fires", "the static scene already fires (laser discrepancy)", bool(before),
-        f"{len(before)} fires before the target moves at {run.t[start]:.2f} s"
-        + (f", the first at {run.t[before[0]]:.2f} s" if before else ""),
-    )]
+    checks = [
+        _check(
+            "static_scene_fires",
+            "the static scene already fires (laser discrepancy)",
+            bool(before),
+            f"{len(before)} fires before the target moves at {run.t[start]:.2f} s"
+            + (f", the first at {run.t[before[0]]:.2f} s" if before else ""),
+        )
+    ]
     early = sorted({j for k, j, _ in run.fires() if run.t[k] < 3.0})
-    checks.append(_check("ior_visits_several_regions", "the focus visits several (>= 3) regions in the first 3 s",
-                         len(early) >= 3, f"regions fired in the first 3 s: {_named(early)}"))
+    checks.append(
+        _check(
+            "ior_visits_several_regions",
+            "the focus visits several (>= 3) regions in the first 3 s",
+            len(early) >= 3,
+            f"regions fired in the first 3 s: {_named(early)}",
+        )
+    )
     checks.append(_refire_check(run))
     seen = np.flatnonzero(run.sonar_sees[:, 0].any(axis=1))
     if not seen.size:
         ok, measured = False, "the target never enters a front sonar's cone"
     elif seen[0] == 0:
-        ok, measured = False, (f"the target starts inside the cone(s) of {_named(sorted(run.sonar_regions(0, 0)))} "
-                               "(it must start outside them)")
+        ok, measured = (
+            False,
+            (
+                f"the target starts inside the cone(s) of {_named(sorted(run.sonar_regions(0, 0)))} "
+                "(it must start outside them)"
+            ),
+        )
     else:
         k = int(seen[0])
         j = min(run.sonar_regions(0, k))
         F3 = run.trace.F[:, _F3, j]
-        window = run.focus[k:k + run.steps(_COURSE) + 2]
+        window = run.focus[k : k + run.steps(_COURSE) + 2]
         drawn = np.flatnonzero(window == j)
         ok = F3[k] > F3[k - 1] and drawn.size > 0
-        measured = (f"enters the cone of {_named([j])} at {run.t[k]:.2f} s, F3 {F3[k - 1]:.2f} -> {F3[k]:.2f}, "
-                    + (f"focus there after {drawn[0] * run.dt:.2f} s" if drawn.size else "focus not drawn within 650 ms"))
-    checks.append(_check("sonar_entry_draws_focus",
-                         "the target's entry into sonar range raises F3 in its region and draws the focus there",
-                         ok, measured))
+        measured = f"enters the cone of {_named([j])} at {run.t[k]:.2f} s, F3 {F3[k - 1]:.2f} -> {F3[k]:.2f}, " + (
+            f"focus there after {drawn[0] * run.dt:.2f} s" if drawn.size else "focus not drawn within 650 ms"
+        )
+    checks.append(
+        _check(
+            "sonar_entry_draws_focus",
+            "the target's entry into sonar range raises F3 in its region and draws the focus there",
+            ok,
+            measured,
+        )
+    )
     return checks
 
 
@@ -267,17 +310,23 @@ def _exp03(run: _Run) -> list[Check]:
     weights = run.result.experiment.weights
     start = min(run.motion_start(i) for i in range(len(run.result.mover_names)))
     early = [k for k in range(start) if run.focus[k] >= 0]
-    from_f1 = [k for k in early
-               if weights["F1"] * run.trace.F[k, _F1, run.focus[k]] > weights["F3"] * run.trace.F[k, _F3, run.focus[k]]]
-    checks = [_check(
-        "static_winners_from_F3", "before the robots move, every winner comes from F3",
-        early and not from_f1, f"{len(early)} steps with a focus before {run.t[start]:.2f} s, {len(from_f1)} led by F1",
-    )]
+    from_f1 = [
+        k
+        for k in early
+        if weights["F1"] * run.trace.F[k, _F1, run.focus[k]] > weights["F3"] * run.trace.F[k, _F3, run.focus[k]]
+    ]
+    checks = [
+        _check(
+            "static_winners_from_F3",
+            "before the robots move, every winner comes from F3",
+            early and not from_f1,
+            f"{len(early)} steps with a focus before {run.t[start]:.2f} s, {len(from_f1)} led by F1",
+        )
+    ]
     considered = failed = 0
     first_fail = None
     for k in range(len(run.t)):
-        movers = [i for i in range(len(run.result.mover_names))
-                  if run.steady(i, k) and run.speed(i, k) >= _MOVING_MPS]
+        movers = [i for i in range(len(run.result.mover_names)) if run.steady(i, k) and run.speed(i, k) >= _MOVING_MPS]
         if not movers:
             continue
         regions = set().union(*(run.regions_steady(i, k) for i in movers))
@@ -288,18 +337,26 @@ def _exp03(run: _Run) -> list[Check]:
         if winner not in regions and not all(run.refractory(j, k) for j in regions):
             failed += 1
             first_fail = first_fail if first_fail is not None else k
-    checks.append(_check(
-        "moving_robot_dominates_L", "once a robot moves in range its region dominates L except when refractory",
-        considered and not failed,
-        f"{considered} steps with a robot moving in range, {failed} where another region led L"
-        + (f" (first at {run.t[first_fail]:.2f} s)" if first_fail is not None else ""),
-    ))
+    checks.append(
+        _check(
+            "moving_robot_dominates_L",
+            "once a robot moves in range its region dominates L except when refractory",
+            considered and not failed,
+            f"{considered} steps with a robot moving in range, {failed} where another region led L"
+            + (f" (first at {run.t[first_fail]:.2f} s)" if first_fail is not None else ""),
+        )
+    )
     fires = run.fires()
     top_down = sum(o != _BU for _, _, o in fires)
     no_ior = [run.t[k] for k, j, _ in fires if run.t[k] + _COURSE <= run.t[-1] and not _ior_shown(run, k, j)]
-    checks.append(_check("bottom_up_with_ior", "winners are bottom-up and show inhibition of return",
-                         fires and not top_down and not no_ior,
-                         f"{len(fires)} fires, {top_down} not bottom-up, {len(no_ior)} without M < 1 at 300-600 ms"))
+    checks.append(
+        _check(
+            "bottom_up_with_ior",
+            "winners are bottom-up and show inhibition of return",
+            fires and not top_down and not no_ior,
+            f"{len(fires)} fires, {top_down} not bottom-up, {len(no_ior)} without M < 1 at 300-600 ms",
+        )
+    )
     checks.append(_refire_check(run))
     return checks
 
@@ -308,20 +365,36 @@ def _exp03(run: _Run) -> list[Check]:
 def _exp04(run: _Run) -> list[Check]:
     goal = run.result.experiment.goals[0]
     F4 = run.trace.F[:, _F4]
-    holds = [k for k in range(len(run.t))
-             if run.regions_steady(0, k) and goal.is_fulfilled(run.speed(0, k))]
+    holds = [k for k in range(len(run.t)) if run.regions_steady(0, k) and goal.is_fulfilled(run.speed(0, k))]
     misses = [k for k in holds if not np.all(F4[k, sorted(run.regions_steady(0, k))] == 1.0)]
-    checks = [_check("F4_is_1_while_goal_holds", "F4 is 1 in the target's region(s) while the goal holds",
-                     holds and not misses, f"goal holds at {len(holds)} steps, F4 < 1 at {len(misses)} of them")]
+    checks = [
+        _check(
+            "F4_is_1_while_goal_holds",
+            "F4 is 1 in the target's region(s) while the goal holds",
+            holds and not misses,
+            f"goal holds at {len(holds)} steps, F4 < 1 at {len(misses)} of them",
+        )
+    ]
     at_target = [(k, j, o) for k, j, o in run.fires() if j in run.regions_seeing(0, k)]
     bottom_up = [run.t[k] for k, _, o in at_target if o != _TD]
-    checks.append(_check("winners_top_down", "the target's winners are top-down", at_target and not bottom_up,
-                         f"{len(at_target)} fires at the target, {len(bottom_up)} bottom-up"))
+    checks.append(
+        _check(
+            "winners_top_down",
+            "the target's winners are top-down",
+            at_target and not bottom_up,
+            f"{len(at_target)} fires at the target, {len(bottom_up)} bottom-up",
+        )
+    )
     low = float(run.trace.M.min())
     k_low, j_low = np.unravel_index(int(np.argmin(run.trace.M)), run.trace.M.shape)
-    checks.append(_check("no_ior", "no inhibition of return (M never below 1)", low >= 1.0 - _EPS,
-                         f"min M = {low:.3f}" + (f" ({_named([j_low])} at {run.t[k_low]:.2f} s)" if low < 1.0 - _EPS
-                                                 else "")))
+    checks.append(
+        _check(
+            "no_ior",
+            "no inhibition of return (M never below 1)",
+            low >= 1.0 - _EPS,
+            f"min M = {low:.3f}" + (f" ({_named([j_low])} at {run.t[k_low]:.2f} s)" if low < 1.0 - _EPS else ""),
+        )
+    )
     checks.extend(_top_down_timing(run, [(k, j) for k, j, o in at_target if o == _TD]))
     checks.append(_combined_beats_single(run, holds))
     return checks
@@ -329,23 +402,47 @@ def _exp04(run: _Run) -> list[Check]:
 
 def _top_down_timing(run: _Run, td_fires: list[tuple[int, int]]) -> list[Check]:
     if not td_fires:
-        return [_check("M_rises_within_onset", "M rises within 200 ms + a step of the fire", False, "no top-down fire"),
-                _check("release_within_two_steps", "the enhancement vanishes within two steps of the goal's end",
-                       False, "no top-down fire")]
+        return [
+            _check("M_rises_within_onset", "M rises within 200 ms + a step of the fire", False, "no top-down fire"),
+            _check(
+                "release_within_two_steps",
+                "the enhancement vanishes within two steps of the goal's end",
+                False,
+                "no top-down fire",
+            ),
+        ]
     k, j = td_fires[0]
     M, F4 = run.trace.M[:, j], run.trace.F[:, _F4, j]
     risen = np.flatnonzero(M[k:] > 1.0)
     delay = risen[0] * run.dt if risen.size else np.inf
-    rise = _check("M_rises_within_onset", "M rises within 200 ms + a step of the fire",
-                  delay <= _TD_ONSET + run.dt + _EPS, f"M > 1 at {_named([j])} {delay:.2f} s after the fire")
+    rise = _check(
+        "M_rises_within_onset",
+        "M rises within 200 ms + a step of the fire",
+        delay <= _TD_ONSET + run.dt + _EPS,
+        f"M > 1 at {_named([j])} {delay:.2f} s after the fire",
+    )
     ends = np.flatnonzero(F4[k:] < 1.0)
     if not ends.size or k + ends[0] + 2 >= len(run.t):
-        return [rise, _check("release_within_two_steps", "the enhancement vanishes within two steps of the goal's end",
-                             False, "the goal never stops holding")]
+        return [
+            rise,
+            _check(
+                "release_within_two_steps",
+                "the enhancement vanishes within two steps of the goal's end",
+                False,
+                "the goal never stops holding",
+            ),
+        ]
     end = k + int(ends[0])
     left = float(M[end + 2] - 1.0)
-    return [rise, _check("release_within_two_steps", "the enhancement vanishes within two steps of the goal's end",
-                         left < 0.01, f"goal ends at {run.t[end]:.2f} s; two steps later M - 1 = {left:.4f}")]
+    return [
+        rise,
+        _check(
+            "release_within_two_steps",
+            "the enhancement vanishes within two steps of the goal's end",
+            left < 0.01,
+            f"goal ends at {run.t[end]:.2f} s; two steps later M - 1 = {left:.4f}",
+        ),
+    ]
 
 
 def _combined_beats_single(run: _Run, holds: list[int]) -> Check:
@@ -357,18 +454,27 @@ def _combined_beats_single(run: _Run, holds: list[int]) -> Check:
         model.set_weights({name: experiment.weights[name]})
         model.set_goals(*experiment.goals)
         scans = zip(run.result.sonar_time_s, run.result.laser_time_s)
-        singles.append(np.stack([
-            model.step(t, o1, o2, **({"sonar_time_s": ts, "laser_time_s": tl} if run.result.scan_times_given else {})).L
-            for t, o1, o2, (ts, tl) in zip(run.t, run.trace.O1, run.trace.O2, scans)]))
+        singles.append(
+            np.stack(
+                [
+                    model.step(
+                        t, o1, o2, **({"sonar_time_s": ts, "laser_time_s": tl} if run.result.scan_times_given else {})
+                    ).L
+                    for t, o1, o2, (ts, tl) in zip(run.t, run.trace.O1, run.trace.O2, scans)
+                ]
+            )
+        )
     best_single = np.maximum(*singles)[:, _S4]
     both = run.trace.L[:, _S4]
     steps = np.asarray(holds, dtype=int)
     wins = int(np.sum(both[steps] > best_single[steps])) if steps.size else 0
-    return _check("combined_L_exceeds_single", "L with F1 + F4 exceeds L with either alone (while the goal holds)",
-                  steps.size and wins == steps.size,
-                  f"at s4, L(F1+F4) > max(L(F1), L(F4)) at {wins} of {steps.size} steps"
-                  + (f"; median ratio {np.median(both[steps] / np.maximum(best_single[steps], _EPS)):.2f}"
-                     if steps.size else ""))
+    return _check(
+        "combined_L_exceeds_single",
+        "L with F1 + F4 exceeds L with either alone (while the goal holds)",
+        steps.size and wins == steps.size,
+        f"at s4, L(F1+F4) > max(L(F1), L(F4)) at {wins} of {steps.size} steps"
+        + (f"; median ratio {np.median(both[steps] / np.maximum(best_single[steps], _EPS)):.2f}" if steps.size else ""),
+    )
 
 
 # --- Exp05 ------------------------------------------------------------------------------
@@ -387,10 +493,15 @@ def _exp05(run: _Run) -> list[Check]:
             considered += 1
             if run.focus[k] not in run.regions_seeing(fast, k):
                 lost.append(k)
-    checks = [_check("faster_holds_focus", "the faster robot holds the focus while present (and meeting the goal)",
-                     considered and not lost,
-                     f"{considered} steps, focus elsewhere at {len(lost)}"
-                     + (f" (first at {run.t[lost[0]]:.2f} s)" if lost else ""))]
+    checks = [
+        _check(
+            "faster_holds_focus",
+            "the faster robot holds the focus while present (and meeting the goal)",
+            considered and not lost,
+            f"{considered} steps, focus elsewhere at {len(lost)}"
+            + (f" (first at {run.t[lost[0]]:.2f} s)" if lost else ""),
+        )
+    ]
     # the fast robot leaves when it stops being seen moving: it leaves sonar range moving,
     # and (tracker) stops in the laser's view at the end of its path
     seen_fast = np.flatnonzero([run.seen[k, fast] and run.speed(fast, k) >= _MOVING_MPS for k in range(len(run.t))])
@@ -402,27 +513,46 @@ def _exp05(run: _Run) -> list[Check]:
         delay = (later[0] - leave) * run.dt if later else np.inf
         ok = delay <= _TD_ONSET + 2 * run.dt + _EPS
         measured = f"faster robot leaves at {run.t[leave]:.2f} s; slower one wins {delay:.2f} s later"
-    checks.append(_check("slower_wins_after_fast_leaves", "when the faster robot leaves, the slower one wins "
-                         "within 200 ms + two steps", ok, measured))
+    checks.append(
+        _check(
+            "slower_wins_after_fast_leaves",
+            "when the faster robot leaves, the slower one wins within 200 ms + two steps",
+            ok,
+            measured,
+        )
+    )
     below = []
     td = [(k, j) for k, j, o in run.fires() if o == _TD]
-    for n, (k, j) in enumerate(td):
+    for k, j in td:
         following = [s for s, r, _ in run.fires() if r == j and s > k]
         stop = following[0] if following else len(run.t)
         if run.trace.M[k:stop, j].min() < 1.0 - _EPS:
             below.append(run.t[k])
-    checks.append(_check("top_down_never_below_1", "no course of top-down origin shows M < 1", td and not below,
-                         f"{len(td)} top-down courses, {len(below)} with M < 1"))
+    checks.append(
+        _check(
+            "top_down_never_below_1",
+            "no course of top-down origin shows M < 1",
+            td and not below,
+            f"{len(td)} top-down courses, {len(below)} with M < 1",
+        )
+    )
     moves = []
     for c in change_steps:
         before = run.focus[c - 1]
-        window = run.focus[c:c + settle + 1]
+        window = run.focus[c : c + settle + 1]
         moved = np.flatnonzero((window != before) & (window >= 0))
         moves.append(moved[0] * run.dt if moved.size else np.inf)
-    checks.append(_check("goal_change_moves_focus", "changing the goal moves the focus within 200 ms + two steps",
-                         moves and max(moves) <= _TD_ONSET + 2 * run.dt + _EPS,
-                         "focus moved " + ", ".join(f"{m:.2f} s" for m in moves) + " after the goal changes at "
-                         + ", ".join(f"{run.t[c]:.2f} s" for c in change_steps)))
+    checks.append(
+        _check(
+            "goal_change_moves_focus",
+            "changing the goal moves the focus within 200 ms + two steps",
+            moves and max(moves) <= _TD_ONSET + 2 * run.dt + _EPS,
+            "focus moved "
+            + ", ".join(f"{m:.2f} s" for m in moves)
+            + " after the goal changes at "
+            + ", ".join(f"{run.t[c]:.2f} s" for c in change_steps),
+        )
+    )
     return checks
 
 
@@ -431,16 +561,38 @@ _CHECKERS: Mapping[str, Callable[[_Run], list[Check]]] = MappingProxyType(
 )
 
 #: Experiment name → the names of its checks, in order.
-CHECKS: Mapping[str, tuple[str, ...]] = MappingProxyType({
-    "exp01": ("first_winner_is_s4", "s4_course_shape", "no_refire_within_600ms", "quiet_once_static",
-              "far_regions_never_win"),
-    "exp02": ("static_scene_fires", "ior_visits_several_regions", "no_refire_within_600ms", "sonar_entry_draws_focus"),
-    "exp03": ("static_winners_from_F3", "moving_robot_dominates_L", "bottom_up_with_ior", "no_refire_within_600ms"),
-    "exp04": ("F4_is_1_while_goal_holds", "winners_top_down", "no_ior", "M_rises_within_onset",
-              "release_within_two_steps", "combined_L_exceeds_single"),
-    "exp05": ("faster_holds_focus", "slower_wins_after_fast_leaves", "top_down_never_below_1",
-              "goal_change_moves_focus"),
-})
+CHECKS: Mapping[str, tuple[str, ...]] = MappingProxyType(
+    {
+        "exp01": (
+            "first_winner_is_s4",
+            "s4_course_shape",
+            "no_refire_within_600ms",
+            "quiet_once_static",
+            "far_regions_never_win",
+        ),
+        "exp02": (
+            "static_scene_fires",
+            "ior_visits_several_regions",
+            "no_refire_within_600ms",
+            "sonar_entry_draws_focus",
+        ),
+        "exp03": ("static_winners_from_F3", "moving_robot_dominates_L", "bottom_up_with_ior", "no_refire_within_600ms"),
+        "exp04": (
+            "F4_is_1_while_goal_holds",
+            "winners_top_down",
+            "no_ior",
+            "M_rises_within_onset",
+            "release_within_two_steps",
+            "combined_L_exceeds_single",
+        ),
+        "exp05": (
+            "faster_holds_focus",
+            "slower_wins_after_fast_leaves",
+            "top_down_never_below_1",
+            "goal_change_moves_focus",
+        ),
+    }
+)
 
 
 def check_experiment(result: ExperimentResult) -> list[Check]:
@@ -450,8 +602,15 @@ def check_experiment(result: ExperimentResult) -> list[Check]:
     return _CHECKERS[result.experiment.name](_Run(result))
 
 
-def pass_rates(name: str, noise: float | None, seeds, *, kinematics: str = "tracker", profile: str | None = None,
-               config: Mapping[str, Any] | None = None) -> dict[str, float]:
+def pass_rates(
+    name: str,
+    noise: float | None,
+    seeds,
+    *,
+    kinematics: str = "tracker",
+    profile: str | None = None,
+    config: Mapping[str, Any] | None = None,
+) -> dict[str, float]:
     """Fraction of runs of experiment ``name`` (one per seed) that pass each check.
 
     Args:

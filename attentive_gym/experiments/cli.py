@@ -33,23 +33,40 @@ def add_experiment_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "experiment",
         help="reproduce one of the paper's experiments (or all)",
-        description=("Run one of the paper's experiments with the robot immobile, print the docs/model.md §9 checks "
-                     f"and optionally write DIR/NAME.npz and DIR/NAME.png. NAME: {', '.join(EXPERIMENT_NAMES)} "
-                     f"or {_ALL}."),
+        description=(
+            "Run one of the paper's experiments with the robot immobile, print the docs/model.md §9 checks "
+            f"and optionally write DIR/NAME.npz and DIR/NAME.png. NAME: {', '.join(EXPERIMENT_NAMES)} "
+            f"or {_ALL}."
+        ),
     )
     parser.add_argument("name", metavar="NAME", help=f"{', '.join(EXPERIMENT_NAMES)} or {_ALL}")
-    parser.add_argument("--noise", type=float, default=None,
-                        help="relative sensor noise in [0, 0.5]: σ, or the half-width under a uniform-noise "
-                             "profile (default: the profile's, 0 without one; the paper's is 0.05)")
+    parser.add_argument(
+        "--noise",
+        type=float,
+        default=None,
+        help="relative sensor noise in [0, 0.5]: σ, or the half-width under a uniform-noise "
+        "profile (default: the profile's, 0 without one; the paper's is 0.05)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed of the noise (int >= 0, default 0)")
-    parser.add_argument("--kinematics", default="tracker", metavar="MODE",
-                        help=f"the model's kinematics: {', '.join(KINEMATICS_MODES)} (default tracker)")
-    parser.add_argument("--profile", default=None, metavar="PROFILE",
-                        help=f"the env's sensor profile: {', '.join(sorted(SENSOR_PROFILES))} "
-                             "(default none: Gaussian noise, a scan every step)")
+    parser.add_argument(
+        "--kinematics",
+        default="tracker",
+        metavar="MODE",
+        help=f"the model's kinematics: {', '.join(KINEMATICS_MODES)} (default tracker)",
+    )
+    parser.add_argument(
+        "--profile",
+        default=None,
+        metavar="PROFILE",
+        help=f"the env's sensor profile: {', '.join(sorted(SENSOR_PROFILES))} "
+        "(default none: Gaussian noise, a scan every step)",
+    )
     parser.add_argument("--out", type=Path, help="folder for NAME.npz and NAME.png (default: write nothing)")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace NAME.npz and NAME.png where --out already holds them (refused otherwise)")
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace NAME.npz and NAME.png where --out already holds them (refused otherwise)",
+    )
     parser.set_defaults(handler=_run)
 
 
@@ -66,13 +83,17 @@ def _run(args: argparse.Namespace) -> int:
     lines = []
     for name in names:
         start_s = time.monotonic()
-        result = run_experiment(name, noise=args.noise, seed=args.seed, out_dir=args.out,
-                                kinematics=args.kinematics, profile=args.profile)
+        result = run_experiment(
+            name, noise=args.noise, seed=args.seed, out_dir=args.out, kinematics=args.kinematics, profile=args.profile
+        )
         checks = check_experiment(result)
         verdict = f"{name}: {sum(c.passed for c in checks)}/{len(checks)} checks pass"
         if progress is not None:
-            print(progress.line(f"{verdict} in {format_duration(time.monotonic() - start_s)}"),
-                  file=sys.stderr, flush=True)
+            print(
+                progress.line(f"{verdict} in {format_duration(time.monotonic() - start_s)}"),
+                file=sys.stderr,
+                flush=True,
+            )
         lines.append(verdict)
         lines.extend(f"  {'PASS' if c.passed else 'FAIL'} {c.name}: {c.measured}" for c in checks)
         lines.extend(f"  wrote {path}" for path in result.paths)

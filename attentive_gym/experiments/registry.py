@@ -11,9 +11,9 @@ this module fixes what the attentive robot attends to. Times are in seconds.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping
 
 from attentive_gym.attention import Goal
 
@@ -65,30 +65,49 @@ def _experiments() -> dict[str, Experiment]:
     speed_goal = Goal.greater("speed", 0.6)
     return {
         "exp01": Experiment(
-            name="exp01", title="Exp01: motion (F1) — a robot approaches 0.4 m, then backs away",
-            weights={"F1": 1.0}, goals=(), goal_changes=(), duration_s=10.0,
+            name="exp01",
+            title="Exp01: motion (F1) — a robot approaches 0.4 m, then backs away",
+            weights={"F1": 1.0},
+            goals=(),
+            goal_changes=(),
+            duration_s=10.0,
             panels=("O1", "F1", "M", "L", "WTA"),
         ),
         "exp02": Experiment(
-            name="exp02", title="Exp02: distance (F3, sonar + laser) — a robot drives past",
-            weights={"F3": 1.0}, goals=(), goal_changes=(), duration_s=12.0,
+            name="exp02",
+            title="Exp02: distance (F3, sonar + laser) — a robot drives past",
+            weights={"F3": 1.0},
+            goals=(),
+            goal_changes=(),
+            duration_s=12.0,
             panels=("O1", "O2", "F3", "L", "M", "WTA"),
         ),
         "exp03": Experiment(
-            name="exp03", title="Exp03: motion + distance (F1 + F3) — two robots come and go",
-            weights={"F1": 1.0, "F3": 1.0}, goals=(), goal_changes=(), duration_s=24.0,
+            name="exp03",
+            title="Exp03: motion + distance (F1 + F3) — two robots come and go",
+            weights={"F1": 1.0, "F3": 1.0},
+            goals=(),
+            goal_changes=(),
+            duration_s=24.0,
             panels=("O1", "O2", "F1", "F3", "L", "M", "WTA"),
         ),
         "exp04": Experiment(
-            name="exp04", title="Exp04: motion + goal speed (F1 + F4, BETWEEN(0.5, 0.9) m/s)",
-            weights={"F1": 1.0, "F4": 1.0}, goals=(Goal.between("speed", 0.5, 0.9),), goal_changes=(),
-            duration_s=17.0, panels=("O1", "F1", "F4", "C", "M", "L", "WTA"),
+            name="exp04",
+            title="Exp04: motion + goal speed (F1 + F4, BETWEEN(0.5, 0.9) m/s)",
+            weights={"F1": 1.0, "F4": 1.0},
+            goals=(Goal.between("speed", 0.5, 0.9),),
+            goal_changes=(),
+            duration_s=17.0,
+            panels=("O1", "F1", "F4", "C", "M", "L", "WTA"),
         ),
         "exp05": Experiment(
-            name="exp05", title="Exp05: motion + goal speed (F1 + F4, GREATER(0.6) m/s), goal changed mid-run",
-            weights={"F1": 1.0, "F4": 1.0}, goals=(speed_goal,),
+            name="exp05",
+            title="Exp05: motion + goal speed (F1 + F4, GREATER(0.6) m/s), goal changed mid-run",
+            weights={"F1": 1.0, "F4": 1.0},
+            goals=(speed_goal,),
             goal_changes=(GoalChange(8.0, (Goal.smaller("speed", 0.6),)), GoalChange(9.0, (speed_goal,))),
-            duration_s=19.0, panels=("O1", "F1", "F4", "C", "L", "M", "WTA"),
+            duration_s=19.0,
+            panels=("O1", "F1", "F4", "C", "L", "M", "WTA"),
         ),
     }
 

@@ -17,15 +17,16 @@ import dataclasses
 import math
 import numbers
 import os
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, TraceRecorder
 from attentive_gym.attention.config import KINEMATICS_MODES
-from attentive_gym.attention.regions import FRONT_SONARS
 from attentive_gym.attention.io.trace import save_trace
+from attentive_gym.attention.regions import FRONT_SONARS
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.experiments.figures import plot_experiment
 from attentive_gym.experiments.registry import get_experiment
@@ -44,10 +45,17 @@ FIXED_FIELDS = ("ego_motion", "kinematics")
 _CONFIG_FIELDS = frozenset(f.name for f in dataclasses.fields(AttentionConfig))
 
 
-def run_experiment(name: str, noise: float | None = None, seed: int = 0,
-                   out_dir: str | os.PathLike | None = None, figure: bool = True, *,
-                   kinematics: str = "tracker", profile: str | None = None,
-                   config: Mapping[str, Any] | None = None) -> ExperimentResult:
+def run_experiment(
+    name: str,
+    noise: float | None = None,
+    seed: int = 0,
+    out_dir: str | os.PathLike | None = None,
+    figure: bool = True,
+    *,
+    kinematics: str = "tracker",
+    profile: str | None = None,
+    config: Mapping[str, Any] | None = None,
+) -> ExperimentResult:
     """Run experiment ``name`` with the robot immobile at the origin.
 
     The model is ``AttentionConfig(ego_motion=None, kinematics=kinematics,
@@ -93,11 +101,20 @@ def run_experiment(name: str, noise: float | None = None, seed: int = 0,
     noise = settings.noise if noise is None and profile is not None else _check_noise(0.0 if noise is None else noise)
     seed = _check_seed(seed)
     laser = LaserConfig()  # the env's laser, and where it sits for the tracker
-    model = AttentionModel(experiment_config(kinematics, settings.noise_model, noise, config,
-                                             laser_mount_m=(laser.mount_x_m, laser.mount_y_m)))
+    model = AttentionModel(
+        experiment_config(
+            kinematics, settings.noise_model, noise, config, laser_mount_m=(laser.mount_x_m, laser.mount_y_m)
+        )
+    )
     holds = settings.sonar_scan_interval_s is not None or settings.laser_scan_interval_s is not None
-    env = AttentiveRescueEnv(experiment.name, sensor_profile=profile, sensor_noise=noise, dt=DT_S,
-                             time_limit_s=experiment.duration_s, laser=laser)
+    env = AttentiveRescueEnv(
+        experiment.name,
+        sensor_profile=profile,
+        sensor_noise=noise,
+        dt=DT_S,
+        time_limit_s=experiment.duration_s,
+        laser=laser,
+    )
     model.set_weights(experiment.weights)
     recorder = TraceRecorder(model.config)
     changes = experiment.goal_changes
@@ -130,14 +147,23 @@ def run_experiment(name: str, noise: float | None = None, seed: int = 0,
         laser_times.append(info["laser_time_s"])
     env.close()
     result = ExperimentResult(
-        experiment=experiment, noise=noise, seed=seed, trace=recorder.to_trace(),
-        mover_positions=np.stack(positions), mover_velocities=np.stack(velocities),
+        experiment=experiment,
+        noise=noise,
+        seed=seed,
+        trace=recorder.to_trace(),
+        mover_positions=np.stack(positions),
+        mover_velocities=np.stack(velocities),
         mover_names=tuple(info["mover_names"]),
         sees=np.stack(owners)[:, None, :] == mover_ids[None, :, None],
-        laser_sees=(np.stack(laser_owners)[:, None, :] == mover_ids[None, :, None]).any(axis=2), goal_index=goal_index,
-        region_speeds=np.stack(speeds), sonar_time_s=np.asarray(sonar_times, dtype=float),
-        laser_time_s=np.asarray(laser_times, dtype=float), kinematics=kinematics, profile=profile,
-        noise_model=settings.noise_model, scan_times_given=holds,
+        laser_sees=(np.stack(laser_owners)[:, None, :] == mover_ids[None, :, None]).any(axis=2),
+        goal_index=goal_index,
+        region_speeds=np.stack(speeds),
+        sonar_time_s=np.asarray(sonar_times, dtype=float),
+        laser_time_s=np.asarray(laser_times, dtype=float),
+        kinematics=kinematics,
+        profile=profile,
+        noise_model=settings.noise_model,
+        scan_times_given=holds,
     )
     if out_dir is None:
         return result
@@ -148,9 +174,13 @@ def run_experiment(name: str, noise: float | None = None, seed: int = 0,
     return dataclasses.replace(result, paths=tuple(paths))
 
 
-def experiment_config(kinematics: str = "tracker", noise_model: str = "gaussian", noise: float = 0.0,
-                      config: Mapping[str, Any] | None = None,
-                      laser_mount_m: tuple[float, float] | None = None) -> AttentionConfig:
+def experiment_config(
+    kinematics: str = "tracker",
+    noise_model: str = "gaussian",
+    noise: float = 0.0,
+    config: Mapping[str, Any] | None = None,
+    laser_mount_m: tuple[float, float] | None = None,
+) -> AttentionConfig:
     """The model's configuration for a run: ``AttentionConfig(ego_motion=None,
     kinematics=kinematics, range_noise_rel=σ, laser_mount_x_m=x, laser_mount_y_m=y,
     **config)``, σ = ``noise`` (Gaussian) or ``noise / √3`` (uniform ±noise), ``(x, y)`` =
@@ -186,8 +216,10 @@ def _check_config(config) -> dict[str, Any]:
         raise ValueError(f"config has unknown AttentionConfig field(s) {unknown}")
     fixed = sorted(key for key in config if key in FIXED_FIELDS)
     if fixed:
-        raise ValueError(f"config may not set {fixed}: the runner sets ego_motion=None (the immobile robot) "
-                         "and kinematics comes from the kinematics argument")
+        raise ValueError(
+            f"config may not set {fixed}: the runner sets ego_motion=None (the immobile robot) "
+            "and kinematics comes from the kinematics argument"
+        )
     return dict(config)
 
 

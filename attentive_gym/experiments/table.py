@@ -22,8 +22,9 @@ import json
 import math
 import sys
 import warnings
+from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from attentive_gym._checks import check_int
 from attentive_gym.experiments.checks import CHECKS, check_experiment
@@ -33,8 +34,12 @@ from attentive_gym.experiments.runner import _check_config, _check_noise, run_ex
 __all__ = ["COLUMNS", "CSV_COLUMNS", "MIN_PASS_RATE", "measure", "to_rows", "from_rows", "markdown", "main"]
 
 #: The measured set-ups: (kinematics mode, sensor profile); None = Gaussian noise, a scan a step.
-COLUMNS: tuple[tuple[str, str | None], ...] = (("tracker", None), ("window", None), ("literal", None),
-                                               ("tracker", "usarsim"))
+COLUMNS: tuple[tuple[str, str | None], ...] = (
+    ("tracker", None),
+    ("window", None),
+    ("literal", None),
+    ("tracker", "usarsim"),
+)
 #: docs/model.md §9: a criterion must hold in at least this fraction of the noisy seeds.
 MIN_PASS_RATE = 0.8
 
@@ -48,8 +53,13 @@ def _outcomes(job: tuple) -> tuple[tuple, dict[str, bool]]:
     return job, {c.name: c.passed for c in check_experiment(result)}
 
 
-def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mapping[str, Any] | None = None,
-            workers: int = 1, names: Sequence[str] = EXPERIMENT_NAMES) -> Measured:
+def measure(
+    seeds: Sequence[int] = range(20),
+    noise: float = 0.05,
+    config: Mapping[str, Any] | None = None,
+    workers: int = 1,
+    names: Sequence[str] = EXPERIMENT_NAMES,
+) -> Measured:
     """Every check of ``names``: noise-free in each Gaussian column, and over ``seeds``
     with noise in every column (``noise`` σ for the Gaussian ones, the profile's own
     noise for a profile's).
@@ -69,10 +79,18 @@ def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mappi
     config = _check_config(config)
     _check_noise(noise)
     check_int("workers", workers, 1)
-    jobs = [("exact", name, 0.0, 0, kinematics, None, config) for name in names for kinematics, profile in COLUMNS
-            if profile is None]
-    jobs += [("rate", name, None if profile else noise, seed, kinematics, profile, config)
-             for name in names for kinematics, profile in COLUMNS for seed in seeds]
+    jobs = [
+        ("exact", name, 0.0, 0, kinematics, None, config)
+        for name in names
+        for kinematics, profile in COLUMNS
+        if profile is None
+    ]
+    jobs += [
+        ("rate", name, None if profile else noise, seed, kinematics, profile, config)
+        for name in names
+        for kinematics, profile in COLUMNS
+        for seed in seeds
+    ]
     if workers > 1:
         with ProcessPoolExecutor(workers) as pool:
             done = list(pool.map(_outcomes, jobs, chunksize=4))
@@ -94,12 +112,12 @@ def measure(seeds: Sequence[int] = range(20), noise: float = 0.05, config: Mappi
 #: "fail", or empty for a profile's column (its noise is part of the profile); ``noise``: the
 #: relative σ of the noisy runs, empty for a profile's column; ``seeds_passed`` of ``seeds``
 #: noisy runs passed; ``config``: the extra ``AttentionConfig`` fields, as JSON.
-CSV_COLUMNS = ("experiment", "check", "kinematics", "profile", "noise_free", "noise", "seeds", "seeds_passed",
-               "config")
+CSV_COLUMNS = ("experiment", "check", "kinematics", "profile", "noise_free", "noise", "seeds", "seeds_passed", "config")
 
 
-def to_rows(measured: Measured, n_seeds: int, noise: float, config: Mapping[str, Any] | None = None
-            ) -> list[dict[str, str]]:
+def to_rows(
+    measured: Measured, n_seeds: int, noise: float, config: Mapping[str, Any] | None = None
+) -> list[dict[str, str]]:
     """``measured`` (from ``measure`` over ``n_seeds`` seeds at ``noise``, with ``config``)
     as tidy rows of text (``CSV_COLUMNS``), in ``measured``'s order and ``COLUMNS``' order."""
     check_int("n_seeds", n_seeds, 1)
@@ -111,10 +129,19 @@ def to_rows(measured: Measured, n_seeds: int, noise: float, config: Mapping[str,
                 continue
             kinematics, profile = column
             exact = cell["exact"].get(column)
-            rows.append({"experiment": name, "check": check, "kinematics": kinematics, "profile": profile or "",
-                         "noise_free": "" if exact is None else ("pass" if exact else "fail"),
-                         "noise": "" if profile else repr(float(noise)), "seeds": str(n_seeds),
-                         "seeds_passed": str(round(cell["rate"][column] * n_seeds)), "config": config_text})
+            rows.append(
+                {
+                    "experiment": name,
+                    "check": check,
+                    "kinematics": kinematics,
+                    "profile": profile or "",
+                    "noise_free": "" if exact is None else ("pass" if exact else "fail"),
+                    "noise": "" if profile else repr(float(noise)),
+                    "seeds": str(n_seeds),
+                    "seeds_passed": str(round(cell["rate"][column] * n_seeds)),
+                    "config": config_text,
+                }
+            )
     return rows
 
 
@@ -145,8 +172,10 @@ def from_rows(rows: Sequence[Mapping[str, str]]) -> tuple[Measured, int, float, 
             raise ValueError(f"{row['experiment']} {row['check']}: the column {column} is none of {list(COLUMNS)}")
         cell = measured.setdefault((row["experiment"], row["check"]), {"exact": {}, "rate": {}})
         if row["noise_free"] not in ("pass", "fail", ""):
-            raise ValueError(f"{row['experiment']} {row['check']}: noise_free is {row['noise_free']!r}; "
-                             "allowed: 'pass', 'fail' or empty")
+            raise ValueError(
+                f"{row['experiment']} {row['check']}: noise_free is {row['noise_free']!r}; "
+                "allowed: 'pass', 'fail' or empty"
+            )
         if row["noise_free"]:
             cell["exact"][column] = row["noise_free"] == "pass"
         cell["rate"][column] = int(row["seeds_passed"]) / n_seeds
@@ -164,8 +193,10 @@ def markdown(measured: Measured, n_seeds: int = 20, noise: float = 0.05) -> str:
     """``measured`` (from ``measure``) as a Markdown table: per check and column "pass"
     or "**fail**" noise-free, then the noisy pass rate (bold below ``MIN_PASS_RATE``);
     the last row counts the checks that hold."""
-    lines = ["| experiment | check | " + " | ".join(_header(c, n_seeds, noise) for c in COLUMNS) + " |",
-             "|---|---|" + "---|" * len(COLUMNS)]
+    lines = [
+        "| experiment | check | " + " | ".join(_header(c, n_seeds, noise) for c in COLUMNS) + " |",
+        "|---|---|" + "---|" * len(COLUMNS),
+    ]
     exact_total = {c: 0 for c in COLUMNS}
     rate_total = {c: 0 for c in COLUMNS}
     for (name, check), cell in measured.items():
@@ -184,8 +215,11 @@ def markdown(measured: Measured, n_seeds: int = 20, noise: float = 0.05) -> str:
         lines.append(f"| {name} | `{check}` | " + " | ".join(cells) + " |")
     n = len(measured)
     totals = [f"{exact_total[c]}/{n}; {rate_total[c]}/{n}" if c[1] is None else f"{rate_total[c]}/{n}" for c in COLUMNS]
-    lines.append(f"| **all** | holding (noise off; ≥ {MIN_PASS_RATE:.0%} of seeds) | ".replace("%", " %")
-                 + " | ".join(totals) + " |")
+    lines.append(
+        f"| **all** | holding (noise off; ≥ {MIN_PASS_RATE:.0%} of seeds) | ".replace("%", " %")
+        + " | ".join(totals)
+        + " |"
+    )
     return "\n".join(lines)
 
 
@@ -196,10 +230,13 @@ _REPLACEMENT = "python tools/experiments_table.py (in a checkout of the reposito
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m attentive_gym.experiments.table [--seeds N] [--noise S] [--config JSON] [--workers W]``:
     print the table. Deprecated: a ``DeprecationWarning`` names the replacement."""
-    warnings.warn(f"python -m attentive_gym.experiments.table is deprecated; use {_REPLACEMENT}", DeprecationWarning,
-                  stacklevel=2)
-    parser = argparse.ArgumentParser(prog="python -m attentive_gym.experiments.table",
-                                     description="Measure every experiment check per kinematics mode; print Markdown.")
+    warnings.warn(
+        f"python -m attentive_gym.experiments.table is deprecated; use {_REPLACEMENT}", DeprecationWarning, stacklevel=2
+    )
+    parser = argparse.ArgumentParser(
+        prog="python -m attentive_gym.experiments.table",
+        description="Measure every experiment check per kinematics mode; print Markdown.",
+    )
     parser.add_argument("--seeds", type=int, default=20, help="noisy seeds per column (default 20)")
     parser.add_argument("--noise", type=float, default=0.05, help="Gaussian noise σ of the noisy runs (default 0.05)")
     parser.add_argument("--config", default=None, help="extra AttentionConfig fields as a JSON object")

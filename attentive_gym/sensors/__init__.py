@@ -25,8 +25,8 @@ from attentive_gym.sensors.profiles import (
     resolve_sensor_profile,
 )
 from attentive_gym.sensors.raycast import cast_fan, cast_rays, cone_nearest, cone_nearest_points
-from attentive_gym.sensors.sonar import P2AT_SONAR_MOUNTS, SonarConfig, SonarRing
 from attentive_gym.sensors.scans import SCAN_TOLERANCE_S, ScanHold, scan_due
+from attentive_gym.sensors.sonar import P2AT_SONAR_MOUNTS, SonarConfig, SonarRing
 from attentive_gym.sensors.suite import SensorReading, SensorSuite
 
 __all__ = [

@@ -27,10 +27,9 @@ outside the shape is the same for the primitives as for the shape itself.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-
-import math
 
 import numpy as np
 import pymunk
@@ -65,8 +64,12 @@ class SceneGeometry:
     circle_owner: np.ndarray
 
     def __post_init__(self) -> None:
-        for name, dtype in (("segments", np.float64), ("segment_owner", np.int64),
-                            ("circles", np.float64), ("circle_owner", np.int64)):
+        for name, dtype in (
+            ("segments", np.float64),
+            ("segment_owner", np.int64),
+            ("circles", np.float64),
+            ("circle_owner", np.int64),
+        ):
             object.__setattr__(self, name, np.ascontiguousarray(getattr(self, name), dtype=dtype))
         s, c = self.segments, self.circles
         if s.ndim != 2 or s.shape[1] != 4:
@@ -89,13 +92,15 @@ class SceneGeometry:
             raise ValueError(f"SceneGeometry circle radii must be >= 0, got min {c[:, 2].min()}")
 
     @classmethod
-    def _unchecked(cls, segments: np.ndarray, segment_owner: np.ndarray, circles: np.ndarray,
-                   circle_owner: np.ndarray) -> SceneGeometry:
+    def _unchecked(
+        cls, segments: np.ndarray, segment_owner: np.ndarray, circles: np.ndarray, circle_owner: np.ndarray
+    ) -> SceneGeometry:
         """A ``SceneGeometry`` of arrays already known to be valid (``GeometryCache``'s
         own, whose only new input, the poses, it checks itself), without the checks."""
         geometry = object.__new__(cls)
-        geometry.__dict__.update(segments=segments, segment_owner=segment_owner, circles=circles,
-                                 circle_owner=circle_owner)
+        geometry.__dict__.update(
+            segments=segments, segment_owner=segment_owner, circles=circles, circle_owner=circle_owner
+        )
         return geometry
 
     @classmethod
@@ -207,8 +212,10 @@ class GeometryCache:
             moving_circle_owner.append(np.full(len(circles), owner, np.int64))
             moving_circle_body.append(np.full(len(circles), index, np.int64))
         self._static = SceneGeometry(
-            _stack(static_segments, (0, 4)), _stack(static_segment_owner, (0,), np.int64),
-            _stack(static_circles, (0, 3)), _stack(static_circle_owner, (0,), np.int64),
+            _stack(static_segments, (0, 4)),
+            _stack(static_segment_owner, (0,), np.int64),
+            _stack(static_circles, (0, 3)),
+            _stack(static_circle_owner, (0,), np.int64),
         )
         # moving primitives as local points (segment endpoints, then circle centres),
         # each with the index of its body; the outputs start as copies of templates that
@@ -216,9 +223,12 @@ class GeometryCache:
         local_segments = _stack(moving_segments, (0, 4))
         local_circles = _stack(moving_circles, (0, 3))
         self._local_points = np.ascontiguousarray(np.concatenate([local_segments.reshape(-1, 2), local_circles[:, :2]]))
-        self._point_body = np.concatenate([
-            np.repeat(_stack(moving_segment_body, (0,), np.int64), 2), _stack(moving_circle_body, (0,), np.int64),
-        ])
+        self._point_body = np.concatenate(
+            [
+                np.repeat(_stack(moving_segment_body, (0,), np.int64), 2),
+                _stack(moving_circle_body, (0,), np.int64),
+            ]
+        )
         self._num_moving_endpoints = 2 * len(local_segments)
         self._segment_template = np.vstack([self._static.segments, local_segments])
         self._circle_template = np.vstack([self._static.circles, local_circles])
@@ -244,8 +254,12 @@ class GeometryCache:
             return self._static
         poses = np.array(_pymunk_access.poses(self._bodies))  # (3 B,) x, y, angle per body
         segments, circles, bad = _place_kernel(
-            poses, self._local_points, self._point_body, self._num_moving_endpoints,
-            self._segment_template, self._circle_template,
+            poses,
+            self._local_points,
+            self._point_body,
+            self._num_moving_endpoints,
+            self._segment_template,
+            self._circle_template,
         )
         if bad >= 0:
             body = self._bodies[bad]

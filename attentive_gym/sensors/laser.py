@@ -104,14 +104,24 @@ class LaserScanner:
         """
         return self.sweep(*check_pose(pose), check_geometry(geometry), check_owner(exclude_owner))
 
-    def sweep(self, x_m: float, y_m: float, theta_rad: float, geometry: SceneGeometry,
-              exclude_owner: int) -> tuple[np.ndarray, np.ndarray]:
+    def sweep(
+        self, x_m: float, y_m: float, theta_rad: float, geometry: SceneGeometry, exclude_owner: int
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``read`` without argument checks (the hot path of ``SensorSuite``)."""
         c = self.config
         ox, oy = self._origin(x_m, y_m, theta_rad)
         return fan_kernel(
-            ox, oy, theta_rad + self._first_bearing_rad, c.step_rad, c.num_beams, c.max_range_m,
-            geometry.segments, geometry.segment_owner, geometry.circles, geometry.circle_owner, exclude_owner,
+            ox,
+            oy,
+            theta_rad + self._first_bearing_rad,
+            c.step_rad,
+            c.num_beams,
+            c.max_range_m,
+            geometry.segments,
+            geometry.segment_owner,
+            geometry.circles,
+            geometry.circle_owner,
+            exclude_owner,
         )
 
     def beam_endpoints(self, pose, ranges) -> np.ndarray:

@@ -62,8 +62,14 @@ def unit_noise(model: str, shape, rng: np.random.Generator, out: np.ndarray | No
     raise ValueError(f"noise model must be one of {list(NOISE_MODELS)}, got {model!r}")
 
 
-def apply_range_noise(ranges, relative_std: float, min_range_m: float, max_range_m: float,
-                      rng: np.random.Generator, model: str = "gaussian") -> np.ndarray:
+def apply_range_noise(
+    ranges,
+    relative_std: float,
+    min_range_m: float,
+    max_range_m: float,
+    rng: np.random.Generator,
+    model: str = "gaussian",
+) -> np.ndarray:
     """Noisy copy of ``ranges``: ``r (1 + relative_std d)`` clipped to the limits.
 
     ``d`` is a unit draw of ``model`` (``unit_noise``): ``N(0, 1)`` for ``"gaussian"``

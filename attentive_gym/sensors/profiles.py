@@ -61,14 +61,21 @@ DEFAULT_SENSOR_PROFILE = SensorProfile("gaussian", 0.05, None, None)
 USARSIM_SCAN_INTERVAL_S = 0.2
 
 #: The named profiles (read-only). ``"usarsim"``: ±5 % uniform noise, both sensors at 5 Hz.
-SENSOR_PROFILES = MappingProxyType({
-    "usarsim": SensorProfile("uniform", 0.05, USARSIM_SCAN_INTERVAL_S, USARSIM_SCAN_INTERVAL_S),
-})
+SENSOR_PROFILES = MappingProxyType(
+    {
+        "usarsim": SensorProfile("uniform", 0.05, USARSIM_SCAN_INTERVAL_S, USARSIM_SCAN_INTERVAL_S),
+    }
+)
 
 
-def resolve_sensor_profile(profile: str | None, *, noise_model: str | None = None, noise: float | None = None,
-                           sonar_scan_interval_s: float | None = None,
-                           laser_scan_interval_s: float | None = None) -> SensorProfile:
+def resolve_sensor_profile(
+    profile: str | None,
+    *,
+    noise_model: str | None = None,
+    noise: float | None = None,
+    sonar_scan_interval_s: float | None = None,
+    laser_scan_interval_s: float | None = None,
+) -> SensorProfile:
     """The settings in force: profile ``profile`` with every given setting replacing its own.
 
     ``None`` means "not given" for every argument: ``profile=None`` starts from

@@ -209,8 +209,20 @@ def fan_kernel(ox, oy, first, step, n, max_range, segments, segment_owner, circl
 
 
 @njit(cache=True)
-def cones_kernel(frame_x, frame_y, frame_theta, apexes, headings, half_width, max_range,
-                 segments, segment_owner, circles, circle_owner, exclude):
+def cones_kernel(
+    frame_x,
+    frame_y,
+    frame_theta,
+    apexes,
+    headings,
+    half_width,
+    max_range,
+    segments,
+    segment_owner,
+    circles,
+    circle_owner,
+    exclude,
+):
     """``cone_nearest_points`` without argument checks, for apexes and headings given in
     a frame ``(frame_x, frame_y, frame_theta)`` (a robot pose; zeros for the world frame)."""
     n = headings.shape[0]
@@ -347,8 +359,9 @@ def _rays_input(points_name, points, angles_name, angles):
     return points, angles
 
 
-def cast_rays(origins, angles, max_range_m: float, geometry: SceneGeometry,
-              exclude_owner: int = -1) -> tuple[np.ndarray, np.ndarray]:
+def cast_rays(
+    origins, angles, max_range_m: float, geometry: SceneGeometry, exclude_owner: int = -1
+) -> tuple[np.ndarray, np.ndarray]:
     """First hit along each ray: range and the owner id of the hit primitive.
 
     Args:
@@ -374,12 +387,27 @@ def cast_rays(origins, angles, max_range_m: float, geometry: SceneGeometry,
     """
     origins, angles = _rays_input("origins", origins, "angles", angles)
     g = check_geometry(geometry)
-    return rays_kernel(origins, angles, check_positive("max_range_m", max_range_m), g.segments, g.segment_owner,
-                       g.circles, g.circle_owner, check_owner(exclude_owner))
+    return rays_kernel(
+        origins,
+        angles,
+        check_positive("max_range_m", max_range_m),
+        g.segments,
+        g.segment_owner,
+        g.circles,
+        g.circle_owner,
+        check_owner(exclude_owner),
+    )
 
 
-def cast_fan(origin, first_angle_rad: float, step_rad: float, num_rays: int, max_range_m: float,
-             geometry: SceneGeometry, exclude_owner: int = -1) -> tuple[np.ndarray, np.ndarray]:
+def cast_fan(
+    origin,
+    first_angle_rad: float,
+    step_rad: float,
+    num_rays: int,
+    max_range_m: float,
+    geometry: SceneGeometry,
+    exclude_owner: int = -1,
+) -> tuple[np.ndarray, np.ndarray]:
     """``cast_rays`` for rays from one origin at angles ``first_angle_rad + k step_rad``.
 
     Each primitive is tested only against the rays inside the angle it subtends from the
@@ -415,12 +443,24 @@ def cast_fan(origin, first_angle_rad: float, step_rad: float, num_rays: int, max
             f"the fan must span less than a full turn: (num_rays - 1) * step_rad = {(num_rays - 1) * step} rad"
         )
     g = check_geometry(geometry)
-    return fan_kernel(origin[0], origin[1], first, step, int(num_rays), check_positive("max_range_m", max_range_m),
-                      g.segments, g.segment_owner, g.circles, g.circle_owner, check_owner(exclude_owner))
+    return fan_kernel(
+        origin[0],
+        origin[1],
+        first,
+        step,
+        int(num_rays),
+        check_positive("max_range_m", max_range_m),
+        g.segments,
+        g.segment_owner,
+        g.circles,
+        g.circle_owner,
+        check_owner(exclude_owner),
+    )
 
 
-def cone_nearest_points(apexes, headings, half_width_rad: float, max_range_m: float, geometry: SceneGeometry,
-                        exclude_owner: int = -1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def cone_nearest_points(
+    apexes, headings, half_width_rad: float, max_range_m: float, geometry: SceneGeometry, exclude_owner: int = -1
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact nearest scene point inside each cone, with its distance and owner.
 
     The cone of apex p, heading h and half-width w is the wedge of points q with
@@ -451,12 +491,25 @@ def cone_nearest_points(apexes, headings, half_width_rad: float, max_range_m: fl
     apexes, headings = _rays_input("apexes", apexes, "headings", headings)
     half = check_half_width(half_width_rad)
     g = check_geometry(geometry)
-    return cones_kernel(0.0, 0.0, 0.0, apexes, headings, half, check_positive("max_range_m", max_range_m),
-                        g.segments, g.segment_owner, g.circles, g.circle_owner, check_owner(exclude_owner))
+    return cones_kernel(
+        0.0,
+        0.0,
+        0.0,
+        apexes,
+        headings,
+        half,
+        check_positive("max_range_m", max_range_m),
+        g.segments,
+        g.segment_owner,
+        g.circles,
+        g.circle_owner,
+        check_owner(exclude_owner),
+    )
 
 
-def cone_nearest(apexes, headings, half_width_rad: float, max_range_m: float, geometry: SceneGeometry,
-                 exclude_owner: int = -1) -> tuple[np.ndarray, np.ndarray]:
+def cone_nearest(
+    apexes, headings, half_width_rad: float, max_range_m: float, geometry: SceneGeometry, exclude_owner: int = -1
+) -> tuple[np.ndarray, np.ndarray]:
     """``ranges (K,)`` and ``owners (K,)`` of ``cone_nearest_points`` (the nearest echo per cone)."""
     ranges, owners, _ = cone_nearest_points(apexes, headings, half_width_rad, max_range_m, geometry, exclude_owner)
     return ranges, owners

@@ -28,10 +28,22 @@ __all__ = ["P2AT_SONAR_MOUNTS", "SonarConfig", "SonarRing"]
 
 # ARIA's p3at.p parameter file: SonarUnit x (mm), y (mm), heading (deg); front 0..7, rear 8..15
 _P2AT_MOUNTS_MM_DEG = (
-    (147, 136, 90), (193, 119, 50), (227, 79, 30), (245, 27, 10),
-    (245, -27, -10), (227, -79, -30), (193, -119, -50), (147, -136, -90),
-    (-144, -136, -90), (-189, -119, -130), (-223, -79, -150), (-241, -27, -170),
-    (-241, 27, 170), (-223, 79, 150), (-189, 119, 130), (-144, 136, 90),
+    (147, 136, 90),
+    (193, 119, 50),
+    (227, 79, 30),
+    (245, 27, 10),
+    (245, -27, -10),
+    (227, -79, -30),
+    (193, -119, -50),
+    (147, -136, -90),
+    (-144, -136, -90),
+    (-189, -119, -130),
+    (-223, -79, -150),
+    (-241, -27, -170),
+    (-241, 27, 170),
+    (-223, 79, 150),
+    (-189, 119, 130),
+    (-144, 136, 90),
 )
 _P2AT_MOUNTS = tuple((x / 1000.0, y / 1000.0, math.radians(deg)) for x, y, deg in _P2AT_MOUNTS_MM_DEG)
 
@@ -129,13 +141,24 @@ class SonarRing:
         """
         return self.sweep(*check_pose(pose), check_geometry(geometry), check_owner(exclude_owner))
 
-    def sweep(self, x_m: float, y_m: float, theta_rad: float, geometry: SceneGeometry,
-              exclude_owner: int) -> tuple[np.ndarray, np.ndarray]:
+    def sweep(
+        self, x_m: float, y_m: float, theta_rad: float, geometry: SceneGeometry, exclude_owner: int
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``read`` without argument checks (the hot path of ``SensorSuite``)."""
         c = self.config
         ranges, owners, _ = cones_kernel(
-            x_m, y_m, theta_rad, self._positions, self._bearings, self._half_width_rad, c.max_range_m,
-            geometry.segments, geometry.segment_owner, geometry.circles, geometry.circle_owner, exclude_owner,
+            x_m,
+            y_m,
+            theta_rad,
+            self._positions,
+            self._bearings,
+            self._half_width_rad,
+            c.max_range_m,
+            geometry.segments,
+            geometry.segment_owner,
+            geometry.circles,
+            geometry.circle_owner,
+            exclude_owner,
         )
         np.maximum(ranges, c.min_range_m, out=ranges)
         return ranges, owners
@@ -148,8 +171,12 @@ class SonarRing:
         if ranges.shape != (self.num_sonars,):
             raise ValueError(f"ranges must have shape ({self.num_sonars},), got {ranges.shape}")
         c, s = math.cos(theta), math.sin(theta)
-        apexes = np.column_stack([x + c * self._positions[:, 0] - s * self._positions[:, 1],
-                                  y + s * self._positions[:, 0] + c * self._positions[:, 1]])
+        apexes = np.column_stack(
+            [
+                x + c * self._positions[:, 0] - s * self._positions[:, 1],
+                y + s * self._positions[:, 0] + c * self._positions[:, 1],
+            ]
+        )
         spread = np.linspace(-self._half_width_rad, self._half_width_rad, _CONE_ARC_POINTS)
         angles = theta + self._bearings[:, None] + spread[None, :]  # (N, P - 1)
         arcs = apexes[:, None, :] + ranges[:, None, None] * np.stack([np.cos(angles), np.sin(angles)], axis=-1)

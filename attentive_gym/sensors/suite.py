@@ -67,8 +67,13 @@ class SensorSuite:
         (5.0, 20.0)
     """
 
-    def __init__(self, sonar: SonarConfig = SonarConfig(), laser: LaserConfig = LaserConfig(),
-                 noise_std: float = 0.05, noise_model: str = "gaussian") -> None:
+    def __init__(
+        self,
+        sonar: SonarConfig = SonarConfig(),
+        laser: LaserConfig = LaserConfig(),
+        noise_std: float = 0.05,
+        noise_model: str = "gaussian",
+    ) -> None:
         self.sonar_ring = SonarRing(sonar)
         self.laser_scanner = LaserScanner(laser)
         self.noise_std = check_relative_std("noise_std", noise_std)
@@ -76,8 +81,7 @@ class SensorSuite:
         self._num_readings = self.sonar_ring.num_sonars + self.laser_scanner.config.num_beams
         self._laser_step_rad = self.laser_scanner.config.step_rad
 
-    def read(self, pose, geometry: SceneGeometry, rng: np.random.Generator,
-             exclude_owner: int = -1) -> SensorReading:
+    def read(self, pose, geometry: SceneGeometry, rng: np.random.Generator, exclude_owner: int = -1) -> SensorReading:
         """Read every sensor from the robot at ``pose``.
 
         Args:
@@ -103,10 +107,27 @@ class SensorSuite:
         s, c = ring.config, scanner.config
         ox, oy = scanner._origin(x, y, theta)
         sonar, sonar_owner, laser, laser_owner = _read_kernel(
-            x, y, theta, ring._positions, ring._bearings, ring._half_width_rad, s.min_range_m, s.max_range_m,
-            ox, oy, theta + scanner._first_bearing_rad, self._laser_step_rad, c.num_beams, c.max_range_m,
-            geometry.segments, geometry.segment_owner, geometry.circles, geometry.circle_owner, exclude,
-            self.noise_std, draws,
+            x,
+            y,
+            theta,
+            ring._positions,
+            ring._bearings,
+            ring._half_width_rad,
+            s.min_range_m,
+            s.max_range_m,
+            ox,
+            oy,
+            theta + scanner._first_bearing_rad,
+            self._laser_step_rad,
+            c.num_beams,
+            c.max_range_m,
+            geometry.segments,
+            geometry.segment_owner,
+            geometry.circles,
+            geometry.circle_owner,
+            exclude,
+            self.noise_std,
+            draws,
         )
         return _reading(sonar, laser, sonar_owner, laser_owner)
 
@@ -127,7 +148,9 @@ class SensorSuite:
             return []
         poses = np.array([request[0] for request in requests], dtype=np.float64)
         if poses.shape != (n, 3) or not np.isfinite(poses).all():
-            raise ValueError(f"every request's pose must be finite with shape (3,) = x_m, y_m, theta_rad; got {poses!r}")
+            raise ValueError(
+                f"every request's pose must be finite with shape (3,) = x_m, y_m, theta_rad; got {poses!r}"
+            )
         geometries = [check_geometry(request[1]) for request in requests]
         excludes = np.array([check_owner(request[3]) for request in requests], np.int64)
         draws = np.empty((n, self._num_readings))
@@ -136,8 +159,9 @@ class SensorSuite:
                 raise TypeError(f"request {i}: rng must be a numpy.random.Generator, got {type(request[2]).__name__}")
             unit_noise(self.noise_model, self._num_readings, request[2], out=draws[i])
         scanner = self.laser_scanner
-        laser = np.array([(*scanner._origin(x, y, theta), theta + scanner._first_bearing_rad)
-                          for x, y, theta in poses.tolist()])  # origin x, y (m), first beam's bearing (rad)
+        laser = np.array(
+            [(*scanner._origin(x, y, theta), theta + scanner._first_bearing_rad) for x, y, theta in poses.tolist()]
+        )  # origin x, y (m), first beam's bearing (rad)
         segment_end = np.cumsum([g.segments.shape[0] for g in geometries])
         circle_end = np.cumsum([g.circles.shape[0] for g in geometries])
         ring = self.sonar_ring
@@ -145,12 +169,29 @@ class SensorSuite:
         sonar, sonar_owner = np.empty((n, ring.num_sonars)), np.empty((n, ring.num_sonars), np.int64)
         beams, beam_owner = np.empty((n, c.num_beams)), np.empty((n, c.num_beams), np.int64)
         _read_many_kernel(
-            poses, ring._positions, ring._bearings, ring._half_width_rad, s.min_range_m, s.max_range_m,
-            laser, self._laser_step_rad, c.num_beams, c.max_range_m,
-            np.concatenate([g.segments for g in geometries]), np.concatenate([g.segment_owner for g in geometries]),
-            segment_end, np.concatenate([g.circles for g in geometries]),
-            np.concatenate([g.circle_owner for g in geometries]), circle_end, excludes, self.noise_std, draws,
-            sonar, sonar_owner, beams, beam_owner,
+            poses,
+            ring._positions,
+            ring._bearings,
+            ring._half_width_rad,
+            s.min_range_m,
+            s.max_range_m,
+            laser,
+            self._laser_step_rad,
+            c.num_beams,
+            c.max_range_m,
+            np.concatenate([g.segments for g in geometries]),
+            np.concatenate([g.segment_owner for g in geometries]),
+            segment_end,
+            np.concatenate([g.circles for g in geometries]),
+            np.concatenate([g.circle_owner for g in geometries]),
+            circle_end,
+            excludes,
+            self.noise_std,
+            draws,
+            sonar,
+            sonar_owner,
+            beams,
+            beam_owner,
         )
         return [_reading(sonar[i], beams[i], sonar_owner[i], beam_owner[i]) for i in range(n)]
 
@@ -186,37 +227,118 @@ def _noisy(ranges, sigma, draws, offset, min_range, max_range):
 
 
 @njit(cache=True)
-def _read_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar_min, sonar_max,
-                 laser_x, laser_y, laser_first, laser_step, num_beams, laser_max,
-                 segments, segment_owner, circles, circle_owner, exclude, sigma, draws):
+def _read_kernel(
+    x,
+    y,
+    theta,
+    sonar_positions,
+    sonar_bearings,
+    half_width,
+    sonar_min,
+    sonar_max,
+    laser_x,
+    laser_y,
+    laser_first,
+    laser_step,
+    num_beams,
+    laser_max,
+    segments,
+    segment_owner,
+    circles,
+    circle_owner,
+    exclude,
+    sigma,
+    draws,
+):
     """``SensorSuite.read`` after its checks: both sweeps and the noise in one call."""
-    sonar, sonar_owner, _ = cones_kernel(x, y, theta, sonar_positions, sonar_bearings, half_width, sonar_max,
-                                         segments, segment_owner, circles, circle_owner, exclude)
+    sonar, sonar_owner, _ = cones_kernel(
+        x,
+        y,
+        theta,
+        sonar_positions,
+        sonar_bearings,
+        half_width,
+        sonar_max,
+        segments,
+        segment_owner,
+        circles,
+        circle_owner,
+        exclude,
+    )
     for k in range(sonar.shape[0]):
         if sonar[k] < sonar_min:
             sonar[k] = sonar_min
-    laser, laser_owner = fan_kernel(laser_x, laser_y, laser_first, laser_step, num_beams, laser_max,
-                                    segments, segment_owner, circles, circle_owner, exclude)
+    laser, laser_owner = fan_kernel(
+        laser_x,
+        laser_y,
+        laser_first,
+        laser_step,
+        num_beams,
+        laser_max,
+        segments,
+        segment_owner,
+        circles,
+        circle_owner,
+        exclude,
+    )
     _noisy(sonar, sigma, draws, 0, sonar_min, sonar_max)
     _noisy(laser, sigma, draws, sonar.shape[0], 0.0, laser_max)
     return sonar, sonar_owner, laser, laser_owner
 
 
 @njit(cache=True, parallel=True)
-def _read_many_kernel(poses, sonar_positions, sonar_bearings, half_width, sonar_min, sonar_max,
-                      laser, laser_step, num_beams, laser_max, segments, segment_owner, segment_end,
-                      circles, circle_owner, circle_end, excludes, sigma, draws,
-                      sonar_out, sonar_owner_out, laser_out, laser_owner_out):
+def _read_many_kernel(
+    poses,
+    sonar_positions,
+    sonar_bearings,
+    half_width,
+    sonar_min,
+    sonar_max,
+    laser,
+    laser_step,
+    num_beams,
+    laser_max,
+    segments,
+    segment_owner,
+    segment_end,
+    circles,
+    circle_owner,
+    circle_end,
+    excludes,
+    sigma,
+    draws,
+    sonar_out,
+    sonar_owner_out,
+    laser_out,
+    laser_owner_out,
+):
     """``_read_kernel`` for robot i of ``poses`` ``(n, 3)`` in the scene ``segments[segment_end[i-1]:segment_end[i]]``
     (and likewise the circles), one robot per parallel iteration, into row i of the outputs."""
     for i in prange(poses.shape[0]):
         s0 = 0 if i == 0 else segment_end[i - 1]
         c0 = 0 if i == 0 else circle_end[i - 1]
         sonar, sonar_owner, beams, beam_owner = _read_kernel(
-            poses[i, 0], poses[i, 1], poses[i, 2], sonar_positions, sonar_bearings, half_width, sonar_min, sonar_max,
-            laser[i, 0], laser[i, 1], laser[i, 2], laser_step, num_beams, laser_max,
-            segments[s0:segment_end[i]], segment_owner[s0:segment_end[i]], circles[c0:circle_end[i]],
-            circle_owner[c0:circle_end[i]], excludes[i], sigma, draws[i],
+            poses[i, 0],
+            poses[i, 1],
+            poses[i, 2],
+            sonar_positions,
+            sonar_bearings,
+            half_width,
+            sonar_min,
+            sonar_max,
+            laser[i, 0],
+            laser[i, 1],
+            laser[i, 2],
+            laser_step,
+            num_beams,
+            laser_max,
+            segments[s0 : segment_end[i]],
+            segment_owner[s0 : segment_end[i]],
+            circles[c0 : circle_end[i]],
+            circle_owner[c0 : circle_end[i]],
+            excludes[i],
+            sigma,
+            draws[i],
         )
         sonar_out[i] = sonar
         sonar_owner_out[i] = sonar_owner

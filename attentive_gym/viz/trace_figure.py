@@ -13,15 +13,15 @@ without touching pyplot's global backend.
 from __future__ import annotations
 
 import os
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
 from attentive_gym._atomic import save_figure
 from attentive_gym._optional import require
 from attentive_gym.attention.config import MAP_NAMES
-from attentive_gym.attention.regions import FRONT_SONARS, region_name
 from attentive_gym.attention.io.trace import Trace, load_trace
+from attentive_gym.attention.regions import FRONT_SONARS, region_name
 
 __all__ = ["plot_trace", "panel_axes", "PANELS", "DEFAULT_PANELS"]
 
@@ -29,10 +29,20 @@ __all__ = ["plot_trace", "panel_axes", "PANELS", "DEFAULT_PANELS"]
 PANELS: tuple[str, ...] = ("O1", "O2", *MAP_NAMES, "C", "C_BU", "C_TD", "M", "L", "WTA")
 DEFAULT_PANELS: tuple[str, ...] = ("O1", "O2", "F1", "F3", "C", "L", "M", "WTA")
 _TITLES = {
-    "O1": "O1: front sonars (m)", "O2": "O2: laser (m)", "F1": "F1 motion", "F2": "F2 direction",
-    "F3": "F3 distance", "F4": "F4 goal speed", "F5": "F5 goal direction", "F6": "F6 goal distance",
-    "C": "C combined", "C_BU": "C bottom-up", "C_TD": "C top-down", "M": "M attentional map (gain)",
-    "L": "L saliency", "WTA": "WTA winners",
+    "O1": "O1: front sonars (m)",
+    "O2": "O2: laser (m)",
+    "F1": "F1 motion",
+    "F2": "F2 direction",
+    "F3": "F3 distance",
+    "F4": "F4 goal speed",
+    "F5": "F5 goal direction",
+    "F6": "F6 goal distance",
+    "C": "C combined",
+    "C_BU": "C bottom-up",
+    "C_TD": "C top-down",
+    "M": "M attentional map (gain)",
+    "L": "L saliency",
+    "WTA": "WTA winners",
 }
 _ROW_LABELS = {"O1": "sonar", "O2": "beam"}
 _ORIGIN_STYLE = {0: ("tab:blue", "o", "bottom-up"), 1: ("tab:red", "s", "top-down")}
@@ -43,8 +53,9 @@ _FIGURE_WIDTH_IN = 8.0
 _DPI = 120
 
 
-def plot_trace(trace: Trace | str | os.PathLike, panels: Sequence[str] = DEFAULT_PANELS,
-               path: str | os.PathLike | None = None):
+def plot_trace(
+    trace: Trace | str | os.PathLike, panels: Sequence[str] = DEFAULT_PANELS, path: str | os.PathLike | None = None
+):
     """Draw a trace: one row per panel, time (s) on the x axis.
 
     Every panel shares one time axis of the same width: the heat maps' colour bars sit in

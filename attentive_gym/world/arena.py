@@ -94,20 +94,29 @@ class ArenaConfig:
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"ArenaConfig.{name} must be a finite number > 0, got {value!r}")
         if max(self.width_m, self.height_m) > _MAX_ARENA_SIDE_M:
-            raise ValueError(f"the arena must be at most {_MAX_ARENA_SIDE_M} m on each side, got {self.width_m} × {self.height_m}")
+            raise ValueError(
+                f"the arena must be at most {_MAX_ARENA_SIDE_M} m on each side, got {self.width_m} × {self.height_m}"
+            )
         if min(self.width_m, self.height_m) < 4.0:
             raise ValueError(f"the arena must be at least 4 m on each side, got {self.width_m} × {self.height_m}")
         for name in ("rubble_per_100m2", "speed_margin_mps", "pursue_stop_distance_m"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"ArenaConfig.{name} must be a finite number >= 0, got {value!r}")
-        if not (isinstance(self.num_distractors, numbers.Integral) and not isinstance(self.num_distractors, (bool, np.bool_))
-                and 0 <= self.num_distractors <= 20):
+        if not (
+            isinstance(self.num_distractors, numbers.Integral)
+            and not isinstance(self.num_distractors, (bool, np.bool_))
+            and 0 <= self.num_distractors <= 20
+        ):
             raise ValueError(f"ArenaConfig.num_distractors must be an integer in [0, 20], got {self.num_distractors!r}")
         if self.max_mover_speed_mps > _MAX_MOVER_SPEED_MPS:
-            raise ValueError(f"ArenaConfig.max_mover_speed_mps must be <= {_MAX_MOVER_SPEED_MPS}, got {self.max_mover_speed_mps!r}")
+            raise ValueError(
+                f"ArenaConfig.max_mover_speed_mps must be <= {_MAX_MOVER_SPEED_MPS}, got {self.max_mover_speed_mps!r}"
+            )
         if self.rubble_per_100m2 > _MAX_RUBBLE_PER_100M2:
-            raise ValueError(f"ArenaConfig.rubble_per_100m2 must be <= {_MAX_RUBBLE_PER_100M2}, got {self.rubble_per_100m2!r}")
+            raise ValueError(
+                f"ArenaConfig.rubble_per_100m2 must be <= {_MAX_RUBBLE_PER_100M2}, got {self.rubble_per_100m2!r}"
+            )
         if self.rubble_count > _MAX_RUBBLE:
             raise ValueError(
                 f"ArenaConfig: rubble_per_100m2={self.rubble_per_100m2!r} over {self.width_m} × {self.height_m} m "
@@ -116,7 +125,8 @@ class ArenaConfig:
         lo, hi = self.distractor_speed_range_mps
         if not (0 < lo <= hi <= self.max_mover_speed_mps):
             raise ValueError(
-                f"ArenaConfig.distractor_speed_range_mps must satisfy 0 < lo <= hi <= max_mover_speed_mps, got {(lo, hi)}"
+                "ArenaConfig.distractor_speed_range_mps must satisfy 0 < lo <= hi <= max_mover_speed_mps, "
+                f"got {(lo, hi)}"
             )
         goals = tuple(self.goals)
         if not goals or not all(isinstance(g, Goal) for g in goals):
@@ -229,7 +239,9 @@ def _patrol(layout: _Layout, start: np.ndarray, extent: float, speed: float) -> 
     return None
 
 
-def _place_mover(layout: _Layout, config: ArenaConfig, robot_xy: np.ndarray, name: str, kind: str, speed: float, behaviour=None) -> MoverSpec:
+def _place_mover(
+    layout: _Layout, config: ArenaConfig, robot_xy: np.ndarray, name: str, kind: str, speed: float, behaviour=None
+) -> MoverSpec:
     extent = 0.25 if kind == "victim" else 0.5 * math.hypot(0.626, 0.505)
     for _ in range(_PLACEMENT_ATTEMPTS):
         p = layout.random_point(extent)
@@ -247,7 +259,10 @@ def _place_mover(layout: _Layout, config: ArenaConfig, robot_xy: np.ndarray, nam
         heading = float(layout.rng.uniform(-180.0, 180.0))
         start = Pose(round(float(p[0]), 6), round(float(p[1]), 6), round(heading, 6))
         return MoverSpec(name=name, kind=kind, start=start, behaviour=path)
-    raise _NoRoom(f"could not place mover {name!r} in a {config.width_m} × {config.height_m} m arena; lower the rubble density or the number of distractors")
+    raise _NoRoom(
+        f"could not place mover {name!r} in a {config.width_m} × {config.height_m} m arena; "
+        "lower the rubble density or the number of distractors"
+    )
 
 
 def generate_arena(config: ArenaConfig, rng: np.random.Generator, goal: Goal | None = None) -> Scenario:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from attentive_gym.world.scenario import Leg, MoverSpec, PathBehaviour, Pose, Scenario, WallSpec, BoxRubble
+from attentive_gym.world.scenario import BoxRubble, Leg, MoverSpec, PathBehaviour, Pose, Scenario, WallSpec
 
 __all__ = ["BUILTIN_SCENARIOS", "builtin_scenario", "polar"]
 
@@ -74,6 +74,7 @@ def exp03() -> Scenario:
     """Exp03, motion + distance (F1 + F3): a wall 2 m to the left, two boxes 11–12 m ahead,
     and two robots 8 m away at +10° and −30° that approach to 2.5 m and return at
     0.6 m/s, the first after 1 s, the second after 5 s."""
+
     def there_and_back(bearing):
         return [Leg(polar(2.5, bearing), 0.6), Leg(polar(8.0, bearing), 0.6)]
 
@@ -108,6 +109,7 @@ def exp05() -> Scenario:
     sonar range: the faster (0.7 m/s) at +10° from 0 s, the slower (0.55 m/s: the paper's
     "~0.6", below the goal's threshold) at −30° from 2 s; each approaches to 2.5 m and
     backs away to 7 m, the faster leaving range first."""
+
     def there_and_back(bearing, speed):
         return [Leg(polar(2.5, bearing), speed), Leg(polar(7.0, bearing), speed)]
 

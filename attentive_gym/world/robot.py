@@ -98,8 +98,9 @@ class Robot:
         c = self.config
         linear, angular = float(linear_mps), float(angular_rps)
         if not (math.isfinite(linear) and math.isfinite(angular)):
-            raise ValueError(f"robot commands must be finite numbers, got linear {linear_mps!r} m/s, "
-                             f"angular {angular_rps!r} rad/s")
+            raise ValueError(
+                f"robot commands must be finite numbers, got linear {linear_mps!r} m/s, angular {angular_rps!r} rad/s"
+            )
         self._target = (
             min(max(linear, -c.max_linear_mps), c.max_linear_mps),
             min(max(angular, -c.max_angular_rps), c.max_angular_rps),

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field
-from typing import Literal, Union
+from typing import Literal
 
 from attentive_gym.attention.goals import Goal
 
@@ -193,7 +193,7 @@ class SegmentRubble:
         return 0.5 * math.dist(self.start, self.end) + self.radius_m
 
 
-Rubble = Union[BoxRubble, CircleRubble, SegmentRubble]
+Rubble = BoxRubble | CircleRubble | SegmentRubble
 
 
 @dataclass(frozen=True)
@@ -265,7 +265,7 @@ class EvadeBehaviour:
         _keep(self, _non_negative, "evade", "start_delay_s")
 
 
-Behaviour = Union[PathBehaviour, PursueBehaviour, EvadeBehaviour]
+Behaviour = PathBehaviour | PursueBehaviour | EvadeBehaviour
 
 
 @dataclass(frozen=True)
@@ -291,9 +291,13 @@ class MoverSpec:
             raise ValueError(f"mover {self.name!r}: kind must be one of {MOVER_KINDS}, got {self.kind!r}")
         if not isinstance(self.start, Pose):
             raise ValueError(f"mover {self.name!r}: start must be a Pose")
-        if self.behaviour is not None and not isinstance(self.behaviour, (PathBehaviour, PursueBehaviour, EvadeBehaviour)):
-            raise ValueError(f"mover {self.name!r}: behaviour must be a PathBehaviour, PursueBehaviour, EvadeBehaviour "
-                             f"or None, got {self.behaviour!r}")
+        if self.behaviour is not None and not isinstance(
+            self.behaviour, (PathBehaviour, PursueBehaviour, EvadeBehaviour)
+        ):
+            raise ValueError(
+                f"mover {self.name!r}: behaviour must be a PathBehaviour, PursueBehaviour, EvadeBehaviour "
+                f"or None, got {self.behaviour!r}"
+            )
         for name in ("radius_m", "length_m", "width_m"):
             _keep(self, _positive, f"mover {self.name!r}", name)
 
@@ -356,8 +360,11 @@ class Scenario:
             raise ValueError(f"scenario.robot must be a Pose, got {self.robot!r}")
         if not isinstance(self.enclosed, bool):
             raise ValueError(f"scenario.enclosed must be true or false, got {self.enclosed!r}")
-        for name, kinds in (("walls", (WallSpec,)), ("rubble", (BoxRubble, CircleRubble, SegmentRubble)),
-                            ("movers", (MoverSpec,))):
+        for name, kinds in (
+            ("walls", (WallSpec,)),
+            ("rubble", (BoxRubble, CircleRubble, SegmentRubble)),
+            ("movers", (MoverSpec,)),
+        ):
             object.__setattr__(self, name, _all_of("scenario", name, getattr(self, name), kinds))
         if self.task is not None and not isinstance(self.task, TaskSpec):
             raise ValueError(f"scenario.task must be a TaskSpec or None, got {self.task!r}")

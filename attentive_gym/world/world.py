@@ -150,7 +150,9 @@ class World:
         self.physics_dt_s = physics_dt_s
         self.space = pymunk.Space()
         self.space.gravity = (0.0, 0.0)
-        self.robot = Robot(self.space, robot_config, (scenario.robot.x_m, scenario.robot.y_m, math.radians(scenario.robot.heading_deg)))
+        self.robot = Robot(
+            self.space, robot_config, (scenario.robot.x_m, scenario.robot.y_m, math.radians(scenario.robot.heading_deg))
+        )
         self.entities: list[Entity] = [Entity(ROBOT_ID, "robot", "attentive robot")]
         self.movers: list[Mover] = []
         for spec in scenario.movers:
@@ -159,7 +161,9 @@ class World:
             self.movers.append(mover)
         if self.movers:
             self.space.on_collision(
-                ROBOT_COLLISION_TYPE, MOVER_COLLISION_TYPE, pre_solve=_stop_mover_at_robot,
+                ROBOT_COLLISION_TYPE,
+                MOVER_COLLISION_TYPE,
+                pre_solve=_stop_mover_at_robot,
                 data={m.shape: m for m in self.movers},
             )
         self._robot_touched = [False]  # set by _note_robot_contact while the robot touches anything

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -70,8 +71,9 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         memory_slots: int | None = None,
         selection: str = "winner",
     ) -> None:
-        gym.utils.RecordConstructorArgs.__init__(self, mode=mode, config=config, weights=weights, state=state,
-                                                 memory_slots=memory_slots, selection=selection)
+        gym.utils.RecordConstructorArgs.__init__(
+            self, mode=mode, config=config, weights=weights, state=state, memory_slots=memory_slots, selection=selection
+        )
         gym.Wrapper.__init__(self, env)
         if mode not in ENCODERS:
             raise ValueError(f"unknown observation mode {mode!r}; allowed: {list(OBSERVATION_MODES)}")
@@ -139,8 +141,9 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         """The attended observation of a step's ``raw`` one."""
         return self._observe_output(raw, info, self._step_model(raw, info))
 
-    def _observe_output(self, raw: dict[str, np.ndarray], info: dict[str, Any],
-                        output: AttentionOutput) -> dict[str, np.ndarray]:
+    def _observe_output(
+        self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput
+    ) -> dict[str, np.ndarray]:
         """The attended observation of a step's ``raw`` one, given the model's ``output`` on
         it (``envs.fleet`` steps its members' models together, then calls this)."""
         observation = self._use(raw, info, output)
@@ -152,8 +155,14 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def _model_reading(raw: dict[str, np.ndarray], info: dict[str, Any]) -> tuple:
         """``AttentionModel.step``'s arguments for a raw observation and its ``info``:
         ``(t, sonar, laser, odometry, sonar_time_s, laser_time_s)``."""
-        return (info["time_s"], raw["sonar"], raw["laser"], raw["odometry"], info.get("sonar_time_s"),
-                info.get("laser_time_s"))
+        return (
+            info["time_s"],
+            raw["sonar"],
+            raw["laser"],
+            raw["odometry"],
+            info.get("sonar_time_s"),
+            info.get("laser_time_s"),
+        )
 
     def _step_model(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> AttentionOutput:
         t, sonar, laser, odometry, sonar_time_s, laser_time_s = self._model_reading(raw, info)
@@ -181,9 +190,15 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             return None
         track = None if region is None else output._track_row(region)
         if track is not None:
-            self.memory.attend(output.t, pose, int(track[_TRACK_ID]), track[_TRACK_X:_TRACK_X + 2],
-                               track[_TRACK_VX:_TRACK_VX + 2], float(track[_TRACK_SPEED]),
-                               bool(output.goal_fulfilled[region]))
+            self.memory.attend(
+                output.t,
+                pose,
+                int(track[_TRACK_ID]),
+                track[_TRACK_X : _TRACK_X + 2],
+                track[_TRACK_VX : _TRACK_VX + 2],
+                float(track[_TRACK_SPEED]),
+                bool(output.goal_fulfilled[region]),
+            )
         return self.memory.read(output.t, pose, self.model.config.max_distance_m)
 
     def _draw_overlay(self, renderer, surface) -> None:

@@ -94,16 +94,18 @@ class FocusEncoder:
     region per laser beam the one-hot alone would be 181 numbers.
     """
 
-    def __init__(self, config: AttentionConfig, base: spaces.Dict, memory_slots: int = 0,
-                 memory_horizon_s: float = 10.0) -> None:
+    def __init__(
+        self, config: AttentionConfig, base: spaces.Dict, memory_slots: int = 0, memory_horizon_s: float = 10.0
+    ) -> None:
         if config.grid != "sonar":
             raise ValueError(f"the 'focus' observation needs AttentionConfig(grid='sonar'), got grid={config.grid!r}")
         self.grid = Grid.make(config.grid)
         self._max_speed = config.max_speed_mps
         self._max_distance = config.max_distance_m
         j = self.grid.n_regions
-        memory_high = np.tile(np.array([1.0, 1.0, config.max_distance_m, config.max_speed_mps, 1.0, memory_horizon_s],
-                                       _F32), memory_slots)
+        memory_high = np.tile(
+            np.array([1.0, 1.0, config.max_distance_m, config.max_speed_mps, 1.0, memory_horizon_s], _F32), memory_slots
+        )
         memory_low = np.tile(np.array([-1.0, -1.0, 0.0, 0.0, 0.0, 0.0], _F32), memory_slots)
         self.space = spaces.Dict(
             {
@@ -112,8 +114,9 @@ class FocusEncoder:
                 "sonar": spaces.Box(np.zeros(2, _F32), np.array([config.sonar_max_range_m, 1.0], _F32), dtype=_F32),
                 "laser": _box(0.0, config.laser_max_range_m, (LASER_BINS,)),
                 "distance": _box(0.0, config.max_distance_m, (1,)),
-                "motion": spaces.Box(np.array([-self._max_speed, 0, 0, 0], _F32),
-                                     np.array([self._max_speed, 1, 1, 1], _F32), dtype=_F32),
+                "motion": spaces.Box(
+                    np.array([-self._max_speed, 0, 0, 0], _F32), np.array([self._max_speed, 1, 1, 1], _F32), dtype=_F32
+                ),
                 "features": _box(0.0, 1.0, (6,)),
                 **({"memory": spaces.Box(memory_low, memory_high, dtype=_F32)} if memory_slots else {}),
                 **_passthrough_spaces(base),
@@ -122,8 +125,13 @@ class FocusEncoder:
         self._memory_high = memory_high
         # per region: where each laser sub-sector starts within the region's beams (J, LASER_BINS),
         # and the region's beams (start, stop) in the laser scan
-        self._bin_starts = np.array([np.cumsum([0] + [len(b) for b in np.array_split(beams, LASER_BINS)[:-1]])
-                                     for beams in self.grid.beam_indices], np.int64)
+        self._bin_starts = np.array(
+            [
+                np.cumsum([0] + [len(b) for b in np.array_split(beams, LASER_BINS)[:-1]])
+                for beams in self.grid.beam_indices
+            ],
+            np.int64,
+        )
         self._beam_bounds = np.array([(s.start, s.stop) for s in self.grid.beam_slices], np.int64)
         offsets = np.cumsum([0] + [space.shape[0] for space in self.space.values()])
         self._parts = {key: slice(a, b) for key, a, b in zip(self.space, offsets[:-1], offsets[1:])}
@@ -131,8 +139,13 @@ class FocusEncoder:
         self._at = np.array([self._starts[key] for key in _REGION_KEYS], np.int64)
         self._size = int(offsets[-1])
 
-    def encode(self, raw: dict[str, np.ndarray], view: FocusView | None, event: tuple[bool, bool, bool],
-               memory: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    def encode(
+        self,
+        raw: dict[str, np.ndarray],
+        view: FocusView | None,
+        event: tuple[bool, bool, bool],
+        memory: np.ndarray | None = None,
+    ) -> dict[str, np.ndarray]:
         """The observation of attending ``view`` (None: no focus).
 
         Args:
@@ -145,13 +158,32 @@ class FocusEncoder:
         if view is None:
             flat[self._at[0] + self.grid.n_regions] = 1.0
             return obs
-        _write_focus(flat, self._at, view.region, *event, view.sonar_range_m, view.sonar_echo, view.laser_ranges_m,
-                     self._bin_starts[view.region], math.inf if view.distance_m is None else view.distance_m,
-                     self._max_distance, view.range_rate_mps, self._max_speed, int(view.direction), view.features)
+        _write_focus(
+            flat,
+            self._at,
+            view.region,
+            *event,
+            view.sonar_range_m,
+            view.sonar_echo,
+            view.laser_ranges_m,
+            self._bin_starts[view.region],
+            math.inf if view.distance_m is None else view.distance_m,
+            self._max_distance,
+            view.range_rate_mps,
+            self._max_speed,
+            int(view.direction),
+            view.features,
+        )
         return obs
 
-    def encode_region(self, raw: dict[str, np.ndarray], output: AttentionOutput, region: int | None,
-                      event: tuple[bool, bool, bool], memory: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    def encode_region(
+        self,
+        raw: dict[str, np.ndarray],
+        output: AttentionOutput,
+        region: int | None,
+        event: tuple[bool, bool, bool],
+        memory: np.ndarray | None = None,
+    ) -> dict[str, np.ndarray]:
         """``encode(raw, output.view_of(region), event, memory)`` (None: no focus), the same
         numbers, without building the ``FocusView``: one compiled call reads the region
         from the output's arrays."""
@@ -162,9 +194,23 @@ class FocusEncoder:
         grid, readings, valid, rates, nearest = output._sources[:5]
         if grid.name != self.grid.name:
             raise ValueError(f"the output is on the {grid.name!r} grid; the 'focus' observation needs the 'sonar' grid")
-        _write_output_focus(flat, self._at, region, *event, readings, valid, rates, nearest, output.F,
-                            output.directions, self.grid.region_sonar, self._beam_bounds, self._bin_starts,
-                            self._max_distance, self._max_speed)
+        _write_output_focus(
+            flat,
+            self._at,
+            region,
+            *event,
+            readings,
+            valid,
+            rates,
+            nearest,
+            output.F,
+            output.directions,
+            self.grid.region_sonar,
+            self._beam_bounds,
+            self._bin_starts,
+            self._max_distance,
+            self._max_speed,
+        )
         return obs
 
     def _blank(self, raw: dict[str, np.ndarray], memory: np.ndarray | None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -183,8 +229,24 @@ _REGION_KEYS = ("region", "event", "sonar", "laser", "distance", "motion", "feat
 
 
 @njit(cache=True)
-def _write_focus(flat, at, region, fired, bottom_up, top_down, sonar_range_m, sonar_echo, laser_ranges_m, bin_starts,
-                 distance_m, max_distance_m, range_rate_mps, max_speed_mps, direction, features):
+def _write_focus(
+    flat,
+    at,
+    region,
+    fired,
+    bottom_up,
+    top_down,
+    sonar_range_m,
+    sonar_echo,
+    laser_ranges_m,
+    bin_starts,
+    distance_m,
+    max_distance_m,
+    range_rate_mps,
+    max_speed_mps,
+    direction,
+    features,
+):
     """Write the entries of the attended ``region`` into ``flat`` (float32, zeros there):
     ``at`` ``(7,)`` the offsets of ``_REGION_KEYS``; the region's sonar range (m) and echo,
     its beams' ranges ``(n,)`` (m) summarised as the minimum of each sub-sector starting at
@@ -211,17 +273,49 @@ def _write_focus(flat, at, region, fired, bottom_up, top_down, sonar_range_m, so
 
 
 @njit(cache=True)
-def _write_output_focus(flat, at, region, fired, bottom_up, top_down, readings, valid, rates, nearest, F, directions,
-                        region_sonar, beam_bounds, bin_starts, max_distance_m, max_speed_mps):
+def _write_output_focus(
+    flat,
+    at,
+    region,
+    fired,
+    bottom_up,
+    top_down,
+    readings,
+    valid,
+    rates,
+    nearest,
+    F,
+    directions,
+    region_sonar,
+    beam_bounds,
+    bin_starts,
+    max_distance_m,
+    max_speed_mps,
+):
     """``_write_focus`` of ``region`` read from a model step's arrays (``AttentionOutput``:
     clipped readings, echo flags and range rates ``(188,)``, nearest reading per region
     ``(J,)``, F ``(6, J)``, direction labels ``(J,)``), as ``AttentionOutput.view_of`` reads
     them: the region's sonar ``region_sonar[region]``, its beams ``beam_bounds[region]``."""
     sonar = region_sonar[region]
     first, stop = beam_bounds[region, 0], beam_bounds[region, 1]
-    _write_focus(flat, at, region, fired, bottom_up, top_down, readings[sonar], valid[sonar],
-                 readings[FRONT_SONARS + first:FRONT_SONARS + stop], bin_starts[region], nearest[region],
-                 max_distance_m, rates[sonar], max_speed_mps, directions[region], F[:, region])
+    _write_focus(
+        flat,
+        at,
+        region,
+        fired,
+        bottom_up,
+        top_down,
+        readings[sonar],
+        valid[sonar],
+        readings[FRONT_SONARS + first : FRONT_SONARS + stop],
+        bin_starts[region],
+        nearest[region],
+        max_distance_m,
+        rates[sonar],
+        max_speed_mps,
+        directions[region],
+        F[:, region],
+    )
 
 
 class SaliencyEncoder:
@@ -234,7 +328,9 @@ class SaliencyEncoder:
     def __init__(self, config: AttentionConfig, base: spaces.Dict, gain: float) -> None:
         j = Grid.make(config.grid).n_regions
         self._m_high, self._l_high = map_ceilings(config, gain)
-        self.space = spaces.Dict({**base.spaces, "L": _box(0.0, self._l_high, (j,)), "M": _box(0.0, self._m_high, (j,))})
+        self.space = spaces.Dict(
+            {**base.spaces, "L": _box(0.0, self._l_high, (j,)), "M": _box(0.0, self._m_high, (j,))}
+        )
 
     def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
         return {

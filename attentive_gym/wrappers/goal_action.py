@@ -14,7 +14,8 @@ reset the task's goal and the configured weights are in force until the first ac
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -57,7 +58,9 @@ class GoalActionWrapper(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
         max_weight: the weight an action entry of +1 stands for (> 0).
     """
 
-    def __init__(self, env: gym.Env, goal_menu: Sequence[Goal | None] = DEFAULT_GOAL_MENU, max_weight: float = 2.0) -> None:
+    def __init__(
+        self, env: gym.Env, goal_menu: Sequence[Goal | None] = DEFAULT_GOAL_MENU, max_weight: float = 2.0
+    ) -> None:
         gym.utils.RecordConstructorArgs.__init__(self, goal_menu=goal_menu, max_weight=max_weight)
         gym.ActionWrapper.__init__(self, env)
         self._attention = _find_attention(env)
@@ -86,11 +89,11 @@ class GoalActionWrapper(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
     def action(self, action):
         action = np.clip(checked_action(action, self.action_space.shape, self._layout), -1.0, 1.0)
         k = len(self.goal_menu)
-        choice = int(np.argmax(action[2:2 + k]))
+        choice = int(np.argmax(action[2 : 2 + k]))
         if choice != self._choice:  # re-planning the model's maps only on a change
             self._attention.set_goal(self.goal_menu[choice])
             self._choice = choice
-        weights = (action[2 + k:] + 1.0) * 0.5 * self.max_weight
+        weights = (action[2 + k :] + 1.0) * 0.5 * self.max_weight
         if not np.array_equal(weights, self._weights):
             self._attention.model.set_weights(weights)
             self._weights = weights

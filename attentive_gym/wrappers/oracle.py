@@ -47,7 +47,9 @@ class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
             the default configuration).
     """
 
-    def __init__(self, env: gym.Env, memory_slots: int = DEFAULT_MEMORY_SLOTS, config: AttentionConfig | None = None) -> None:
+    def __init__(
+        self, env: gym.Env, memory_slots: int = DEFAULT_MEMORY_SLOTS, config: AttentionConfig | None = None
+    ) -> None:
         gym.utils.RecordConstructorArgs.__init__(self, memory_slots=memory_slots, config=config)
         gym.Wrapper.__init__(self, env)
         if not isinstance(memory_slots, int) or isinstance(memory_slots, bool) or memory_slots < 0:
@@ -99,9 +101,19 @@ class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
         epsilon = self.config.direction_epsilon_mps
         direction = Direction.TOWARDS if rate < -epsilon else Direction.AWAY if rate > epsilon else Direction.STATIC
         return FocusView(
-            region=region, bearing_rad=float(self._grid.bearings_rad[region]), sonar_range_m=sonar_range,
+            region=region,
+            bearing_rad=float(self._grid.bearings_rad[region]),
+            sonar_range_m=sonar_range,
             sonar_echo=sonar_range < self.config.sonar_max_range_m - self.config.no_echo_epsilon_m,
-            laser_beams=beams, laser_ranges_m=np.minimum(raw["laser"][beams], self.config.laser_max_range_m),
-            range_rate_mps=rate, direction=direction, distance_m=distance, features=np.zeros(6),
-            track_id=0, track_position_m=position, track_velocity_mps=velocity, track_speed_mps=speed, track_age_s=0.0,
+            laser_beams=beams,
+            laser_ranges_m=np.minimum(raw["laser"][beams], self.config.laser_max_range_m),
+            range_rate_mps=rate,
+            direction=direction,
+            distance_m=distance,
+            features=np.zeros(6),
+            track_id=0,
+            track_position_m=position,
+            track_velocity_mps=velocity,
+            track_speed_mps=speed,
+            track_age_s=0.0,
         )

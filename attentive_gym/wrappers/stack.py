@@ -1,8 +1,9 @@
 """``StackedReadings``: the raw-sensor baseline with history (speeds need several frames).
 
 The ``"sonar"``, ``"laser"`` and ``"odometry"`` entries become 1-D stacks of
-``n_frames`` readings, oldest first (``(n_frames · n,)``: frame k is ``[k·n:(k+1)·n]``); ``"goal"`` stays a single copy (it does not change within an
-episode). At reset the stack is filled with the first reading.
+``n_frames`` readings, oldest first (``(n_frames · n,)``: frame k is ``[k·n:(k+1)·n]``);
+``"goal"`` stays a single copy (it does not change within an episode).
+At reset the stack is filled with the first reading.
 """
 
 from __future__ import annotations
@@ -37,8 +38,9 @@ class StackedReadings(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
             raise ValueError(f"StackedReadings needs a Dict observation with keys {list(STACKED_KEYS)}, got {base}")
         self.n_frames = n_frames
         stacked = {
-            key: gym.spaces.Box(np.tile(base[key].low, n_frames), np.tile(base[key].high, n_frames),
-                                dtype=base[key].dtype)
+            key: gym.spaces.Box(
+                np.tile(base[key].low, n_frames), np.tile(base[key].high, n_frames), dtype=base[key].dtype
+            )
             for key in STACKED_KEYS
         }
         self.observation_space = gym.spaces.Dict({**base.spaces, **stacked})

@@ -4,12 +4,12 @@
 |---|---|---|
 | ``"raw"`` | ``AttentiveRescue-v0`` | sonar, laser, odometry, goal |
 | ``"raw-stack"`` | ``AttentiveRescueStack-v0`` | the same, sensors stacked over 4 steps |
-| ``"focus"`` | ``AttentiveRescueFocus-v0`` | the attended region and a memory of the last 3 attended bodies (64 numbers) |
+| ``"focus"`` | ``AttentiveRescueFocus-v0`` | the attended region and a memory of 3 attended bodies (64 numbers) |
 | ``"saliency"`` | ``AttentiveRescueSaliency-v0`` | raw readings + maps L and M |
 | ``"masked"`` | ``AttentiveRescueMasked-v0`` | raw readings outside the focus masked + masks |
 | ``"goal-action"`` | ``AttentiveRescueGoalAction-v0`` | ``"focus"``, the action also picks goal and weights |
-| ``"oracle"`` | ``AttentiveRescueOracle-v0`` | ``"focus"``'s layout filled from the privileged state (a bound) |
-| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v0`` | ``"focus"`` of a region drawn at random each step (a control) |
+| ``"oracle"`` | ``AttentiveRescueOracle-v0`` | ``"focus"``'s layout filled from the privileged state |
+| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v0`` | ``"focus"`` of a random region each step (a control) |
 
 ``flatten=True`` turns the ``Dict`` observation into one ``Box`` (for ``MlpPolicy``);
 keep it False for ``MultiInputPolicy``.
@@ -17,13 +17,14 @@ keep it False for ``MultiInputPolicy``.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import gymnasium as gym
 
 from attentive_gym.attention import AttentionConfig
-from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.wrappers.attention import AttentionWrapper
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, GoalActionWrapper
 from attentive_gym.wrappers.oracle import OracleFocus
@@ -32,8 +33,13 @@ from attentive_gym.wrappers.stack import StackedReadings
 __all__ = ["VARIANTS", "VARIANT_IDS", "make_env"]
 
 VARIANTS = tuple(VARIANT_IDS)
-_ATTENTION_MODES = {"focus": "focus", "saliency": "saliency", "masked": "masked", "goal-action": "focus",
-                    "random-focus": "focus"}
+_ATTENTION_MODES = {
+    "focus": "focus",
+    "saliency": "saliency",
+    "masked": "masked",
+    "goal-action": "focus",
+    "random-focus": "focus",
+}
 _FOCUS_LAYOUT = ("focus", "goal-action", "random-focus", "oracle")
 
 
@@ -69,7 +75,9 @@ def make_env(
     if variant not in VARIANT_IDS:
         raise ValueError(f"unknown variant {variant!r}; allowed: {list(VARIANTS)}")
     if variant in ("raw", "raw-stack", "oracle") and (attention is not None or weights is not None):
-        raise ValueError(f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}")
+        raise ValueError(
+            f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}"
+        )
     if memory_slots is not None and variant not in _FOCUS_LAYOUT:
         raise ValueError(f"memory_slots applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
     env: gym.Env = AttentiveRescueEnv(**env_kwargs)
@@ -79,11 +87,15 @@ def make_env(
         env = OracleFocus(env, **({} if memory_slots is None else {"memory_slots": memory_slots}))
     elif variant in _ATTENTION_MODES:
         focus = {"memory_slots": memory_slots, "selection": "random" if variant == "random-focus" else "winner"}
-        env = AttentionWrapper(env, _ATTENTION_MODES[variant], config=attention, weights=weights,
-                               **(focus if variant in _FOCUS_LAYOUT else {}))
+        env = AttentionWrapper(
+            env,
+            _ATTENTION_MODES[variant],
+            config=attention,
+            weights=weights,
+            **(focus if variant in _FOCUS_LAYOUT else {}),
+        )
         if variant == "goal-action":
             env = GoalActionWrapper(env, goal_menu)
     if flatten:
         env = gym.wrappers.FlattenObservation(env)
     return env
-

@@ -12,8 +12,17 @@ TINY_PPO = {"n_steps": 64, "batch_size": 64, "n_epochs": 1}
 
 
 def tiny_spec(**changes) -> RunSpec:
-    base = dict(variant="raw", total_steps=384, seed=0, n_envs=2, eval_every=128, eval_episodes=2,
-                checkpoint_every=128, env_kwargs=TINY_ENV, algo_kwargs=TINY_PPO)
+    base = dict(
+        variant="raw",
+        total_steps=384,
+        seed=0,
+        n_envs=2,
+        eval_every=128,
+        eval_episodes=2,
+        checkpoint_every=128,
+        env_kwargs=TINY_ENV,
+        algo_kwargs=TINY_PPO,
+    )
     base.update(changes)
     return RunSpec(**base)
 

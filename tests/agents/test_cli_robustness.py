@@ -26,9 +26,22 @@ STOP_WITHIN_S = 10.0
 
 def _tiny_options(tiny, steps=2048):
     """Options of a run of ``steps`` env steps in 40-step episodes, one env, a checkpoint every 256 steps."""
-    return ["--steps", str(steps), "--n-envs", "1", "--eval-every", "512", "--eval-episodes", "1",
-            "--checkpoint-every", "256", "--env-kwargs", json.dumps(tiny.env_kwargs),
-            "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    return [
+        "--steps",
+        str(steps),
+        "--n-envs",
+        "1",
+        "--eval-every",
+        "512",
+        "--eval-episodes",
+        "1",
+        "--checkpoint-every",
+        "256",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+    ]
 
 
 def _command(*args):
@@ -38,8 +51,9 @@ def _command(*args):
 def _start(argv):
     """The command in a new process group (as a shell runs a foreground job)."""
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
-    return subprocess.Popen(argv, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=env)
+    return subprocess.Popen(
+        argv, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+    )
 
 
 def _wait_for(path: Path, proc, timeout_s=120.0):
@@ -85,8 +99,18 @@ def _assert_group_ends(pgid, timeout_s=STOP_WITHIN_S):
 @pytest.mark.slow
 def test_ctrl_c_stops_compare_at_once_and_the_same_command_resumes(tmp_path, tiny):
     out = tmp_path / "cmp"
-    argv = _command("compare", "--variants", "raw", "--seeds", "2", "--workers", "1", "--out", str(out),
-                    *_tiny_options(tiny, steps=1024))
+    argv = _command(
+        "compare",
+        "--variants",
+        "raw",
+        "--seeds",
+        "2",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+        *_tiny_options(tiny, steps=1024),
+    )
     proc = _start(argv)
     checkpoint = out / "runs" / "raw-seed0" / "checkpoint" / "meta.json"
     _wait_for(checkpoint, proc)
@@ -95,8 +119,12 @@ def test_ctrl_c_stops_compare_at_once_and_the_same_command_resumes(tmp_path, tin
     assert proc.returncode == 130, stderr
     assert took_s < STOP_WITHIN_S
     assert "Traceback" not in stdout + stderr
-    assert re.search(r"^attentive-gym compare: interrupted by SIGINT; 0/2 runs done in .*; rerun the same command "
-                     r"to train only the 2 missing one\(s\)", stderr, re.MULTILINE), stderr
+    assert re.search(
+        r"^attentive-gym compare: interrupted by SIGINT; 0/2 runs done in .*; rerun the same command "
+        r"to train only the 2 missing one\(s\)",
+        stderr,
+        re.MULTILINE,
+    ), stderr
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["raw-seed0"]  # the queued run never started
     assert not (out / "runs" / "raw-seed0" / "done").exists()
     _assert_group_ends(proc.pid)
@@ -113,8 +141,20 @@ def test_ctrl_c_stops_compare_at_once_and_the_same_command_resumes(tmp_path, tin
 @pytest.mark.slow
 def test_sigterm_to_compare_alone_stops_its_run_processes(tmp_path, tiny):
     out = tmp_path / "cmp"
-    proc = _start(_command("compare", "--variants", "raw,focus", "--seeds", "1", "--workers", "1", "--out", str(out),
-                           *_tiny_options(tiny)))
+    proc = _start(
+        _command(
+            "compare",
+            "--variants",
+            "raw,focus",
+            "--seeds",
+            "1",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+            *_tiny_options(tiny),
+        )
+    )
     _wait_for(out / "runs" / "raw-seed0" / "spec.json", proc)
     stdout, stderr, took_s = _stop(proc, signal.SIGTERM, whole_group=False)
     assert proc.returncode == 143 and took_s < STOP_WITHIN_S, stderr
@@ -135,8 +175,10 @@ def test_ctrl_c_stops_train_keeping_its_checkpoint(tmp_path, tiny):
     assert proc.returncode == 130 and took_s < STOP_WITHIN_S, stderr
     assert "Traceback" not in stdout + stderr
     kept_steps = json.loads(checkpoint.read_text())["env_steps"]
-    assert (f"attentive-gym train: interrupted by SIGINT; the checkpoint at {kept_steps} env steps is kept in {out}; "
-            "rerun the same command to resume from it") in stderr
+    assert (
+        f"attentive-gym train: interrupted by SIGINT; the checkpoint at {kept_steps} env steps is kept in {out}; "
+        "rerun the same command to resume from it"
+    ) in stderr
     assert main(argv) == 0
     assert json.loads((out / "metrics.json").read_text())["resumed_from"] == kept_steps
 
@@ -180,19 +222,22 @@ def test_a_stop_signal_wrapped_by_a_compiled_callee_leaves_as_interrupted():
 
 
 # --- validation before anything is written ---------------------------------------------
-@pytest.mark.parametrize("options, message", [
-    (["--env-kwargs", '{"time_limit_s": 2, "bogus": 1}'], "env_kwargs: unknown keyword argument(s) ['bogus']"),
-    (["--env-kwargs", '{"scenario": "no/such.yaml"}'], "scenario file no/such.yaml does not exist"),
-    (["--algo-kwargs", '{"n_step": 64}'], "algo_kwargs: PPO takes no 'n_step'; allowed: batch_size, "),
-    (["--algo-kwargs", '{"seed": 3}'], "algo_kwargs: 'seed' cannot be given"),
-    (["--algo", "sac", "--algo-kwargs", '{"n_epochs": 3}'], "algo_kwargs: SAC takes no 'n_epochs'"),
-    (["--algo-kwargs", '{"n_steps": "abc"}'], 'algo_kwargs {"n_steps": "abc"} are refused by ppo: '),
-    (["--algo-kwargs", '{"ent_coef": NaN}'], "--algo-kwargs holds NaN, which is not a finite number"),
-    (["--algo-kwargs", '{"policy_kwargs": {"net_arch": [Infinity]}}'], "--algo-kwargs holds Infinity"),
-    (["--algo-kwargs", "{bad"], "--algo-kwargs is not valid JSON"),
-    (["--algo-kwargs", "[1]"], "--algo-kwargs must be a JSON object or a .json file"),
-    (["--env-kwargs", ""], "--env-kwargs is empty"),
-])
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (["--env-kwargs", '{"time_limit_s": 2, "bogus": 1}'], "env_kwargs: unknown keyword argument(s) ['bogus']"),
+        (["--env-kwargs", '{"scenario": "no/such.yaml"}'], "scenario file no/such.yaml does not exist"),
+        (["--algo-kwargs", '{"n_step": 64}'], "algo_kwargs: PPO takes no 'n_step'; allowed: batch_size, "),
+        (["--algo-kwargs", '{"seed": 3}'], "algo_kwargs: 'seed' cannot be given"),
+        (["--algo", "sac", "--algo-kwargs", '{"n_epochs": 3}'], "algo_kwargs: SAC takes no 'n_epochs'"),
+        (["--algo-kwargs", '{"n_steps": "abc"}'], 'algo_kwargs {"n_steps": "abc"} are refused by ppo: '),
+        (["--algo-kwargs", '{"ent_coef": NaN}'], "--algo-kwargs holds NaN, which is not a finite number"),
+        (["--algo-kwargs", '{"policy_kwargs": {"net_arch": [Infinity]}}'], "--algo-kwargs holds Infinity"),
+        (["--algo-kwargs", "{bad"], "--algo-kwargs is not valid JSON"),
+        (["--algo-kwargs", "[1]"], "--algo-kwargs must be a JSON object or a .json file"),
+        (["--env-kwargs", ""], "--env-kwargs is empty"),
+    ],
+)
 def test_train_refuses_a_bad_spec_before_writing_anything(options, message, tmp_path, capsys):
     out = tmp_path / "run"
     assert main(["train", "--variant", "raw", "--steps", "64", "--out", str(out), *options]) == 2
@@ -231,8 +276,21 @@ def test_a_folder_without_progress_is_taken_over_but_one_with_a_checkpoint_is_no
 def test_compare_checks_every_variant_before_training_any(tmp_path, capsys):
     out = tmp_path / "cmp"
     # the weights suit the attended variant 'focus' but not 'raw', which comes second
-    argv = ["compare", "--variants", "focus,raw", "--seeds", "2", "--steps", "128", "--n-envs", "1",
-            "--env-kwargs", '{"weights": {"F1": 1.0}}', "--out", str(out)]
+    argv = [
+        "compare",
+        "--variants",
+        "focus,raw",
+        "--seeds",
+        "2",
+        "--steps",
+        "128",
+        "--n-envs",
+        "1",
+        "--env-kwargs",
+        '{"weights": {"F1": 1.0}}',
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert "attentive-gym compare: error: variant 'raw' has no attention" in err and err.count("\n") == 1
@@ -241,8 +299,10 @@ def test_compare_checks_every_variant_before_training_any(tmp_path, capsys):
     assert "PPO takes no 'n_step'" in capsys.readouterr().err and not out.exists()
 
 
-@pytest.mark.parametrize("flag, message", [("--variants", "no variant given"), ("--seeds", "seeds must be"),
-                                           ("--distractors", "distractor counts must be")])
+@pytest.mark.parametrize(
+    "flag, message",
+    [("--variants", "no variant given"), ("--seeds", "seeds must be"), ("--distractors", "distractor counts must be")],
+)
 def test_compare_refuses_an_empty_list_instead_of_taking_the_default(flag, message, tmp_path, capsys):
     out = tmp_path / "cmp"
     assert main(["compare", flag, "", "--steps", "64", "--out", str(out)]) == 2
@@ -256,11 +316,28 @@ def test_non_finite_algo_kwargs_are_refused_in_python_too(tiny):
 
 def test_extending_needs_only_the_new_budget_and_a_mismatch_names_the_field(tmp_path, tiny, capsys):
     out = tmp_path / "run"
-    options = ["train", "--variant", "raw", "--no-progress", "--out", str(out), "--n-envs", "2", "--eval-episodes", "1",
-               "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    options = [
+        "train",
+        "--variant",
+        "raw",
+        "--no-progress",
+        "--out",
+        str(out),
+        "--n-envs",
+        "2",
+        "--eval-episodes",
+        "1",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+    ]
     assert main([*options, "--steps", "128"]) == 0  # eval every 12, checkpoint every 25 (steps/10, steps/5)
     assert main([*options, "--steps", "256"]) == 2
-    assert "holds a run of 128 env steps with otherwise the same spec; extend it to 256 (--extend)" in capsys.readouterr().err
+    assert (
+        "holds a run of 128 env steps with otherwise the same spec; extend it to 256 (--extend)"
+        in capsys.readouterr().err
+    )
     assert main([*options, "--steps", "256", "--extend"]) == 0
     spec = RunSpec.from_dict(json.loads((out / "spec.json").read_text()))
     assert (spec.total_steps, spec.eval_every, spec.checkpoint_every) == (256, 12, 25)
@@ -270,8 +347,22 @@ def test_extending_needs_only_the_new_budget_and_a_mismatch_names_the_field(tmp_
 
 def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends_with_its_constant_rate(tmp_path, tiny):
     out = tmp_path / "run"
-    options = ["train", "--variant", "raw", "--no-progress", "--out", str(out), "--n-envs", "2", "--eval-episodes", "1",
-               "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    options = [
+        "train",
+        "--variant",
+        "raw",
+        "--no-progress",
+        "--out",
+        str(out),
+        "--n-envs",
+        "2",
+        "--eval-episodes",
+        "1",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+    ]
     assert main([*options, "--steps", "128"]) == 0
     stored = json.loads((out / "spec.json").read_text())
     assert stored["algo_defaults"] == 2
@@ -282,20 +373,69 @@ def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends
     assert spec.algo_defaults == 1 and spec.merged_algo_kwargs()["learning_rate"] == 3e-4
     constant = {**tiny.ppo_kwargs, "learning_rate": 3e-4}  # the same rate asked for in words: the same run
     assert main([*options[:-1], json.dumps(constant), "--steps", "384", "--extend"]) == 0
-    assert main([*options, "--steps", "512", "--algo-kwargs", json.dumps({**tiny.ppo_kwargs, "learning_rate": 1e-3}),
-                 "--extend"]) == 2
-    assert main(["train", "--variant", "raw", "--no-progress", "--out", str(tmp_path / "new"), "--steps", "128",
-                 "--n-envs", "2", "--eval-episodes", "1", "--env-kwargs", json.dumps(tiny.env_kwargs),
-                 "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]) == 0
+    assert (
+        main(
+            [
+                *options,
+                "--steps",
+                "512",
+                "--algo-kwargs",
+                json.dumps({**tiny.ppo_kwargs, "learning_rate": 1e-3}),
+                "--extend",
+            ]
+        )
+        == 2
+    )
+    assert (
+        main(
+            [
+                "train",
+                "--variant",
+                "raw",
+                "--no-progress",
+                "--out",
+                str(tmp_path / "new"),
+                "--steps",
+                "128",
+                "--n-envs",
+                "2",
+                "--eval-episodes",
+                "1",
+                "--env-kwargs",
+                json.dumps(tiny.env_kwargs),
+                "--algo-kwargs",
+                json.dumps(tiny.ppo_kwargs),
+            ]
+        )
+        == 0
+    )
     assert json.loads((tmp_path / "new" / "spec.json").read_text())["algo_defaults"] == 2  # a new folder: the latest
 
 
 @pytest.mark.slow
-def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_does_not_lock_the_folder(tmp_path, tiny,
-                                                                                                    capsys):
+def test_compare_resumes_with_another_vec_env_or_threshold_and_a_failed_start_does_not_lock_the_folder(
+    tmp_path, tiny, capsys
+):
     out = tmp_path / "cmp"
-    options = ["compare", "--variants", "raw", "--seeds", "1", "--workers", "1", "--out", str(out), "--n-envs", "2",
-               "--eval-episodes", "1", "--steps", "128", "--env-kwargs", json.dumps(tiny.env_kwargs)]
+    options = [
+        "compare",
+        "--variants",
+        "raw",
+        "--seeds",
+        "1",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+        "--n-envs",
+        "2",
+        "--eval-episodes",
+        "1",
+        "--steps",
+        "128",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+    ]
     (out).mkdir()
     (out / "compare.json").write_text(json.dumps({"variants": ["focus"], "seeds": [3], "run": {}, "threshold": 0.5}))
     assert main([*options, "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]) == 0  # no run held progress: taken over
@@ -335,10 +475,16 @@ def test_a_smoke_train_keeps_its_first_evaluation_and_evaluates_two_episodes_in_
     """``train --steps 512`` (one PPO rollout of 4 × 256 env steps): an evaluation at 0 and one at the end, of one
     episode each (it was 20 each, many times the run's training at hundreds of env steps an episode)."""
     out = tmp_path / "smoke"
-    assert main(["train", "--steps", "512", "--no-progress", "--env-kwargs", json.dumps(tiny.env_kwargs),
-                 "--out", str(out)]) == 0
-    assert "focus-seed0: 512 env steps, evaluated on 1 episode at 0 env steps, every 51 and at the end" in \
-        capsys.readouterr().out
+    assert (
+        main(
+            ["train", "--steps", "512", "--no-progress", "--env-kwargs", json.dumps(tiny.env_kwargs), "--out", str(out)]
+        )
+        == 0
+    )
+    assert (
+        "focus-seed0: 512 env steps, evaluated on 1 episode at 0 env steps, every 51 and at the end"
+        in capsys.readouterr().out
+    )
     rows = read_csv(out / "eval.csv")
     assert [(row["env_steps"], row["n_episodes"]) for row in rows] == [(0, 1), (1024, 1)]
 
@@ -346,8 +492,20 @@ def test_a_smoke_train_keeps_its_first_evaluation_and_evaluates_two_episodes_in_
 def test_a_resumed_run_keeps_its_evaluation_episodes_when_the_flag_is_left_out(tmp_path, tiny):
     """A folder trained with ``--eval-episodes 3`` resumes and extends without the flag, as with ``--eval-every``."""
     out = tmp_path / "run"
-    options = ["train", "--variant", "raw", "--no-progress", "--out", str(out), "--n-envs", "2",
-               "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs)]
+    options = [
+        "train",
+        "--variant",
+        "raw",
+        "--no-progress",
+        "--out",
+        str(out),
+        "--n-envs",
+        "2",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+    ]
     assert main([*options, "--steps", "128", "--eval-episodes", "3"]) == 0
     assert main([*options, "--steps", "256", "--extend"]) == 0
     assert json.loads((out / "spec.json").read_text())["eval_episodes"] == 3
@@ -370,17 +528,22 @@ def test_compare_help_names_the_plain_and_the_quick_budget(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "95 % CI" in text
     assert f"(default: {RunSpec.total_steps}; {QUICK['total_steps']} with --quick)" in text
-    assert (f"(default: steps/{STEPS_PER_EVAL_EPISODE}, at least 1, at most {RunSpec.eval_episodes}; "
-            f"{QUICK['eval_episodes']} with --quick)") in text
+    assert (
+        f"(default: steps/{STEPS_PER_EVAL_EPISODE}, at least 1, at most {RunSpec.eval_episodes}; "
+        f"{QUICK['eval_episodes']} with --quick)"
+    ) in text
     assert f"(default: 5; {len(QUICK['seeds'])} with --quick)" in text
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["train", "--steps", "0"], "argument --steps: expected an integer >= 1, got '0'"),
-    (["train", "--steps", "1e5"], "argument --steps: expected an integer >= 1, got '1e5'"),
-    (["train", "--seed", "-1"], "argument --seed: expected an integer >= 0, got '-1'"),
-    (["evaluate", "run", "--seed", "x"], "argument --seed: expected an integer >= 0, got 'x'"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["train", "--steps", "0"], "argument --steps: expected an integer >= 1, got '0'"),
+        (["train", "--steps", "1e5"], "argument --steps: expected an integer >= 1, got '1e5'"),
+        (["train", "--seed", "-1"], "argument --seed: expected an integer >= 0, got '-1'"),
+        (["evaluate", "run", "--seed", "x"], "argument --seed: expected an integer >= 0, got 'x'"),
+    ],
+)
 def test_integer_options_name_the_allowed_range(argv, message, capsys):
     with pytest.raises(SystemExit) as exited:
         main(argv)
@@ -426,14 +589,16 @@ def test_experiment_all_prints_one_progress_line_per_experiment(monkeypatch, cap
     from attentive_gym.experiments import EXPERIMENT_NAMES
 
     monkeypatch.setattr(experiment_cli, "run_experiment", lambda name, **_: SimpleNamespace(paths=()))
-    monkeypatch.setattr(experiment_cli, "check_experiment",
-                        lambda result: [SimpleNamespace(passed=True, name="check", measured="1")])
+    monkeypatch.setattr(
+        experiment_cli, "check_experiment", lambda result: [SimpleNamespace(passed=True, name="check", measured="1")]
+    )
     assert main(["experiment", "all"]) == 0
     captured = capsys.readouterr()
     lines = captured.err.splitlines()
     assert "\r" not in captured.err and len(lines) == len(EXPERIMENT_NAMES)
     for i, (line, name) in enumerate(zip(lines, EXPERIMENT_NAMES), 1):
         eta = r", ETA \d+s" if i < len(EXPERIMENT_NAMES) else ""
-        assert re.fullmatch(rf"\[{i}/{len(EXPERIMENT_NAMES)}\] {name}: 1/1 checks pass in \d+s \(elapsed \d+s{eta}\)",
-                            line), line
+        assert re.fullmatch(
+            rf"\[{i}/{len(EXPERIMENT_NAMES)}\] {name}: 1/1 checks pass in \d+s \(elapsed \d+s{eta}\)", line
+        ), line
     assert f"{EXPERIMENT_NAMES[0]}: 1/1 checks pass" in captured.out

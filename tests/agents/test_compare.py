@@ -25,9 +25,29 @@ def _png_size(path):
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory, tiny):
     out = tmp_path_factory.mktemp("cmp")
-    argv = ["compare", "--variants", ",".join(VARIANTS), "--seeds", "2", "--steps", "256", "--n-envs", "2",
-            "--eval-every", "128", "--eval-episodes", "2", "--env-kwargs", json.dumps(tiny.env_kwargs),
-            "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--workers", "2", "--out", str(out)]
+    argv = [
+        "compare",
+        "--variants",
+        ",".join(VARIANTS),
+        "--seeds",
+        "2",
+        "--steps",
+        "256",
+        "--n-envs",
+        "2",
+        "--eval-every",
+        "128",
+        "--eval-episodes",
+        "2",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     return out, argv
 
@@ -82,10 +102,32 @@ def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tin
     out = tmp_path / "cmp"
 
     def argv(steps, *more):
-        return ["compare", "--variants", "raw", "--seeds", "1", "--steps", str(steps), "--n-envs", "2",
-                "--eval-every", "128", "--checkpoint-every", "128", "--eval-episodes", "2",
-                "--env-kwargs", json.dumps(tiny.env_kwargs), "--algo-kwargs", json.dumps(tiny.ppo_kwargs),
-                "--workers", "1", "--out", str(out), *more]
+        return [
+            "compare",
+            "--variants",
+            "raw",
+            "--seeds",
+            "1",
+            "--steps",
+            str(steps),
+            "--n-envs",
+            "2",
+            "--eval-every",
+            "128",
+            "--checkpoint-every",
+            "128",
+            "--eval-episodes",
+            "2",
+            "--env-kwargs",
+            json.dumps(tiny.env_kwargs),
+            "--algo-kwargs",
+            json.dumps(tiny.ppo_kwargs),
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+            *more,
+        ]
 
     assert main(argv(256)) == 0
     settings = (out / "compare.json").read_text()
@@ -95,7 +137,7 @@ def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tin
     assert main(argv(384, "--extend")) == 0
     rows = read_csv(out / "results.csv")
     drop_wall = lambda table: [{k: v for k, v in r.items() if k != "wall_s"} for r in table]  # noqa: E731
-    assert drop_wall(rows[:len(before)]) == drop_wall(before) and [r["env_steps"] for r in rows] == [0, 128, 256, 384]
+    assert drop_wall(rows[: len(before)]) == drop_wall(before) and [r["env_steps"] for r in rows] == [0, 128, 256, 384]
     assert json.loads((out / "compare.json").read_text())["run"]["total_steps"] == 384
     assert json.loads((out / "runs" / "raw-seed0" / "metrics.json").read_text())["resumed_from"] == 256
     assert main(argv(256, "--extend")) == 2  # a budget never shrinks
@@ -105,8 +147,10 @@ def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tin
 def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
     good = tiny(total_steps=128)
     bad = tiny(total_steps=128, seed=1).to_dict() | {"env_kwargs": {"bogus_knob": 1}}
-    outcomes = {o.run_dir: o for o in run_many([(good.to_dict(), str(tmp_path / "good")), (bad, str(tmp_path / "bad"))],
-                                               workers=2)}
+    outcomes = {
+        o.run_dir: o
+        for o in run_many([(good.to_dict(), str(tmp_path / "good")), (bad, str(tmp_path / "bad"))], workers=2)
+    }
     assert outcomes[str(tmp_path / "good")].ok and (tmp_path / "good" / "done").is_file()
     failed = outcomes[str(tmp_path / "bad")]
     assert not failed.ok and "bogus_knob" in failed.error
@@ -178,7 +222,9 @@ def test_bad_backend_and_workers(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(not ray_available(), reason="ray is not importable (install the 'ray' extra: pip install -e '.[ray]')")
+@pytest.mark.skipif(
+    not ray_available(), reason="ray is not importable (install the 'ray' extra: pip install -e '.[ray]')"
+)
 def test_ray_backend_runs_the_same_jobs(tmp_path, tiny):
     import ray
 
@@ -203,10 +249,34 @@ def test_a_killed_compare_process_reruns_only_the_missing_runs(tmp_path, tiny):
     import time
 
     out = tmp_path / "cmp"
-    argv = [sys.executable, "-m", "attentive_gym.cli", "compare", "--variants", "raw,focus", "--seeds", "2",
-            "--steps", "1024", "--n-envs", "2", "--eval-every", "512", "--eval-episodes", "2",
-            "--checkpoint-every", "256", "--env-kwargs", json.dumps(tiny.env_kwargs),
-            "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--workers", "2", "--out", str(out)]
+    argv = [
+        sys.executable,
+        "-m",
+        "attentive_gym.cli",
+        "compare",
+        "--variants",
+        "raw,focus",
+        "--seeds",
+        "2",
+        "--steps",
+        "1024",
+        "--n-envs",
+        "2",
+        "--eval-every",
+        "512",
+        "--eval-episodes",
+        "2",
+        "--checkpoint-every",
+        "256",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+    ]
     proc = subprocess.Popen(argv, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 120
     while not list(out.glob("runs/*/done")) and time.monotonic() < deadline:

@@ -12,10 +12,21 @@ def test_unknown_variant_lists_allowed_ones():
         parse_variants("raw,nope")
 
 
-@pytest.mark.parametrize("field, value", [
-    ("total_steps", 0), ("total_steps", -5), ("total_steps", 1.5), ("seed", -1), ("seed", "3"),
-    ("n_envs", 0), ("eval_episodes", 0), ("algo", "dqn"), ("vec_env", "threads"), ("env_kwargs", [1]),
-])
+@pytest.mark.parametrize(
+    "field, value",
+    [
+        ("total_steps", 0),
+        ("total_steps", -5),
+        ("total_steps", 1.5),
+        ("seed", -1),
+        ("seed", "3"),
+        ("n_envs", 0),
+        ("eval_episodes", 0),
+        ("algo", "dqn"),
+        ("vec_env", "threads"),
+        ("env_kwargs", [1]),
+    ],
+)
 def test_bad_values_raise(field, value):
     with pytest.raises(ValueError, match=field if field not in ("algo", "vec_env") else "unknown"):
         RunSpec(**{field: value})
@@ -39,7 +50,10 @@ def test_the_default_learning_rate_decays_and_older_specs_keep_their_constant_ra
         schedule = spec.merged_algo_kwargs()["learning_rate"]
         assert isinstance(schedule, LinearSchedule) and schedule(1.0) == 3e-4 and schedule(0.0) == 0.0
         old = {key: value for key, value in spec.to_dict().items() if key != "algo_defaults"}  # a spec.json of before
-        assert RunSpec.from_dict(old).algo_defaults == 1 and RunSpec.from_dict(old).merged_algo_kwargs()["learning_rate"] == 3e-4
+        assert (
+            RunSpec.from_dict(old).algo_defaults == 1
+            and RunSpec.from_dict(old).merged_algo_kwargs()["learning_rate"] == 3e-4
+        )
         assert RunSpec.from_dict(spec.to_dict()) == spec
     assert "learning_rate" not in RunSpec(algo="sac").default_algo_kwargs()
     assert RunSpec(algo_kwargs={"learning_rate": 1e-4}).merged_algo_kwargs()["learning_rate"] == 1e-4
@@ -56,7 +70,10 @@ def test_runs_are_told_apart_by_their_hyper_parameters_not_by_how_they_were_aske
     assert budget_grows(old, RunSpec(algo_kwargs={"learning_rate": 3e-4}, total_steps=old.total_steps * 2))
     assert RunSpec(algo_kwargs={"learning_rate": "lin_0.0003"}).same_settings(RunSpec())
     assert not old.same_settings(RunSpec()) and not budget_grows(old, RunSpec(total_steps=old.total_steps * 2))
-    assert old.differences(RunSpec(eval_every=5)) == 'eval_every 10000 → 5, algo_kwargs.learning_rate 0.0003 → "lin_0.0003"'
+    assert (
+        old.differences(RunSpec(eval_every=5))
+        == 'eval_every 10000 → 5, algo_kwargs.learning_rate 0.0003 → "lin_0.0003"'
+    )
     assert RunSpec().learning_rate() == "lin_0.0003" and RunSpec(algo="sac").learning_rate() == 3e-4
 
 
@@ -84,23 +101,29 @@ def test_parsers():
         parse_variants(" ")
 
 
-@pytest.mark.parametrize("text, message", [
-    ("raw,", "empty item in the variant list 'raw,'"),
-    (",raw", "empty item in the variant list ',raw'"),
-    ("raw,,focus", "empty item in the variant list 'raw,,focus'"),
-    ("raw,focus,raw", "variant 'raw' is listed twice in 'raw,focus,raw'"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("raw,", "empty item in the variant list 'raw,'"),
+        (",raw", "empty item in the variant list ',raw'"),
+        ("raw,,focus", "empty item in the variant list 'raw,,focus'"),
+        ("raw,focus,raw", "variant 'raw' is listed twice in 'raw,focus,raw'"),
+    ],
+)
 def test_variant_lists_with_empty_or_repeated_items_are_refused(text, message):
     with pytest.raises(ValueError, match=message):
         parse_variants(text)
 
 
-@pytest.mark.parametrize("text, message", [
-    ("0,1,", "empty item in the seed list '0,1,'"),
-    ("0,,1", "empty item in the seed list '0,,1'"),
-    ("1,1", "seed 1 is listed twice in '1,1'"),
-    ("0,2,02", "seed 2 is listed twice in '0,2,02'"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("0,1,", "empty item in the seed list '0,1,'"),
+        ("0,,1", "empty item in the seed list '0,,1'"),
+        ("1,1", "seed 1 is listed twice in '1,1'"),
+        ("0,2,02", "seed 2 is listed twice in '0,2,02'"),
+    ],
+)
 def test_seed_lists_with_empty_or_repeated_items_are_refused(text, message):
     with pytest.raises(ValueError, match=message):
         parse_seeds(text)

@@ -101,9 +101,15 @@ def test_evaluation_carries_each_envs_state_and_resets_it_at_episode_starts(n_pa
     assert result.returns == tuple(float(2 + (1 + i) % 4) for i in range(7))  # episodes of 4, 5, 2, 3, 4, 5, 2 steps
 
 
-@pytest.mark.parametrize(("kwargs", "message"), [({"n_parallel": 0}, "n_parallel must be an integer >= 1, got 0"),
-                                               ({"n_parallel": -2}, "n_parallel"), ({"n_parallel": 2.0}, "n_parallel"),
-                                               ({"envs": []}, "envs must hold at least one")])
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"n_parallel": 0}, "n_parallel must be an integer >= 1, got 0"),
+        ({"n_parallel": -2}, "n_parallel"),
+        ({"n_parallel": 2.0}, "n_parallel"),
+        ({"envs": []}, "envs must hold at least one"),
+    ],
+)
 def test_evaluation_refuses_no_environments_instead_of_reporting_zeros(kwargs, message):
     with pytest.raises(ValueError, match=message):
         evaluate_policy(StepCounter(), StepIndexEnv, 5, seed=1, **kwargs)
@@ -121,19 +127,31 @@ def test_policy_memory_keeps_each_envs_rows():
     assert np.array_equal(memory.take([0])[0], hidden[:, [1]])
 
 
-@pytest.mark.parametrize("algo, space, policy", [
-    ("recurrent-ppo", gym.spaces.Dict({"x": gym.spaces.Box(0, 1, (2,))}), "MultiInputLstmPolicy"),
-    ("recurrent-ppo", gym.spaces.Box(0, 1, (2,)), "MlpLstmPolicy"),
-    ("ppo", gym.spaces.Dict({"x": gym.spaces.Box(0, 1, (2,))}), "MultiInputPolicy"),
-    ("sac", gym.spaces.Box(0, 1, (2,)), "MlpPolicy"),
-])
+@pytest.mark.parametrize(
+    "algo, space, policy",
+    [
+        ("recurrent-ppo", gym.spaces.Dict({"x": gym.spaces.Box(0, 1, (2,))}), "MultiInputLstmPolicy"),
+        ("recurrent-ppo", gym.spaces.Box(0, 1, (2,)), "MlpLstmPolicy"),
+        ("ppo", gym.spaces.Dict({"x": gym.spaces.Box(0, 1, (2,))}), "MultiInputPolicy"),
+        ("sac", gym.spaces.Box(0, 1, (2,)), "MlpPolicy"),
+    ],
+)
 def test_the_policy_follows_the_observation_space(algo, space, policy):
     assert _policy_name(algo, space) == policy
 
 
 def test_recurrent_ppo_keywords_are_checked(tmp_path, capsys):
-    argv = ["train", "--algo", "recurrent-ppo", "--steps", "64", "--algo-kwargs", '{"n_lstm": 2}',
-            "--out", str(tmp_path / "r")]
+    argv = [
+        "train",
+        "--algo",
+        "recurrent-ppo",
+        "--steps",
+        "64",
+        "--algo-kwargs",
+        '{"n_lstm": 2}',
+        "--out",
+        str(tmp_path / "r"),
+    ]
     assert main(argv) == 2
     assert "RecurrentPPO takes no 'n_lstm'; allowed: " in capsys.readouterr().err
     assert not (tmp_path / "r").exists()

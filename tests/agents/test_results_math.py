@@ -7,8 +7,6 @@ import os
 import numpy as np
 import pytest
 
-from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
-
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
     read_csv,
@@ -17,6 +15,7 @@ from attentive_gym.agents.results import (
     write_csv_atomic,
     write_text_atomic,
 )
+from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
 
 
 def test_iqm_by_hand():
@@ -76,8 +75,9 @@ def _rows():
     rows = []
     for seed, curve in enumerate(([0.0, 0.4, 0.6], [0.1, 0.6, 0.8], [0.0, 0.2, 0.4])):
         for steps, success in zip((0, 100, 200), curve):
-            rows.append({"variant": "a", "seed": seed, "env_steps": steps, "success_rate": success,
-                         "mean_return": 10 * success})
+            rows.append(
+                {"variant": "a", "seed": seed, "env_steps": steps, "success_rate": success, "mean_return": 10 * success}
+            )
     rows.append({"variant": "b", "seed": 0, "env_steps": 0, "success_rate": 0.0, "mean_return": -1.0})
     rows.append({"variant": "b", "seed": 0, "env_steps": 200, "success_rate": 0.2, "mean_return": 1.0})
     return rows
@@ -107,9 +107,11 @@ def test_summarise_final_values_and_steps_to_threshold():
 
 
 def test_steps_to_threshold_interval_covers_seeds_trained_past_the_shortest_budget():
-    rows = [{"variant": "a", "seed": seed, "env_steps": steps, "success_rate": float(steps >= hit), "mean_return": 0.0}
-            for seed, (hit, budget) in enumerate(((100, 100), (200, 200), (200, 200)))
-            for steps in range(0, budget + 1, 100)]
+    rows = [
+        {"variant": "a", "seed": seed, "env_steps": steps, "success_rate": float(steps >= hit), "mean_return": 0.0}
+        for seed, (hit, budget) in enumerate(((100, 100), (200, 200), (200, 200)))
+        for steps in range(0, budget + 1, 100)
+    ]
     (a,) = summarise(rows, threshold=0.5)
     assert a["final_env_steps"] == 100 and a["seeds_reaching_threshold"] == 3
     assert a["steps_to_threshold_mean"] == pytest.approx(500 / 3)
@@ -128,8 +130,10 @@ def test_summarise_refuses_a_missing_or_impossible_success_rate():
 
 def test_summary_says_why_an_interval_is_missing():
     rows = [{"variant": "raw", "seed": 0, "env_steps": 100, "success_rate": 0.5, "mean_return": 0.0}]
-    rows += [{"variant": "focus", "seed": seed, "env_steps": 100, "success_rate": value, "mean_return": 0.0}
-             for seed, value in enumerate((0.6, 0.7, 0.8))]
+    rows += [
+        {"variant": "focus", "seed": seed, "env_steps": 100, "success_rate": value, "mean_return": 0.0}
+        for seed, value in enumerate((0.6, 0.7, 0.8))
+    ]
     text = summary_markdown(summarise(rows, threshold=0.65))
     focus = next(line for line in text.splitlines() if line.startswith("| focus"))
     assert "1.00 (raw has 1 seed: no CI)" in focus  # P(improvement): the baseline has one seed
@@ -139,8 +143,16 @@ def test_summary_says_why_an_interval_is_missing():
 
 
 def test_csv_roundtrip_and_atomic_write(tmp_path):
-    rows = [{"variant": "raw", "seed": 1, "env_steps": 1024, "n_episodes": 2, "success_rate": 0.5,
-             "mean_return": float("nan")}]
+    rows = [
+        {
+            "variant": "raw",
+            "seed": 1,
+            "env_steps": 1024,
+            "n_episodes": 2,
+            "success_rate": 0.5,
+            "mean_return": float("nan"),
+        }
+    ]
     path = write_csv_atomic(tmp_path / "r.csv", rows, EVAL_COLUMNS)
     back = read_csv(path)
     assert list(back[0]) == list(EVAL_COLUMNS)
@@ -156,15 +168,23 @@ def test_csv_roundtrip_and_atomic_write(tmp_path):
 def test_learning_curve_ticks_read_in_thousands_and_millions():
     from attentive_gym.agents.plots import steps_label
 
-    assert [steps_label(v) for v in (0, 500, 50_000, 150_000, 1_000_000, 1_500_000)] == \
-        ["0", "500", "50k", "150k", "1M", "1.5M"]
+    assert [steps_label(v) for v in (0, 500, 50_000, 150_000, 1_000_000, 1_500_000)] == [
+        "0",
+        "500",
+        "50k",
+        "150k",
+        "1M",
+        "1.5M",
+    ]
 
 
 def test_learning_curve_bands_stay_inside_the_success_range():
     from attentive_gym.agents.plots import curve_stats
 
-    rows = [{"variant": "a", "seed": seed, "env_steps": 100, "success_rate": value}
-            for seed, value in enumerate((0.0, 0.0, 0.1, 1.0, 1.0))]
+    rows = [
+        {"variant": "a", "seed": seed, "env_steps": 100, "success_rate": value}
+        for seed, value in enumerate((0.0, 0.0, 0.1, 1.0, 1.0))
+    ]
     steps, mean, low, high = curve_stats(rows, "a", "success_rate")
     assert steps.tolist() == [100] and 0.0 <= low[0] < mean[0] < high[0] <= 1.0
 
@@ -175,8 +195,16 @@ def _sweep_rows():
         for variant, level in (("raw", raw), ("focus", focus)):
             for seed, noise in enumerate((-0.02, 0.0, 0.02)):
                 for steps, success in ((0, 0.2), (100, level + noise)):
-                    rows.append({"num_distractors": n, "variant": variant, "seed": seed, "env_steps": steps,
-                                 "success_rate": success, "mean_return": success})
+                    rows.append(
+                        {
+                            "num_distractors": n,
+                            "variant": variant,
+                            "seed": seed,
+                            "env_steps": steps,
+                            "success_rate": success,
+                            "mean_return": success,
+                        }
+                    )
     return rows
 
 
@@ -186,7 +214,8 @@ def test_sweep_tables_summarise_each_distractor_count(tmp_path):
 
     summary = sweep_tables(_sweep_rows())
     assert [(r["num_distractors"], r["variant"]) for r in summary] == [
-        (n, v) for n in (1, 3, 6) for v in ("raw", "focus")]
+        (n, v) for n in (1, 3, 6) for v in ("raw", "focus")
+    ]
     focus = {r["num_distractors"]: r for r in summary if r["variant"] == "focus"}
     assert focus[6]["final_success_mean"] == pytest.approx(0.4) and focus[6]["improvement_over"] == "raw"
     assert focus[1]["prob_improvement"] == 0.0 and focus[6]["prob_improvement"] == 1.0
@@ -194,8 +223,9 @@ def test_sweep_tables_summarise_each_distractor_count(tmp_path):
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.mark.parametrize("text, ok", [("1,3,6", (1, 3, 6)), ("0", (0,)), ("1,1", None), ("1,", None), ("-1", None),
-                                      ("a", None)])
+@pytest.mark.parametrize(
+    "text, ok", [("1,3,6", (1, 3, 6)), ("0", (0,)), ("1,1", None), ("1,", None), ("-1", None), ("a", None)]
+)
 def test_distractor_counts_are_parsed_strictly(text, ok):
     from attentive_gym.agents.sweep import parse_distractors
 
@@ -211,9 +241,13 @@ def test_a_crowded_learning_curve_legend_sits_below_the_panels(tmp_path, monkeyp
 
     figures = []
     monkeypatch.setattr(plots, "_save", lambda fig, path, layout=True: figures.append(fig) or path)
-    rows = [{"variant": f"v{k}", "seed": seed, "env_steps": step, "success_rate": 0.5, "mean_return": 1.0}
-            for k in range(6) for seed in (0, 1) for step in (0, 100)]
-    plots.plot_learning_curves(rows[:2 * 2 * 2], tmp_path / "few.png")
+    rows = [
+        {"variant": f"v{k}", "seed": seed, "env_steps": step, "success_rate": 0.5, "mean_return": 1.0}
+        for k in range(6)
+        for seed in (0, 1)
+        for step in (0, 100)
+    ]
+    plots.plot_learning_curves(rows[: 2 * 2 * 2], tmp_path / "few.png")
     plots.plot_learning_curves(rows, tmp_path / "many.png")
     few, many = figures
     assert few.axes[0].get_legend() is not None and not few.legends
@@ -230,8 +264,12 @@ def test_a_variant_keeps_its_colour_across_settings_which_differ_in_line_style(t
     figures = []
     monkeypatch.setattr(plots, "_save", lambda fig, path, layout=True: figures.append(fig) or path)
     labels = ["raw", "focus", "raw (recurrent-ppo)", "focus (recurrent-ppo)", "focus (ppo, lr lin_3e-4)"]
-    rows = [{"variant": label, "seed": seed, "env_steps": step, "success_rate": 0.5, "mean_return": 1.0}
-            for label in labels for seed in (0, 1) for step in (0, 100)]
+    rows = [
+        {"variant": label, "seed": seed, "env_steps": step, "success_rate": 0.5, "mean_return": 1.0}
+        for label in labels
+        for seed in (0, 1)
+        for step in (0, 100)
+    ]
     plots.plot_learning_curves(rows, tmp_path / "curves.png")
     lines = {line.get_label().rsplit(" (n=", 1)[0]: line for line in figures[0].axes[0].get_lines()}
     colour = {label: lines[label].get_color() for label in labels}

@@ -12,14 +12,38 @@ from attentive_gym.cli import main
 @pytest.mark.slow
 def test_compare_distractors_sweeps_the_clutter(tmp_path, tiny, capsys):
     out = tmp_path / "sweep"
-    argv = ["compare", "--variants", "raw,focus", "--seeds", "1", "--steps", "128", "--n-envs", "2",
-            "--eval-every", "128", "--checkpoint-every", "64", "--eval-episodes", "1",
-            "--env-kwargs", json.dumps(tiny.env_kwargs),
-            "--algo-kwargs", json.dumps(tiny.ppo_kwargs), "--workers", "2", "--out", str(out), "--distractors", "1,3"]
+    argv = [
+        "compare",
+        "--variants",
+        "raw,focus",
+        "--seeds",
+        "1",
+        "--steps",
+        "128",
+        "--n-envs",
+        "2",
+        "--eval-every",
+        "128",
+        "--checkpoint-every",
+        "64",
+        "--eval-episodes",
+        "1",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+        "--distractors",
+        "1,3",
+    ]
     assert main(argv) == 0
     header = capsys.readouterr().out.splitlines()[0]
-    assert header.startswith("compare: clutter sweep over 2 distractor counts × 2 variants × 1 seed × 128 env steps "
-                             "(process, 2 workers)"), header
+    assert header.startswith(
+        "compare: clutter sweep over 2 distractor counts × 2 variants × 1 seed × 128 env steps (process, 2 workers)"
+    ), header
     for n in (1, 3):
         spec = json.loads((out / f"distractors-{n}" / "runs" / "raw-seed0" / "spec.json").read_text())
         assert spec["env_kwargs"]["num_distractors"] == n

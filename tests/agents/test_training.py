@@ -73,8 +73,12 @@ def test_resume_continues_the_step_count(tmp_path, tiny):
 
 
 def test_a_linear_learning_rate_decays_over_the_budget_and_resumes_where_it_was(tmp_path, tiny):
-    spec = tiny(total_steps=640, checkpoint_every=256, eval_every=256,
-                algo_kwargs={**tiny.ppo_kwargs, "learning_rate": "lin_1e-3"})
+    spec = tiny(
+        total_steps=640,
+        checkpoint_every=256,
+        eval_every=256,
+        algo_kwargs={**tiny.ppo_kwargs, "learning_rate": "lin_1e-3"},
+    )
     straight = train(spec, tmp_path / "straight")
     with pytest.raises(KeyboardInterrupt):
         train(spec, tmp_path / "resumed", callbacks=[Interrupt(at=400)])
@@ -109,7 +113,7 @@ def test_extend_trains_a_finished_run_on_to_a_larger_budget(tmp_path, tiny):
     metrics = train(longer, run_dir, extend=True)
     assert metrics["resumed_from"] == 384 and metrics["env_steps"] == 640 and is_done(run_dir, 640)
     after = _eval_table(run_dir)
-    assert after[:len(before)] == before and [r["env_steps"] for r in after[len(before):]] == [512, 640]
+    assert after[: len(before)] == before and [r["env_steps"] for r in after[len(before) :]] == [512, 640]
     assert json.loads((run_dir / "spec.json").read_text())["total_steps"] == 640
     model, loaded_spec = load_model(run_dir)
     assert model.num_timesteps == 640 and loaded_spec == longer
@@ -117,8 +121,15 @@ def test_extend_trains_a_finished_run_on_to_a_larger_budget(tmp_path, tiny):
 
 
 def test_sac_resume_keeps_the_replay_buffer(tmp_path, tiny):
-    spec = tiny(algo="sac", variant="raw", total_steps=120, n_envs=1, checkpoint_every=50, eval_every=60,
-                algo_kwargs={"learning_starts": 20, "batch_size": 16, "buffer_size": 1000})
+    spec = tiny(
+        algo="sac",
+        variant="raw",
+        total_steps=120,
+        n_envs=1,
+        checkpoint_every=50,
+        eval_every=60,
+        algo_kwargs={"learning_starts": 20, "batch_size": 16, "buffer_size": 1000},
+    )
     run_dir = tmp_path / "sac"
     with pytest.raises(KeyboardInterrupt):
         train(spec, run_dir, callbacks=[Interrupt(at=70)])

@@ -48,10 +48,12 @@ def readings(origin, heading, segments=(), circles=()):
     """(sonar (16,), laser (180,)) of a robot at ``origin`` facing ``heading``; sonars are cones."""
     laser = cast(origin, heading, laser_bearings_rad(), segments, circles, LASER_MAX_M)
     offsets = np.radians(np.linspace(-CONE_HALF_WIDTH_DEG, CONE_HALF_WIDTH_DEG, CONE_SAMPLES))
-    sonar = np.array([
-        cast(origin, heading, np.radians(b) + offsets, segments, circles, SONAR_MAX_M).min()
-        for b in SONAR_BEARINGS_DEG
-    ])
+    sonar = np.array(
+        [
+            cast(origin, heading, np.radians(b) + offsets, segments, circles, SONAR_MAX_M).min()
+            for b in SONAR_BEARINGS_DEG
+        ]
+    )
     return sonar, laser
 
 
@@ -62,5 +64,6 @@ def flat_scene(sonar_m=3.0, laser_m=8.0):
 
 @pytest.fixture
 def scene():
-    return types.SimpleNamespace(cast=cast, readings=readings, flat=flat_scene,
-                                 SONAR_MAX_M=SONAR_MAX_M, LASER_MAX_M=LASER_MAX_M)
+    return types.SimpleNamespace(
+        cast=cast, readings=readings, flat=flat_scene, SONAR_MAX_M=SONAR_MAX_M, LASER_MAX_M=LASER_MAX_M
+    )

@@ -43,7 +43,12 @@ def _assert_same(solo, batched) -> None:
     for name in FIELDS:
         np.testing.assert_array_equal(getattr(solo, name), getattr(batched, name), err_msg=name)
     assert (solo.t, solo.focus, solo.fired, solo.origin, solo.saliency) == (
-        batched.t, batched.focus, batched.fired, batched.origin, batched.saliency)
+        batched.t,
+        batched.focus,
+        batched.fired,
+        batched.origin,
+        batched.saliency,
+    )
     assert solo.tracks == batched.tracks
 
 

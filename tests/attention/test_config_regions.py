@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, Grid, parse_state
+from attentive_gym.attention.kinematics import virtual_sonar
 from attentive_gym.attention.regions import (
     laser_bearings_rad,
     nearest_sonar,
     sonar_cone_bounds,
     sonar_cone_reduction,
 )
-from attentive_gym.attention.kinematics import virtual_sonar
 
 
 def test_defaults_follow_model_md():
@@ -65,7 +65,12 @@ def test_config_json_round_trip_and_unknown_field():
 
 
 def test_parse_state_levels_and_gains():
-    assert (parse_state("drowsy"), parse_state("ALERT"), parse_state("vigilant"), parse_state(2)) == (0.5, 1.0, 1.5, 2.0)
+    assert (parse_state("drowsy"), parse_state("ALERT"), parse_state("vigilant"), parse_state(2)) == (
+        0.5,
+        1.0,
+        1.5,
+        2.0,
+    )
     for bad in (0, -1.0, math.inf, "", True):
         with pytest.raises(ValueError):
             parse_state(bad)

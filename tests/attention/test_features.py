@@ -61,8 +61,9 @@ def test_distance_map_single_and_fused():
     f = distance_map(laser, 20.0)
     assert f[0] == pytest.approx(17 / 20) and f[50] == pytest.approx(1 / 20)
     sonar = np.array([5, 5, 5, 1, 5, 5, 5, 5.0])  # mean 4.5
-    both = distance_map(np.concatenate([sonar, laser]), np.r_[np.full(8, 5.0), np.full(180, 20.0)],
-                        Spaces.make((8, 180)))
+    both = distance_map(
+        np.concatenate([sonar, laser]), np.r_[np.full(8, 5.0), np.full(180, 20.0)], Spaces.make((8, 180))
+    )
     np.testing.assert_allclose(both[:8], [0.1, 0.1, 0.1, 0.7, 0.1, 0.1, 0.1, 0.1])
     np.testing.assert_allclose(both[8:], f)
 
@@ -102,9 +103,16 @@ def test_goal_table_distance_uses_maxdistance_not_maxspeed():
 
 @pytest.mark.parametrize(
     "goal",
-    [Goal.between("speed", 0.5, 0.9), Goal.greater("speed", 0.6), Goal.smaller("speed", 0.3),
-     Goal.equal("speed", 0.7), Goal.between("speed", 0.0, 1.0), Goal.greater("speed", 0.0),
-     Goal.smaller("speed", 2.0), Goal.between("speed", 0.4, 3.0)],
+    [
+        Goal.between("speed", 0.5, 0.9),
+        Goal.greater("speed", 0.6),
+        Goal.smaller("speed", 0.3),
+        Goal.equal("speed", 0.7),
+        Goal.between("speed", 0.0, 1.0),
+        Goal.greater("speed", 0.0),
+        Goal.smaller("speed", 2.0),
+        Goal.between("speed", 0.4, 3.0),
+    ],
 )
 def test_goal_map_matches_the_scalar_table_everywhere(goal):
     x = np.linspace(0.0, 1.0, 401)

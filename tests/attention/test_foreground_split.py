@@ -39,27 +39,60 @@ def _segments(laser, *, flank_beams=DEFAULTS.foreground_flank_beams, capacity=18
     c = DEFAULTS
     bounds = np.zeros((capacity, 2), np.int64)
     table = np.zeros((capacity, len(SEGMENT_FIELDS)))
-    n = segment_scan(laser, NO_ECHO_M, c.range_noise_rel, c.range_noise_floor_m, c.segment_jump_m,
-                     c.segment_jump_sigmas, bounds)
-    measure_segments(laser, COS, SIN, STEP_RAD, NO_ECHO_M, bounds, n, c.range_noise_rel, c.range_noise_floor_m,
-                     c.track_surface_sigma_m, c.max_object_extent_m, c.segment_min_beams, table)
-    total = split_foreground(laser, COS, SIN, STEP_RAD, NO_ECHO_M, bounds, n, c.range_noise_rel,
-                             c.range_noise_floor_m, c.track_surface_sigma_m, c.max_object_extent_m,
-                             c.segment_min_beams, flank_beams, c.foreground_sigmas, c.foreground_margin_m,
-                             c.foreground_edge_sigmas, table)
+    n = segment_scan(
+        laser, NO_ECHO_M, c.range_noise_rel, c.range_noise_floor_m, c.segment_jump_m, c.segment_jump_sigmas, bounds
+    )
+    measure_segments(
+        laser,
+        COS,
+        SIN,
+        STEP_RAD,
+        NO_ECHO_M,
+        bounds,
+        n,
+        c.range_noise_rel,
+        c.range_noise_floor_m,
+        c.track_surface_sigma_m,
+        c.max_object_extent_m,
+        c.segment_min_beams,
+        table,
+    )
+    total = split_foreground(
+        laser,
+        COS,
+        SIN,
+        STEP_RAD,
+        NO_ECHO_M,
+        bounds,
+        n,
+        c.range_noise_rel,
+        c.range_noise_floor_m,
+        c.track_surface_sigma_m,
+        c.max_object_extent_m,
+        c.segment_min_beams,
+        flank_beams,
+        c.foreground_sigmas,
+        c.foreground_margin_m,
+        c.foreground_edge_sigmas,
+        table,
+    )
     return n, total, bounds, table
 
 
 def _trackable_at(table, count, xy, within_m=0.2):
-    return any(table[m, CANDIDATE] == TRACKABLE and math.hypot(table[m, X] - xy[0], table[m, Y] - xy[1]) < within_m
-               for m in range(count))
+    return any(
+        table[m, CANDIDATE] == TRACKABLE and math.hypot(table[m, X] - xy[0], table[m, Y] - xy[1]) < within_m
+        for m in range(count)
+    )
 
 
 def _box(cx, cy, half, angle):
     """The four sides of a square box (segments for ``scene.cast``)."""
     c, s = math.cos(angle), math.sin(angle)
-    corners = [(cx + c * dx - s * dy, cy + s * dx + c * dy) for dx, dy in ((half, half), (-half, half),
-                                                                            (-half, -half), (half, -half))]
+    corners = [
+        (cx + c * dx - s * dy, cy + s * dx + c * dy)
+        for dx, dy in ((half, half), (-half, half), (-half, -half), (half, -half))
+    ]
     return [(*corners[i], *corners[(i + 1) % 4]) for i in range(4)]
 
 
@@ -93,8 +126,10 @@ def test_a_disc_half_a_metre_before_a_wall_is_split_off_under_5_percent_noise(sc
     wall = [(distance_m + RADIUS_M + 0.5, -10.0, distance_m + RADIUS_M + 0.5, 10.0)]
     clean = scene.cast((0, 0), 0.0, BEAMS, segments=wall, circles=[(*disc, RADIUS_M)])
     rng = np.random.default_rng(11)
-    found = sum(_trackable_at(table, total, disc, 0.3) for _, total, _, table in
-                (_segments(_noisy(rng, clean)) for _ in range(50)))
+    found = sum(
+        _trackable_at(table, total, disc, 0.3)
+        for _, total, _, table in (_segments(_noisy(rng, clean)) for _ in range(50))
+    )
     assert found >= 45  # measured: 50, 50 and 48 of 50
 
 
@@ -109,14 +144,17 @@ def test_a_disc_split_from_the_wall_on_one_side_only_is_found_at_the_segment_end
     assert total == n + 1 and _trackable_at(table, total, disc, 0.1)
 
 
-@pytest.mark.parametrize("name, walls", [
-    ("wall at 4 m", [(4.0, -10.0, 4.0, 10.0)]),
-    ("wall at 8 m", [(8.0, -20.0, 8.0, 20.0)]),
-    ("oblique wall, 30 deg", [(3.0, -6.0, 3.0 + 12.0 * math.tan(math.radians(30)), 6.0)]),
-    ("oblique wall, 60 deg", [(1.0, -3.0, 1.0 + 6.0 * math.tan(math.radians(60)), 3.0)]),
-    ("corridor", [(-20.0, 1.0, 20.0, 1.0), (-20.0, -1.5, 20.0, -1.5)]),
-    ("room", [(5.0, -5.0, 5.0, 5.0), (-5.0, 5.0, 5.0, 5.0), (-5.0, -5.0, 5.0, -5.0)]),
-])
+@pytest.mark.parametrize(
+    "name, walls",
+    [
+        ("wall at 4 m", [(4.0, -10.0, 4.0, 10.0)]),
+        ("wall at 8 m", [(8.0, -20.0, 8.0, 20.0)]),
+        ("oblique wall, 30 deg", [(3.0, -6.0, 3.0 + 12.0 * math.tan(math.radians(30)), 6.0)]),
+        ("oblique wall, 60 deg", [(1.0, -3.0, 1.0 + 6.0 * math.tan(math.radians(60)), 3.0)]),
+        ("corridor", [(-20.0, 1.0, 20.0, 1.0), (-20.0, -1.5, 20.0, -1.5)]),
+        ("room", [(5.0, -5.0, 5.0, 5.0), (-5.0, 5.0, 5.0, 5.0), (-5.0, -5.0, 5.0, -5.0)]),
+    ],
+)
 def test_noise_does_not_split_plain_walls(scene, name, walls):
     clean = scene.cast((0, 0), 0.0, BEAMS, segments=walls)
     assert _segments(clean)[1] == _segments(clean)[0]
@@ -146,30 +184,67 @@ def test_a_short_run_may_update_a_track_but_not_start_one(scene):
     c = DEFAULTS
     bounds = np.zeros((180, 2), np.int64)
     table = np.zeros((180, len(SEGMENT_FIELDS)))
-    n = segment_scan(laser, NO_ECHO_M, c.range_noise_rel, c.range_noise_floor_m, c.segment_jump_m,
-                     c.segment_jump_sigmas, bounds)
-    measure_segments(laser, COS, SIN, STEP_RAD, NO_ECHO_M, bounds, n, c.range_noise_rel, c.range_noise_floor_m,
-                     c.track_surface_sigma_m, c.max_object_extent_m, 50, table)
-    total = split_foreground(laser, COS, SIN, STEP_RAD, NO_ECHO_M, bounds, n, c.range_noise_rel,
-                             c.range_noise_floor_m, c.track_surface_sigma_m, c.max_object_extent_m, 50,
-                             c.foreground_flank_beams, c.foreground_sigmas, c.foreground_margin_m,
-                             c.foreground_edge_sigmas, table)
+    n = segment_scan(
+        laser, NO_ECHO_M, c.range_noise_rel, c.range_noise_floor_m, c.segment_jump_m, c.segment_jump_sigmas, bounds
+    )
+    measure_segments(
+        laser,
+        COS,
+        SIN,
+        STEP_RAD,
+        NO_ECHO_M,
+        bounds,
+        n,
+        c.range_noise_rel,
+        c.range_noise_floor_m,
+        c.track_surface_sigma_m,
+        c.max_object_extent_m,
+        50,
+        table,
+    )
+    total = split_foreground(
+        laser,
+        COS,
+        SIN,
+        STEP_RAD,
+        NO_ECHO_M,
+        bounds,
+        n,
+        c.range_noise_rel,
+        c.range_noise_floor_m,
+        c.track_surface_sigma_m,
+        c.max_object_extent_m,
+        50,
+        c.foreground_flank_beams,
+        c.foreground_sigmas,
+        c.foreground_margin_m,
+        c.foreground_edge_sigmas,
+        table,
+    )
     assert total == n + 1 and table[n, CANDIDATE] == UPDATE_ONLY  # fewer than segment_min_beams=50
 
 
 # --- the tracker ---------------------------------------------------------------------------------------
-def _run(scene, walls, discs_at, steps, *, seed, robot_at=lambda t: ((0.0, 0.0), 0.0), odometry=lambda t: None,
-         **config):
+def _run(
+    scene, walls, discs_at, steps, *, seed, robot_at=lambda t: ((0.0, 0.0), 0.0), odometry=lambda t: None, **config
+):
     rng = np.random.default_rng(seed)
     model = AttentionModel(AttentionConfig(laser_mount_x_m=0.0, **config))
     outs = []
     for k in range(steps):
         t = k * DT_S
         origin, heading = robot_at(t)
-        sonar, laser = scene.readings(origin, heading, segments=walls,
-                                      circles=[(x, y, RADIUS_M) for x, y in discs_at(t)])
-        outs.append(model.step(t, _noisy(rng, sonar, max_range=scene.SONAR_MAX_M),
-                               _noisy(rng, laser, max_range=scene.LASER_MAX_M), odometry(t)))
+        sonar, laser = scene.readings(
+            origin, heading, segments=walls, circles=[(x, y, RADIUS_M) for x, y in discs_at(t)]
+        )
+        outs.append(
+            model.step(
+                t,
+                _noisy(rng, sonar, max_range=scene.SONAR_MAX_M),
+                _noisy(rng, laser, max_range=scene.LASER_MAX_M),
+                odometry(t),
+            )
+        )
     return outs
 
 
@@ -197,12 +272,15 @@ def test_a_victim_walking_along_a_wall_keeps_one_track(scene, seed):
     assert missed == 100  # without the split the victim is part of the wall
 
 
-@pytest.mark.parametrize("name, walls", [
-    ("wall", [(4.0, -10.0, 4.0, 10.0)]),
-    ("oblique wall", [(2.0, -6.0, 2.0 + 12.0 * math.tan(math.radians(50)), 6.0)]),
-    ("box corner", _box(3.0, 0.3, 0.35, math.radians(45)) + [(3.9, -10.0, 3.9, 10.0)]),
-    ("big box before a wall", _box(3.5, 0.3, 0.5, math.radians(45)) + [(4.6, -10.0, 4.6, 10.0)]),
-])
+@pytest.mark.parametrize(
+    "name, walls",
+    [
+        ("wall", [(4.0, -10.0, 4.0, 10.0)]),
+        ("oblique wall", [(2.0, -6.0, 2.0 + 12.0 * math.tan(math.radians(50)), 6.0)]),
+        ("box corner", _box(3.0, 0.3, 0.35, math.radians(45)) + [(3.9, -10.0, 3.9, 10.0)]),
+        ("big box before a wall", _box(3.5, 0.3, 0.5, math.radians(45)) + [(4.6, -10.0, 4.6, 10.0)]),
+    ],
+)
 @pytest.mark.parametrize("driving", [False, True])
 def test_static_structure_gives_no_moving_track(scene, name, walls, driving):
     # a box in front of a wall is split off and tracked as a static body, like a box standing
@@ -222,10 +300,18 @@ def test_static_structure_gives_no_moving_track(scene, name, walls, driving):
         assert not speeds  # no track at all
 
 
-@pytest.mark.parametrize("field, value", [("foreground_flank_beams", -1), ("foreground_flank_beams", 2.5),
-                                          ("foreground_flank_beams", True), ("foreground_sigmas", 0.0),
-                                          ("foreground_edge_sigmas", -1.0), ("foreground_margin_m", -0.1),
-                                          ("foreground_margin_m", float("nan"))])
+@pytest.mark.parametrize(
+    "field, value",
+    [
+        ("foreground_flank_beams", -1),
+        ("foreground_flank_beams", 2.5),
+        ("foreground_flank_beams", True),
+        ("foreground_sigmas", 0.0),
+        ("foreground_edge_sigmas", -1.0),
+        ("foreground_margin_m", -0.1),
+        ("foreground_margin_m", float("nan")),
+    ],
+)
 def test_bad_foreground_settings_are_refused(field, value):
     with pytest.raises(ValueError, match=field):
         AttentionConfig(**{field: value})

@@ -30,7 +30,9 @@ def _blas_joseph_update(x, P, z0, z1, R):
     new = (A @ P) @ A.T
     for i in range(n):
         for j in range(n):
-            new[i, j] += K[i, 0] * (R[0, 0] * K[j, 0] + R[0, 1] * K[j, 1]) + K[i, 1] * (R[1, 0] * K[j, 0] + R[1, 1] * K[j, 1])
+            new[i, j] += K[i, 0] * (R[0, 0] * K[j, 0] + R[0, 1] * K[j, 1]) + K[i, 1] * (
+                R[1, 0] * K[j, 0] + R[1, 1] * K[j, 1]
+            )
     for i in range(n):
         for j in range(i, n):
             value = 0.5 * (new[i, j] + new[j, i])
@@ -86,8 +88,9 @@ def test_joseph_update_equals_fused_multiply_add_chains_exactly(update, n):
             for j in range(n):
                 for k in range(n):
                     new[i][j] = _fma(AP[i][k], A[j][k], new[i][j])
-                new[i][j] += K[i][0] * (R[0, 0] * K[j][0] + R[0, 1] * K[j][1]) + \
-                    K[i][1] * (R[1, 0] * K[j][0] + R[1, 1] * K[j][1])
+                new[i][j] += K[i][0] * (R[0, 0] * K[j][0] + R[0, 1] * K[j][1]) + K[i][1] * (
+                    R[1, 0] * K[j][0] + R[1, 1] * K[j][1]
+                )
         expected = np.array([[0.5 * (new[i][j] + new[j][i]) for j in range(n)] for i in range(n)])
         assert np.array_equal(P_new, expected)
         assert np.array_equal(x_new, x + np.array([K[i][0] * (z0 - x[0]) + K[i][1] * (z1 - x[1]) for i in range(n)]))

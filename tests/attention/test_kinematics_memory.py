@@ -73,7 +73,9 @@ def test_predict_scan_of_a_wall_ahead_after_moving_forward():
     front = np.abs(b) < np.radians(60)
     predicted = predict_scan(wall, np.cos(b), np.sin(b), b, 0.1, 0.0, 0.0)
     np.testing.assert_allclose(predicted[front], (3.9 / np.cos(b))[front], rtol=1e-3)
-    assert point_range_change(0.1, 0.0, np.cos([0.0, np.pi / 2]), np.sin([0.0, np.pi / 2])) == pytest.approx([-0.1, 0.0])
+    assert point_range_change(0.1, 0.0, np.cos([0.0, np.pi / 2]), np.sin([0.0, np.pi / 2])) == pytest.approx(
+        [-0.1, 0.0]
+    )
 
 
 def test_predict_scan_rotation_shifts_bearings():

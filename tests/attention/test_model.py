@@ -187,8 +187,10 @@ def test_a_scan_given_without_a_time_counts_as_taken_at_its_step():
         model.step(0.1, np.full(16, 3.0), np.full(180, 8.0), laser_time_s=-5.0)
 
 
-@pytest.mark.parametrize("build", [lambda: Goal.greater("speed", True), lambda: Goal.greater("speed", "0.5"),
-                                   lambda: Goal.direction_is(True)])
+@pytest.mark.parametrize(
+    "build",
+    [lambda: Goal.greater("speed", True), lambda: Goal.greater("speed", "0.5"), lambda: Goal.direction_is(True)],
+)
 def test_goals_refuse_bools_and_strings_for_numbers_and_labels(build):
     with pytest.raises(ValueError, match="must be a number|unknown direction"):
         build()
@@ -221,7 +223,11 @@ def test_no_echo_readings_and_clipping():
     assert out.distances_m.tolist() == [20.0] * 8 and out.focus is None and out.view is None
     sonar[2] = 2.0
     out = model.step(0.05, sonar, laser)
-    assert out.F[5, 2] == 1.0 and out.distances_m[2] == 2.0 and out.goal_fulfilled.tolist() == [False] * 2 + [True] + [False] * 5
+    assert (
+        out.F[5, 2] == 1.0
+        and out.distances_m[2] == 2.0
+        and out.goal_fulfilled.tolist() == [False] * 2 + [True] + [False] * 5
+    )
 
 
 def test_reset_clears_memory_and_courses_but_keeps_settings():
@@ -257,8 +263,19 @@ def test_deep_copies_of_outputs_are_equal_and_independent():
     assert clone == out and clone is not out
     assert clone.view is not out.view
     assert_same(dataclasses.astuple(clone.view), dataclasses.astuple(out.view))
-    for name in ("F", "C", "C_BU", "C_TD", "origins", "M", "L", "goal_fulfilled", "directions", "speeds_mps",
-                 "distances_m"):
+    for name in (
+        "F",
+        "C",
+        "C_BU",
+        "C_TD",
+        "origins",
+        "M",
+        "L",
+        "goal_fulfilled",
+        "directions",
+        "speeds_mps",
+        "distances_m",
+    ):
         assert not np.shares_memory(getattr(clone, name), getattr(out, name)), name
     for mine, theirs in zip(clone._sources[1:], out._sources[1:]):
         assert not np.shares_memory(mine, theirs)

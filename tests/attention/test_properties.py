@@ -8,10 +8,15 @@ from hypothesis.extra.numpy import arrays
 from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
 
 ranges = st.floats(0.0, 30.0, allow_nan=False, allow_infinity=False)
-goals = st.sampled_from([
-    (), (Goal.between("speed", 0.5, 0.9),), (Goal.greater("speed", 0.2), Goal.direction_is("towards")),
-    (Goal.smaller("distance", 2.0), Goal.direction_is("static")), (Goal.equal("distance", 4.0),),
-])
+goals = st.sampled_from(
+    [
+        (),
+        (Goal.between("speed", 0.5, 0.9),),
+        (Goal.greater("speed", 0.2), Goal.direction_is("towards")),
+        (Goal.smaller("distance", 2.0), Goal.direction_is("static")),
+        (Goal.equal("distance", 4.0),),
+    ]
+)
 
 
 @settings(max_examples=40, deadline=None)
@@ -25,8 +30,9 @@ goals = st.sampled_from([
     gain=st.floats(0.1, 3.0),
     grid=st.sampled_from(["sonar", "laser"]),
 )
-def test_outputs_finite_in_range_and_fire_only_above_threshold(sonar, laser, steps, odometry, goal_set,
-                                                               weights, gain, grid):
+def test_outputs_finite_in_range_and_fire_only_above_threshold(
+    sonar, laser, steps, odometry, goal_set, weights, gain, grid
+):
     model = AttentionModel(AttentionConfig(grid=grid))
     model.set_goals(*goal_set)
     model.set_weights(weights)

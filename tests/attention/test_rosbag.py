@@ -14,14 +14,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 from rosbags.rosbag1 import Writer as Ros1Writer
-from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer as Ros2Writer
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin
+from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 
 from attentive_gym.attention import AttentionConfig, load_log, load_trace
-from attentive_gym.attention.regions import sonar_cone_bounds
 from attentive_gym.attention.io.replay import LogFormatError
 from attentive_gym.attention.io.ros_readings import ScanResampler, front_sonar_slot, ranges_or_no_echo
 from attentive_gym.attention.io.rosbag import BagTopics, parse_bag_topics, read_bag
+from attentive_gym.attention.regions import sonar_cone_bounds
 from attentive_gym.cli import main
 
 REPO = Path(__file__).resolve().parents[2]
@@ -39,35 +40,65 @@ NO_LASER, NO_SONAR = CFG.laser_max_range_m, CFG.sonar_max_range_m
 
 # --- messages -------------------------------------------------------------------------
 
+
 def _header(stamp_ns: int):
     stamp = ROS2.types["builtin_interfaces/msg/Time"](sec=stamp_ns // 10**9, nanosec=stamp_ns % 10**9)
     return ROS2.types["std_msgs/msg/Header"](stamp=stamp, frame_id="base_link")
 
 
-def scan(stamp_ns, ranges, angle_min=-np.pi / 2 + np.radians(0.5), increment=np.radians(1.0), range_min=0.05,
-         range_max=30.0):
+ONE_DEGREE_RAD = np.pi / 180.0
+
+
+def scan(
+    stamp_ns,
+    ranges,
+    angle_min=-np.pi / 2 + 0.5 * ONE_DEGREE_RAD,
+    increment=ONE_DEGREE_RAD,
+    range_min=0.05,
+    range_max=30.0,
+):
     ranges = np.asarray(ranges, dtype=np.float32)
     return ROS2.types[LASER](
-        header=_header(stamp_ns), angle_min=angle_min, angle_max=angle_min + (len(ranges) - 1) * increment,
-        angle_increment=increment, time_increment=0.0, scan_time=0.1, range_min=range_min, range_max=range_max,
-        ranges=ranges, intensities=np.zeros(0, np.float32))
+        header=_header(stamp_ns),
+        angle_min=angle_min,
+        angle_max=angle_min + (len(ranges) - 1) * increment,
+        angle_increment=increment,
+        time_increment=0.0,
+        scan_time=0.1,
+        range_min=range_min,
+        range_max=range_max,
+        ranges=ranges,
+        intensities=np.zeros(0, np.float32),
+    )
 
 
 def sonar(stamp_ns, value, min_range=0.1, max_range=6.0):
-    return ROS2.types[RANGE](header=_header(stamp_ns), radiation_type=0, field_of_view=0.5, min_range=min_range,
-                             max_range=max_range, range=value)
+    return ROS2.types[RANGE](
+        header=_header(stamp_ns),
+        radiation_type=0,
+        field_of_view=0.5,
+        min_range=min_range,
+        max_range=max_range,
+        range=value,
+    )
 
 
 def odom(stamp_ns, v, w):
     t = ROS2.types
     pose = t["geometry_msgs/msg/PoseWithCovariance"](
-        pose=t["geometry_msgs/msg/Pose"](position=t["geometry_msgs/msg/Point"](x=0.0, y=0.0, z=0.0),
-                                         orientation=t["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)),
-        covariance=np.zeros(36))
+        pose=t["geometry_msgs/msg/Pose"](
+            position=t["geometry_msgs/msg/Point"](x=0.0, y=0.0, z=0.0),
+            orientation=t["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0),
+        ),
+        covariance=np.zeros(36),
+    )
     twist = t["geometry_msgs/msg/TwistWithCovariance"](
-        twist=t["geometry_msgs/msg/Twist"](linear=t["geometry_msgs/msg/Vector3"](x=v, y=0.0, z=0.0),
-                                           angular=t["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=w)),
-        covariance=np.zeros(36))
+        twist=t["geometry_msgs/msg/Twist"](
+            linear=t["geometry_msgs/msg/Vector3"](x=v, y=0.0, z=0.0),
+            angular=t["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=w),
+        ),
+        covariance=np.zeros(36),
+    )
     return t[ODOM](header=_header(stamp_ns), child_frame_id="base_link", pose=pose, twist=twist)
 
 
@@ -76,6 +107,7 @@ def chatter():
 
 
 # --- bags -----------------------------------------------------------------------------
+
 
 def write_bag(tmp_path, fmt, messages, topics=None, compressed=False):
     """A bag of ``messages`` ``(topic, message, receive_ns)``; returns the path to open.
@@ -140,11 +172,14 @@ def ring_bag_messages():
 
 
 def scan_only_messages(ranges_of_step, **scan_fields):
-    return [("/scan", scan(T0_NS + k * SCAN_NS, ranges_of_step(k), **scan_fields), T0_NS + k * SCAN_NS)
-            for k in range(N_SCANS)]
+    return [
+        ("/scan", scan(T0_NS + k * SCAN_NS, ranges_of_step(k), **scan_fields), T0_NS + k * SCAN_NS)
+        for k in range(N_SCANS)
+    ]
 
 
 # --- readings come back as written ------------------------------------------------------
+
 
 @pytest.mark.parametrize("fmt", ["ros1", "db3", "mcap", "db3-file", "mcap-file"])
 def test_readings_come_back_as_written_and_aligned_on_the_scans(tmp_path, fmt):
@@ -174,8 +209,9 @@ def test_a_scan_of_another_angle_range_and_increment_is_resampled_onto_the_model
     ranges[160:171] = 0.01  # 20 .. 25 deg, below range_min
     ranges[180:191] = 30.0  # 30 .. 35 deg, at range_max
     ranges[200:211] = 25.0  # 40 .. 45 deg, within range_max but beyond the model's 20 m
-    messages = scan_only_messages(lambda k: ranges, angle_min=np.radians(-60.0), increment=np.radians(0.5),
-                                  range_min=0.02, range_max=30.0)
+    messages = scan_only_messages(
+        lambda k: ranges, angle_min=np.radians(-60.0), increment=np.radians(0.5), range_min=0.02, range_max=30.0
+    )
     laser = load_log(write_bag(tmp_path, "mcap", messages)).laser[0]
     # model beam i covers [-90 + i, -89 + i] deg: the nearest echo of the scan beams overlapping it
     assert np.all(laser[:29] == NO_LASER)  # outside the scan
@@ -190,14 +226,17 @@ def test_a_scan_of_another_angle_range_and_increment_is_resampled_onto_the_model
     assert laser[90 - 11] == ranges[98]  # [-11, -10]: beams at -11, -10.5 valid, -10 is NaN
 
 
-@pytest.mark.parametrize("angle_min_deg, increment_deg, n, expected", [
-    (-89.5, 1.0, 180, lambda r: r),  # the model's own grid
-    (89.5, -1.0, 180, lambda r: r[::-1]),  # the same, clockwise
-    # 0..359 deg: model beam i, over [-90 + i, -89 + i] deg, reads the beams at both ends
-    (0.0, 1.0, 360, lambda r: np.minimum(np.roll(r, 90)[:180], np.roll(r, 89)[:180])),
-    # 2 deg beams at -90 + 2 m, each over [-91 + 2 m, -89 + 2 m]: model beam i lies in beam (i + 1) // 2
-    (-90.0, 2.0, 91, lambda r: r[(np.arange(180) + 1) // 2]),
-])
+@pytest.mark.parametrize(
+    "angle_min_deg, increment_deg, n, expected",
+    [
+        (-89.5, 1.0, 180, lambda r: r),  # the model's own grid
+        (89.5, -1.0, 180, lambda r: r[::-1]),  # the same, clockwise
+        # 0..359 deg: model beam i, over [-90 + i, -89 + i] deg, reads the beams at both ends
+        (0.0, 1.0, 360, lambda r: np.minimum(np.roll(r, 90)[:180], np.roll(r, 89)[:180])),
+        # 2 deg beams at -90 + 2 m, each over [-91 + 2 m, -89 + 2 m]: model beam i lies in beam (i + 1) // 2
+        (-90.0, 2.0, 91, lambda r: r[(np.arange(180) + 1) // 2]),
+    ],
+)
 def test_scan_resampler_geometries(angle_min_deg, increment_deg, n, expected):
     ranges = 1.0 + np.arange(n) / 64.0
     beams = ScanResampler.for_scan(np.radians(angle_min_deg), np.radians(increment_deg), n).resample(ranges, NO_LASER)
@@ -206,8 +245,10 @@ def test_scan_resampler_geometries(angle_min_deg, increment_deg, n, expected):
 
 def test_readings_outside_the_sensors_interval_are_no_echo():
     readings = [8.0, 7.9, 25.0, np.nan, -np.inf, np.inf, 0.01, 0.02]
-    np.testing.assert_array_equal(ranges_or_no_echo(readings, 0.02, 8.0, NO_LASER),
-                                  [NO_LASER, 7.9, NO_LASER, NO_LASER, NO_LASER, NO_LASER, NO_LASER, 0.02])
+    np.testing.assert_array_equal(
+        ranges_or_no_echo(readings, 0.02, 8.0, NO_LASER),
+        [NO_LASER, 7.9, NO_LASER, NO_LASER, NO_LASER, NO_LASER, NO_LASER, 0.02],
+    )
     np.testing.assert_array_equal(ranges_or_no_echo([25.0, 19.0], 0.02, 30.0, NO_LASER), [NO_LASER, 19.0])
 
 
@@ -221,6 +262,7 @@ def test_scan_resampler_rejects_a_scan_it_cannot_place():
 
 
 # --- topics ---------------------------------------------------------------------------
+
 
 def test_topics_are_found_by_message_type_whatever_their_names(tmp_path):
     messages = []
@@ -249,17 +291,23 @@ def _two_of_each_bag(tmp_path):
     messages = []
     for k in range(N_SCANS):
         stamp = T0_NS + k * SCAN_NS
-        messages += [("/front/scan", scan(stamp, np.full(180, 3.0)), stamp),
-                     ("/rear/scan", scan(stamp, np.full(180, 4.0)), stamp),
-                     ("/odom", odom(stamp, 0.3, 0.0), stamp), ("/odom_filtered", odom(stamp, 0.2, 0.1), stamp)]
+        messages += [
+            ("/front/scan", scan(stamp, np.full(180, 3.0)), stamp),
+            ("/rear/scan", scan(stamp, np.full(180, 4.0)), stamp),
+            ("/odom", odom(stamp, 0.3, 0.0), stamp),
+            ("/odom_filtered", odom(stamp, 0.2, 0.1), stamp),
+        ]
         messages += [(f"/sonar/{n}", sonar(stamp, 0.5 + 0.25 * n), stamp) for n in range(16)]
     return write_bag(tmp_path, "mcap", messages)
 
 
 def test_flags_choose_among_topics_of_the_same_type(tmp_path):
     bag = _two_of_each_bag(tmp_path)
-    with pytest.raises(LogFormatError, match=r"2 sensor_msgs/msg/LaserScan topics \(/front/scan, /rear/scan\); "
-                                             "choose one with --laser-topic"):
+    with pytest.raises(
+        LogFormatError,
+        match=r"2 sensor_msgs/msg/LaserScan topics \(/front/scan, /rear/scan\); "
+        "choose one with --laser-topic",
+    ):
         load_log(bag)
     with pytest.raises(LogFormatError, match="choose one with --odom-topic"):
         load_log(bag, topics=BagTopics(laser="/rear/scan"))
@@ -277,12 +325,15 @@ def test_sonar_bearings_place_other_sonars_on_the_front_ring_and_the_laser_fills
     for k in range(N_SCANS):
         stamp = T0_NS + k * SCAN_NS
         messages.append(("/scan", scan(stamp, laser), stamp))
-        messages += [("/us/left", sonar(stamp, 1.5), stamp), ("/us/left2", sonar(stamp, 1.25), stamp),
-                     ("/us/right", sonar(stamp, 0.75), stamp), ("/us/back", sonar(stamp, 0.5), stamp),
-                     ("/us/far", sonar(stamp, 3.0, max_range=3.0), stamp)]  # at its maximum: no echo
+        messages += [
+            ("/us/left", sonar(stamp, 1.5), stamp),
+            ("/us/left2", sonar(stamp, 1.25), stamp),
+            ("/us/right", sonar(stamp, 0.75), stamp),
+            ("/us/back", sonar(stamp, 0.5), stamp),
+            ("/us/far", sonar(stamp, 3.0, max_range=3.0), stamp),
+        ]  # at its maximum: no echo
     bag = write_bag(tmp_path, "ros1", messages)
-    topics = parse_bag_topics(sonars="/us/left,/us/left2,/us/right,/us/back,/us/far",
-                              sonar_bearings="12,8,-45,180,-10")
+    topics = parse_bag_topics(sonars="/us/left,/us/left2,/us/right,/us/back,/us/far", sonar_bearings="12,8,-45,180,-10")
     reading = load_log(bag, topics=topics).sonar[0]
     assert reading.shape == (8,)
     assert reading[3] == 1.25  # 12 and 8 deg both stand in for sonar 3 (10 deg): the nearest echo, not the laser
@@ -304,11 +355,13 @@ def test_a_laser_only_bag_reads_the_front_sonars_from_the_laser(tmp_path):
     log = load_log(write_bag(tmp_path, "db3", scan_only_messages(lambda k: laser, range_max=22.0)))
     assert log.sonar.shape == (N_SCANS, 8) and log.odometry is None
     bounds = sonar_cone_bounds(CFG.sonar_cone_half_width_deg)
-    expected = np.array([min(CFG.sonar_max_range_m, max(CFG.sonar_min_range_m, log.laser[0, a:b].min()))
-                         for a, b in bounds])
+    expected = np.array(
+        [min(CFG.sonar_max_range_m, max(CFG.sonar_min_range_m, log.laser[0, a:b].min())) for a, b in bounds]
+    )
     np.testing.assert_array_equal(log.sonar[0], expected)
-    np.testing.assert_array_equal(log.sonar[0], [4.0, NO_SONAR, NO_SONAR, 1.0, NO_SONAR, NO_SONAR,
-                                                 CFG.sonar_min_range_m, NO_SONAR])
+    np.testing.assert_array_equal(
+        log.sonar[0], [4.0, NO_SONAR, NO_SONAR, 1.0, NO_SONAR, NO_SONAR, CFG.sonar_min_range_m, NO_SONAR]
+    )
 
 
 def test_zero_stamps_fall_back_to_the_receive_time(tmp_path):
@@ -330,6 +383,7 @@ def test_unset_range_limits_are_checked_against_the_models(tmp_path):
 
 # --- errors ---------------------------------------------------------------------------
 
+
 def _error_bags(tmp_path):
     """name → (path, topics, message fragment); one bag per failure."""
     base = scan_only_messages(lambda k: np.full(180, 3.0))
@@ -345,37 +399,89 @@ def _error_bags(tmp_path):
         cases[name] = (write_bag(folder, fmt, messages, declared), topics, match)
 
     listing = "topics: /odom (nav_msgs/msg/Odometry), /scan (sensor_msgs/msg/LaserScan)"
-    bag("missing topic", "ros1", base + odometry, BagTopics(laser="/front_scan"),
-        match=f"no topic /front_scan (named by --laser-topic); {listing}")
-    bag("wrong type", "db3", base + odometry, BagTopics(laser="/odom"),
+    bag(
+        "missing topic",
+        "ros1",
+        base + odometry,
+        BagTopics(laser="/front_scan"),
+        match=f"no topic /front_scan (named by --laser-topic); {listing}",
+    )
+    bag(
+        "wrong type",
+        "db3",
+        base + odometry,
+        BagTopics(laser="/odom"),
         match="topic /odom (named by --laser-topic) is nav_msgs/msg/Odometry, not sensor_msgs/msg/LaserScan; "
-              f"{listing}")
-    bag("wrong sonar type", "mcap", base + odometry, BagTopics(sonars=("/scan",)),
-        match="topic /scan (named by --sonar-topics) is sensor_msgs/msg/LaserScan, not sensor_msgs/msg/Range")
-    bag("no laser topic", "mcap", odometry,
-        match="no sensor_msgs/msg/LaserScan topic; topics: /odom (nav_msgs/msg/Odometry)")
-    bag("no laser message", "db3", odometry, declared={"/scan": LASER},
+        f"{listing}",
+    )
+    bag(
+        "wrong sonar type",
+        "mcap",
+        base + odometry,
+        BagTopics(sonars=("/scan",)),
+        match="topic /scan (named by --sonar-topics) is sensor_msgs/msg/LaserScan, not sensor_msgs/msg/Range",
+    )
+    bag(
+        "no laser topic",
+        "mcap",
+        odometry,
+        match="no sensor_msgs/msg/LaserScan topic; topics: /odom (nav_msgs/msg/Odometry)",
+    )
+    bag(
+        "no laser message",
+        "db3",
+        odometry,
+        declared={"/scan": LASER},
         match="topic /scan holds no sensor_msgs/msg/LaserScan message; topics: /odom (nav_msgs/msg/Odometry, "
-              f"{N_SCANS} messages), /scan (sensor_msgs/msg/LaserScan, 0 messages)")
-    bag("time backwards", "ros1", back,
-        match="time goes backwards on /scan: message 3 is stamped 1700000000.100000000 s after "
-              "1700000000.200000000 s")
-    odometry_back = [("/odom", odom(T0_NS + (N_SCANS - k) * SCAN_NS, 0.1, 0.0), T0_NS + k * SCAN_NS)
-                     for k in range(N_SCANS)]
+        f"{N_SCANS} messages), /scan (sensor_msgs/msg/LaserScan, 0 messages)",
+    )
+    bag(
+        "time backwards",
+        "ros1",
+        back,
+        match="time goes backwards on /scan: message 3 is stamped 1700000000.100000000 s after 1700000000.200000000 s",
+    )
+    odometry_back = [
+        ("/odom", odom(T0_NS + (N_SCANS - k) * SCAN_NS, 0.1, 0.0), T0_NS + k * SCAN_NS) for k in range(N_SCANS)
+    ]
     repeat = list(base)
     repeat[2] = ("/scan", scan(T0_NS + SCAN_NS, np.full(180, 3.0)), repeat[2][2])
-    bag("scan stamps repeat", "db3", repeat, match="message 2 is stamped 1700000000.100000000 s after "
-                                                   "1700000000.100000000 s; stamps must increase from scan to scan")
+    bag(
+        "scan stamps repeat",
+        "db3",
+        repeat,
+        match="message 2 is stamped 1700000000.100000000 s after "
+        "1700000000.100000000 s; stamps must increase from scan to scan",
+    )
     bag("odometry backwards", "mcap", base + odometry_back, match="time goes backwards on /odom: message 1")
-    bag("five sonars", "db3", base + [(f"/sonar_{n}", sonar(T0_NS, 1.0), T0_NS) for n in range(5)],
+    bag(
+        "five sonars",
+        "db3",
+        base + [(f"/sonar_{n}", sonar(T0_NS, 1.0), T0_NS) for n in range(5)],
         match="5 sensor_msgs/msg/Range topics (/sonar_0, /sonar_1, /sonar_2, /sonar_3, /sonar_4) do not map onto "
-              "the P2AT ring")
-    bag("bearings count", "ros1", base, BagTopics(sonar_bearings_deg=(10.0, -10.0)),
-        match="2 sonar bearings for 0 sensor_msgs/msg/Range topics (none)")
-    bag("sonar after the last scan", "mcap", base + late,
-        match="no scan on /scan at or after the first message of /sonar_late0")
-    bag("empty topic", "db3", base, BagTopics(odometry="/odom"), declared={"/odom": ODOM},
-        match="topics ['/odom'] hold no message")
+        "the P2AT ring",
+    )
+    bag(
+        "bearings count",
+        "ros1",
+        base,
+        BagTopics(sonar_bearings_deg=(10.0, -10.0)),
+        match="2 sonar bearings for 0 sensor_msgs/msg/Range topics (none)",
+    )
+    bag(
+        "sonar after the last scan",
+        "mcap",
+        base + late,
+        match="no scan on /scan at or after the first message of /sonar_late0",
+    )
+    bag(
+        "empty topic",
+        "db3",
+        base,
+        BagTopics(odometry="/odom"),
+        declared={"/odom": ODOM},
+        match="topics ['/odom'] hold no message",
+    )
     for fmt in ("ros1", "db3", "mcap"):
         bag(f"empty {fmt}", fmt, [], match="the bag is empty (no topic)")
     cases["not a bag"] = (tmp_path / "garbage.bag", None, "not a readable ROS bag (File magic is invalid.)")
@@ -425,20 +531,26 @@ def test_without_rosbags_a_bag_asks_for_the_ros_extra(tmp_path, monkeypatch):
     messages, _ = ring_bag_messages()
     bag = write_bag(tmp_path, "mcap", messages)
     monkeypatch.setitem(sys.modules, "rosbags.highlevel", None)  # importing it now raises ImportError
-    with pytest.raises(LogFormatError, match=r"needs the rosbags package; install it with pip install "
-                                             r"'attentive_gym\[ros\]'"):
+    with pytest.raises(
+        LogFormatError,
+        match=r"needs the rosbags package; install it with pip install "
+        r"'attentive_gym\[ros\]'",
+    ):
         read_bag(bag)
 
 
 def test_reading_bags_imports_rosbags_only_when_a_bag_is_read():
-    code = ("import sys; import attentive_gym.attention.io.rosbag, attentive_gym.attention as att; "
-            "assert 'rosbags' not in sys.modules; print('ok')")
+    code = (
+        "import sys; import attentive_gym.attention.io.rosbag, attentive_gym.attention as att; "
+        "assert 'rosbags' not in sys.modules; print('ok')"
+    )
     result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "ok"
 
 
 # --- end to end -----------------------------------------------------------------------
+
 
 def test_attend_replays_a_bag_end_to_end(tmp_path, capsys):
     messages, expected = ring_bag_messages()
@@ -457,9 +569,26 @@ def test_attend_replays_a_bag_end_to_end(tmp_path, capsys):
 def test_attend_flags_name_the_topics(tmp_path):
     bag = _two_of_each_bag(tmp_path)
     out = tmp_path / "out"
-    assert main(["attend", str(bag), "--out", str(out), "--no-figure", "--laser-topic", "/rear/scan",
-                 "--odom-topic", "/odom_filtered", "--sonar-topics", "/sonar/3,/sonar/12",
-                 "--sonar-bearings", "10,-30"]) == 0
+    assert (
+        main(
+            [
+                "attend",
+                str(bag),
+                "--out",
+                str(out),
+                "--no-figure",
+                "--laser-topic",
+                "/rear/scan",
+                "--odom-topic",
+                "/odom_filtered",
+                "--sonar-topics",
+                "/sonar/3,/sonar/12",
+                "--sonar-bearings",
+                "10,-30",
+            ]
+        )
+        == 0
+    )
     trace = load_trace(out / "trace.npz")
     assert np.all(trace.O2 == 4.0)
     # /sonar/3 stands in for sonar 3 (10 deg), /sonar/12 for sonar 5 (-30 deg), the rear laser's 4 m for the rest

@@ -102,8 +102,22 @@ def test_cli_attend_writes_trace_and_figure(tmp_path, kind, capsys):
         log = tmp_path / "log.npz"
         np.savez(log, t=t, sonar=sonar, laser=laser, odometry=odometry)
     out = tmp_path / "out"
-    code = main(["attend", str(log), "--out", str(out), "--goal", "speed:between:0.5:0.9", "--maps", "F1,F4",
-                 "--state", "vigilant", "--config", '{"threshold": 0.2}'])
+    code = main(
+        [
+            "attend",
+            str(log),
+            "--out",
+            str(out),
+            "--goal",
+            "speed:between:0.5:0.9",
+            "--maps",
+            "F1,F4",
+            "--state",
+            "vigilant",
+            "--config",
+            '{"threshold": 0.2}',
+        ]
+    )
     assert code == 0
     trace = load_trace(out / "trace.npz")
     assert trace.config["threshold"] == 0.2 and trace.n_steps == T

@@ -85,8 +85,7 @@ def test_a_model_without_tracker_records_no_track_rows(tmp_path):
 def test_an_old_trace_without_track_arrays_loads_with_no_tracks(run, tmp_path):
     trace = run[1].to_trace()
     old = tmp_path / "old.npz"
-    np.savez(old, **{name: getattr(trace, name) for name in TRACE_ARRAYS},
-             config_json=np.asarray('{"grid": "sonar"}'))
+    np.savez(old, **{name: getattr(trace, name) for name in TRACE_ARRAYS}, config_json=np.asarray('{"grid": "sonar"}'))
     loaded = load_trace(old)
     assert loaded.n_steps == T and loaded.n_track_rows == 0
     assert all(len(loaded.tracks_at(k)) == 0 for k in range(T))
@@ -101,8 +100,9 @@ def test_a_trace_with_some_track_arrays_or_bad_rows_is_refused(run, tmp_path):
     with pytest.raises(ValueError, match="track_covariance"):
         load_trace(partial)
     bad_shape = tmp_path / "shape.npz"
-    np.savez(bad_shape, **{**arrays, "track_velocity_mps": arrays["track_velocity_mps"][:, :1]},
-             config_json=np.asarray("{}"))
+    np.savez(
+        bad_shape, **{**arrays, "track_velocity_mps": arrays["track_velocity_mps"][:, :1]}, config_json=np.asarray("{}")
+    )
     with pytest.raises(ValueError, match="track_velocity_mps"):
         load_trace(bad_shape)
     unsorted = tmp_path / "unsorted.npz"

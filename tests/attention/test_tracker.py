@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel
+from attentive_gym.attention.regions import laser_bearings_rad
 from attentive_gym.attention.tracking.association import gated_assignment, min_cost_assignment
 from attentive_gym.attention.tracking.kalman import cv_predict, cv_update
-from attentive_gym.attention.regions import laser_bearings_rad
 from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
@@ -28,8 +28,18 @@ def _noisy(rng, ranges, sigma, max_range):
     return np.where(ranges >= max_range, max_range, np.clip(out, 0.0, max_range))
 
 
-def _run(scene, discs_at, steps, *, sigma=0.0, seed=0, robot_at=lambda t: ((0.0, 0.0), 0.0), walls=(),
-         odometry=lambda t: None, config=None):
+def _run(
+    scene,
+    discs_at,
+    steps,
+    *,
+    sigma=0.0,
+    seed=0,
+    robot_at=lambda t: ((0.0, 0.0), 0.0),
+    walls=(),
+    odometry=lambda t: None,
+    config=None,
+):
     """Step a model through a scene of moving discs; returns the outputs.
 
     ``discs_at(t)`` gives the discs' centres ``[(x, y), ...]`` (m, world frame) at time t.
@@ -65,7 +75,12 @@ def test_segments_break_at_no_echo_and_range_jumps(scene):
     # the wall beyond 20 m on the far right is no echo; wall, wall, disc, wall
     first = int(np.argmax(laser < 20.0))
     assert n == 4
-    assert bounds[:4].tolist() == [[first, 40], [45, bounds[1, 1]], [bounds[1, 1], bounds[2, 1]], [bounds[2, 1], 180 - first]]
+    assert bounds[:4].tolist() == [
+        [first, 40],
+        [45, bounds[1, 1]],
+        [bounds[1, 1], bounds[2, 1]],
+        [bounds[2, 1], 180 - first],
+    ]
     table = np.zeros((180, len(SEGMENT_FIELDS)))
     cos_b, sin_b = np.cos(BEAMS), np.sin(BEAMS)
     measure_segments(laser, cos_b, sin_b, math.radians(1.0), 19.99, bounds, n, 0.05, 0.01, 0.05, 1.2, 2, table)
@@ -78,8 +93,7 @@ def test_noise_rarely_splits_a_far_wall():
     rng = np.random.default_rng(3)
     wall = 10.0 / np.cos(BEAMS[45:135])  # a wall 10 m ahead, seen over ±45°
     bounds = np.zeros((180, 2), np.int64)
-    splits = [segment_scan(_noisy(rng, wall, 0.05, 20.0), 19.99, 0.05, 0.01, 0.3, 3.0, bounds) - 1
-              for _ in range(200)]
+    splits = [segment_scan(_noisy(rng, wall, 0.05, 20.0), 19.99, 0.05, 0.01, 0.3, 3.0, bounds) - 1 for _ in range(200)]
     assert np.mean(splits) < 0.2  # noise of σ = 0.5 m per beam: the threshold grows with range
 
 
@@ -184,8 +198,14 @@ def test_a_target_entering_and_leaving_the_field_of_view(scene):
     # the robot spins in place: a victim behind it comes into view on the left (at ≈ 2.6 s),
     # crosses the front and leaves on the right (at ≈ 7.9 s)
     spin = 0.6  # rad/s
-    outs = _run(scene, lambda t: [(3.0, 0.0)], 200, sigma=0.02, robot_at=lambda t: ((0.0, 0.0), math.pi + spin * t),
-                odometry=lambda t: (0.0, spin))
+    outs = _run(
+        scene,
+        lambda t: [(3.0, 0.0)],
+        200,
+        sigma=0.02,
+        robot_at=lambda t: ((0.0, 0.0), math.pi + spin * t),
+        odometry=lambda t: (0.0, spin),
+    )
     seen = np.array([len(o.tracks) > 0 and bool(o.tracks.confirmed.any()) for o in outs])
     # once out of view the track coasts for track_coast_s = 1.5 s, then it is deleted
     assert not seen[:45].any() and seen[70:140].all() and not seen[-10:].any()
@@ -196,8 +216,15 @@ def test_a_target_entering_and_leaving_the_field_of_view(scene):
 
 def test_a_wall_passing_a_driving_robot_stays_static(scene):
     walls = [(-20.0, 1.5, 40.0, 1.5), (-20.0, -2.5, 40.0, -2.5)]  # a corridor
-    outs = _run(scene, lambda t: [], 100, sigma=0.05, walls=walls, robot_at=lambda t: ((0.6 * t, 0.0), 0.0),
-                odometry=lambda t: (0.6, 0.0))
+    outs = _run(
+        scene,
+        lambda t: [],
+        100,
+        sigma=0.05,
+        walls=walls,
+        robot_at=lambda t: ((0.6 * t, 0.0), 0.0),
+        odometry=lambda t: (0.6, 0.0),
+    )
     assert max(o.speeds_mps.max() for o in outs) < 0.05
     assert not any(o.fired and o.F[0].max() > 0.1 for o in outs)
 
@@ -251,8 +278,16 @@ def test_the_focus_names_the_track_it_holds(scene):
     assert view.track_age_s > 0
 
 
-@pytest.mark.parametrize("field, value", [("kinematics", "kalman"), ("max_tracks", 0), ("track_gate_chi2", -1.0),
-                                          ("range_noise_rel", float("nan")), ("segment_min_beams", 1.5)])
+@pytest.mark.parametrize(
+    "field, value",
+    [
+        ("kinematics", "kalman"),
+        ("max_tracks", 0),
+        ("track_gate_chi2", -1.0),
+        ("range_noise_rel", float("nan")),
+        ("segment_min_beams", 1.5),
+    ],
+)
 def test_bad_tracker_settings_are_refused(field, value):
     with pytest.raises(ValueError, match=field):
         AttentionConfig(**{field: value})

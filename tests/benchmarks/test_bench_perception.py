@@ -29,8 +29,20 @@ def test_the_perception_tables_and_their_csv_rows(tmp_path, capsys):
 
 def test_write_csv_writes_tidy_rows_atomically(tmp_path):
     path = tmp_path / "out" / "figures.csv"
-    bench.write_csv(path, [{"section": "speed", "mode": "window", "robot": "still", "noise": "gauss 0", "goal": "",
-                            "metric": "region_median_mps", "value": 0.5}])
+    bench.write_csv(
+        path,
+        [
+            {
+                "section": "speed",
+                "mode": "window",
+                "robot": "still",
+                "noise": "gauss 0",
+                "goal": "",
+                "metric": "region_median_mps",
+                "value": 0.5,
+            }
+        ],
+    )
     assert path.read_text().splitlines()[1] == "speed,window,still,gauss 0,,region_median_mps,0.5,"
     assert [p.name for p in path.parent.iterdir()] == ["figures.csv"]
 
@@ -45,6 +57,7 @@ def test_clutter_section_reports_each_distractor_count(tmp_path, monkeypatch, ca
             env = make(*args, **kwargs)
             built.append(env.unwrapped.arena.num_distractors)
             return env
+
         return wrapped
 
     monkeypatch.setattr(bench, "make_raw_env", spy(bench.make_raw_env))
@@ -82,9 +95,11 @@ def test_cost_times_the_compiled_step_inside_the_model_step():
 
 def test_focus_relative_to_noise_free_divides_by_the_same_mode_and_robot():
     quiet, noisy = bench.NOISE_SETTINGS[0].name, bench.NOISE_SETTINGS[2].name
-    focus = {("tracker", "still", quiet): {"a": 0.8, "b": 0.0},
-             ("tracker", "still", noisy): {"a": 0.6, "b": 0.1},
-             ("tracker", "driving", noisy): {"a": 0.5, "b": 0.5}}  # no noise-free row: no ratio
+    focus = {
+        ("tracker", "still", quiet): {"a": 0.8, "b": 0.0},
+        ("tracker", "still", noisy): {"a": 0.6, "b": 0.1},
+        ("tracker", "driving", noisy): {"a": 0.5, "b": 0.5},
+    }  # no noise-free row: no ratio
     results = bench.Results()
     rows = bench._focus_relative_to_noise_free(results, focus, ["a", "b"])
     assert rows == [["tracker", "still", noisy, "0.750", "—"]]  # 0.6 / 0.8; b has no noise-free focus to divide by

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+
 from support import load_benchmark
 
 bench = load_benchmark("bench_vector")
@@ -24,8 +25,10 @@ def focus_fleet():
 def test_timed_kernels_are_the_steps_own_and_are_put_back(focus_fleet):
     sensing_kernel, model_kernel = bench.sensor_suite._read_many_kernel, bench.model_batch.attend_many
     actions = np.zeros((2, 2), np.float32)
-    with bench.CallTimer(bench.sensor_suite, "_read_many_kernel") as sensing, \
-            bench.CallTimer(bench.model_batch, "attend_many") as models:
+    with (
+        bench.CallTimer(bench.sensor_suite, "_read_many_kernel") as sensing,
+        bench.CallTimer(bench.model_batch, "attend_many") as models,
+    ):
         for _ in range(3):
             focus_fleet.step(actions)
     assert sensing.calls == models.calls == 3  # one sweep and one batch of models a step, through the timers

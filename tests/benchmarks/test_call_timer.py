@@ -6,6 +6,7 @@ from __future__ import annotations
 import types
 
 import pytest
+
 from support import load_benchmark
 
 CallTimer = load_benchmark("call_timer").CallTimer

@@ -12,8 +12,10 @@ DATE = re.compile(r"20\d\d-\d\d-\d\d")
 #: A Markdown link's target, which may name a note's file (and so its date).
 LINK_TARGET = re.compile(r"\]\([^)]*\)")
 NOTES = sorted((ROOT / "docs" / "notes").glob("20*.md"))
-PAGES = [ROOT / "README.md", *sorted(p for p in (ROOT / "docs").rglob("*.md")
-                                     if not {"notes", "results", "_build"} & set(p.parts))]
+PAGES = [
+    ROOT / "README.md",
+    *sorted(p for p in (ROOT / "docs").rglob("*.md") if not {"notes", "results", "_build"} & set(p.parts)),
+]
 
 
 def _dates(path: Path) -> list[str]:
@@ -35,5 +37,6 @@ def test_each_note_is_dated_once_at_its_top(path):
     assert date, f"{path.name}: a note's name starts with its date, YYYY-MM-DD-topic.md"
     lines = path.read_text(encoding="utf-8").splitlines()
     assert lines[0].startswith("# ") and lines[2] == f"*{date.group(0)}*", (
-        f"{path.name}: a title, a blank line, then *{date.group(0)}*")
+        f"{path.name}: a title, a blank line, then *{date.group(0)}*"
+    )
     assert _dates(path) == [date.group(0)], f"{path.name}: dated more than once"

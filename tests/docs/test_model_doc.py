@@ -51,9 +51,13 @@ def test_the_doc_keeps_the_numbered_sections():
 
 def test_the_doc_cites_the_paper_in_full():
     flat = " ".join(TEXT.replace("\n>", "\n").split())
-    for part in ("Esther L. Colombini", "Alexandre S. Simões", "Carlos H. C. Ribeiro",
-                 "Top-down and Bottom-up Feature Combination for Multi-sensor Attentive Robots",
-                 "arXiv:1307.5720"):
+    for part in (
+        "Esther L. Colombini",
+        "Alexandre S. Simões",
+        "Carlos H. C. Ribeiro",
+        "Top-down and Bottom-up Feature Combination for Multi-sensor Attentive Robots",
+        "arXiv:1307.5720",
+    ):
         assert part in flat
 
 
@@ -63,7 +67,8 @@ def test_every_config_field_is_in_the_parameter_table_with_its_default(field):
     assert field.name in rows, f"AttentionConfig.{field.name} has no row in docs/model.md §11"
     assert ast.literal_eval(rows[field.name]) == field.default, (
         f"docs/model.md §11 gives AttentionConfig.{field.name} the default {rows[field.name]}, "
-        f"the code {field.default!r}")
+        f"the code {field.default!r}"
+    )
 
 
 def test_the_parameter_table_names_only_config_fields():
@@ -84,6 +89,11 @@ def test_every_citation_names_an_existing_section():
 
 def test_no_citation_points_outside_the_repository():
     """The specification is docs/model.md; an upper-case MODEL.md is a file the repository lacks."""
-    stale = [f"{path.relative_to(ROOT)}:{i}" for path in _cited_files() if path != Path(__file__).resolve()
-             for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1) if "MODEL.md" in line]
+    stale = [
+        f"{path.relative_to(ROOT)}:{i}"
+        for path in _cited_files()
+        if path != Path(__file__).resolve()
+        for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if "MODEL.md" in line
+    ]
     assert not stale, f"cite docs/model.md instead: {stale}"

@@ -27,8 +27,11 @@ def _info(bearing_rad: float, heading_rad: float = 0.7) -> dict:
     """An env step's ``info`` with the target 3 m from a robot at (1, 2) at ``bearing_rad``."""
     angle = heading_rad + bearing_rad
     target = (1.0 + 3.0 * math.cos(angle), 2.0 + 3.0 * math.sin(angle))
-    return {"robot_pose": np.array([1.0, 2.0, heading_rad]), "mover_positions": np.array([[9.0, 9.0], target]),
-            "target_index": 1}
+    return {
+        "robot_pose": np.array([1.0, 2.0, heading_rad]),
+        "mover_positions": np.array([[9.0, 9.0], target]),
+        "target_index": 1,
+    }
 
 
 @pytest.mark.parametrize("name", ["sonar", "laser"])

@@ -83,8 +83,10 @@ def test_every_entry_builds_on_its_environment(algo):
     for env_id, entry in load_hyperparams(algo).items():
         env = gym.make(env_id)
         try:
-            kwargs = {key: parse_schedule(key, value) if key in SCHEDULE_KEYS and isinstance(value, str) else value
-                      for key, value in algorithm_kwargs(entry).items()}  # "lin_3e-4", as rl-zoo3 reads it
+            kwargs = {
+                key: parse_schedule(key, value) if key in SCHEDULE_KEYS and isinstance(value, str) else value
+                for key, value in algorithm_kwargs(entry).items()
+            }  # "lin_3e-4", as rl-zoo3 reads it
             model = ALGOS[algo](entry["policy"], env, device="cpu", **kwargs)
             assert model.observation_space == env.observation_space, env_id
         finally:
@@ -96,10 +98,33 @@ def test_rl_zoo_trains_with_the_shipped_file(tmp_path):
     """``python -m rl_zoo3.train`` with ``--conf-file`` (one PPO update: 4 envs × 256 steps)."""
     pytest.importorskip("rl_zoo3", reason="needs rl-zoo3 (the 'test' extra)")
     command = [
-        sys.executable, "-m", "rl_zoo3.train", "--algo", "ppo", "--env", "AttentiveRescueFocus-v0",
-        "--gym-packages", "attentive_gym", "--conf-file", str(conf_file("ppo")), "-n", "256",
-        "--eval-freq", "-1", "--save-freq", "-1", "--device", "cpu", "--num-threads", "1", "--seed", "0",
-        "--log-interval", "-2", "-f", str(tmp_path / "logs"),
+        sys.executable,
+        "-m",
+        "rl_zoo3.train",
+        "--algo",
+        "ppo",
+        "--env",
+        "AttentiveRescueFocus-v0",
+        "--gym-packages",
+        "attentive_gym",
+        "--conf-file",
+        str(conf_file("ppo")),
+        "-n",
+        "256",
+        "--eval-freq",
+        "-1",
+        "--save-freq",
+        "-1",
+        "--device",
+        "cpu",
+        "--num-threads",
+        "1",
+        "--seed",
+        "0",
+        "--log-interval",
+        "-2",
+        "-f",
+        str(tmp_path / "logs"),
     ]
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy"}
     # the timeout only guards against a hang: ~20 s alone, it took over 120 s on 2 cores shared with 5 training runs

@@ -20,8 +20,9 @@ SHORT = {"time_limit_s": 1.0, "arena_size_m": 8.0, "num_distractors": 2}  # 20-s
 
 
 def _native(variant, num_envs=3, **kwargs):
-    return gym.make_vec(VARIANT_IDS[variant], num_envs=num_envs, vectorization_mode="vector_entry_point",
-                        **{**SHORT, **kwargs})
+    return gym.make_vec(
+        VARIANT_IDS[variant], num_envs=num_envs, vectorization_mode="vector_entry_point", **{**SHORT, **kwargs}
+    )
 
 
 def _sync(variant, num_envs=3, **kwargs):
@@ -113,8 +114,9 @@ def test_max_episode_steps_truncates_as_gym_make_does_and_float64_actions_stay_e
             _assert_same_tree(got[k], want[k], f"step {t} {name}")
         truncations += int(got[3].sum())
     assert truncations >= 6  # 7-step episodes, well inside the 20-step time limit
-    by_spec = gym.make_vec(gym.make(VARIANT_IDS["raw"], max_episode_steps=4, **SHORT).spec, 1,
-                           vectorization_mode="vector_entry_point")
+    by_spec = gym.make_vec(
+        gym.make(VARIANT_IDS["raw"], max_episode_steps=4, **SHORT).spec, 1, vectorization_mode="vector_entry_point"
+    )
     by_spec.reset(seed=0)
     assert [by_spec.step(np.zeros((1, 2)))[3][0] for _ in range(4)] == [False, False, False, True]
     for bad in (0, 2.5, True):
@@ -151,8 +153,10 @@ print(digest.hexdigest())
 
 @pytest.mark.slow
 def test_same_seed_same_trajectory_in_another_process():
-    runs = [subprocess.run([sys.executable, "-c", _TRAJECTORY_DIGEST], capture_output=True, text=True, check=True)
-            for _ in range(2)]
+    runs = [
+        subprocess.run([sys.executable, "-c", _TRAJECTORY_DIGEST], capture_output=True, text=True, check=True)
+        for _ in range(2)
+    ]
     namespace = {}
     exec(_TRAJECTORY_DIGEST.replace("print(digest.hexdigest())", "result = digest.hexdigest()"), namespace)
     assert runs[0].stdout.strip() == runs[1].stdout.strip() == namespace["result"]
@@ -240,8 +244,20 @@ def test_batch_infos_equals_gymnasium_add_info():
         expected = reference._add_info(expected, info, i)
     _assert_same_tree(batch_infos(entries, 3), expected)
     # every member once, in order, with the same keys (a step without resets): the fast path
-    full = [(i, {"a": float(i), "n": i, "flag": i == 1, "v": rng.normal(size=(2, 2)).astype(np.float32 if i else np.float64),
-                 "obj": ("x",) * i, "d": {"inner": np.arange(i, i + 3)}}) for i in range(3)]
+    full = [
+        (
+            i,
+            {
+                "a": float(i),
+                "n": i,
+                "flag": i == 1,
+                "v": rng.normal(size=(2, 2)).astype(np.float32 if i else np.float64),
+                "obj": ("x",) * i,
+                "d": {"inner": np.arange(i, i + 3)},
+            },
+        )
+        for i in range(3)
+    ]
     expected = {}
     for i, info in full:
         expected = reference._add_info(expected, info, i)
@@ -271,7 +287,9 @@ def test_native_vec_env_equals_dummy_vec_env_over_monitor():
             assert set(a) == set(b) and a["TimeLimit.truncated"] == b["TimeLimit.truncated"]
             if "episode" in b:
                 episodes += 1
-                assert {k: a["episode"][k] for k in ("r", "l", "success")} == {k: b["episode"][k] for k in ("r", "l", "success")}
+                assert {k: a["episode"][k] for k in ("r", "l", "success")} == {
+                    k: b["episode"][k] for k in ("r", "l", "success")
+                }
                 _assert_same_tree(a["terminal_observation"], b["terminal_observation"])
     assert episodes >= 4
     last = [info["episode"]["t"] for info in got[3] if "episode" in info]
@@ -293,8 +311,10 @@ def test_ppo_learns_the_same_policy_on_native_and_dummy_vec_envs():
     torch.set_num_threads(1)
     kwargs = dict(n_steps=32, batch_size=32, n_epochs=1, seed=0, device="cpu")
     parameters = []
-    for vec in (DummyVecEnv([lambda: Monitor(make_env("raw", **SHORT)) for _ in range(2)]),
-                NativeVecEnv([make_env("raw", **SHORT) for _ in range(2)])):
+    for vec in (
+        DummyVecEnv([lambda: Monitor(make_env("raw", **SHORT)) for _ in range(2)]),
+        NativeVecEnv([make_env("raw", **SHORT) for _ in range(2)]),
+    ):
         model = PPO("MultiInputPolicy", vec, **kwargs).learn(128)
         parameters.append(torch.nn.utils.parameters_to_vector(model.policy.parameters()).detach().numpy())
     np.testing.assert_array_equal(parameters[0], parameters[1])

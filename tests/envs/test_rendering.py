@@ -45,9 +45,11 @@ def _focus(origin):
 def _farthest_corner_box(frame, point):
     """The ``_KEY_BOX_PX`` area in the corner of ``frame`` farthest from ``point`` (x, y px)."""
     (height, width), (w, h) = frame.shape[:2], _KEY_BOX_PX
-    x, y = max(itertools.product((0, width - w), (0, height - h)),
-               key=lambda corner: math.dist((corner[0] + w / 2, corner[1] + h / 2), point))
-    return frame[y:y + h, x:x + w]
+    x, y = max(
+        itertools.product((0, width - w), (0, height - h)),
+        key=lambda corner: math.dist((corner[0] + w / 2, corner[1] + h / 2), point),
+    )
+    return frame[y : y + h, x : x + w]
 
 
 def _count(frame, colour, tolerance=0):
@@ -70,8 +72,9 @@ def test_bottom_up_and_top_down_outlines_are_drawn_in_their_colours():
 
 @pytest.mark.parametrize("origin", ["bottom-up", "top-down", None])
 def test_the_key_is_drawn_in_the_corner_away_from_the_robot(origin):
-    (attended, plain), robot_px = _frames(SimpleNamespace(L=_SALIENCY, focus=None if origin is None else 3,
-                                                          origin=origin))
+    (attended, plain), robot_px = _frames(
+        SimpleNamespace(L=_SALIENCY, focus=None if origin is None else 3, origin=origin)
+    )
     corner, plain_corner = _farthest_corner_box(attended, robot_px), _farthest_corner_box(plain, robot_px)
     swatch_px = 12 * 12
     for _, (r, g, b, alpha) in KEY:
@@ -81,12 +84,15 @@ def test_the_key_is_drawn_in_the_corner_away_from_the_robot(origin):
     assert _farthest_corner_box(dark[..., None], robot_px).sum() > 50
 
 
-@pytest.mark.parametrize(("avoid", "quadrant"), [((10, 10), (1, 1)), ((390, 10), (0, 1)), ((10, 290), (1, 0)),
-                                                 ((390, 290), (0, 0))])
+@pytest.mark.parametrize(
+    ("avoid", "quadrant"), [((10, 10), (1, 1)), ((390, 10), (0, 1)), ((10, 290), (1, 0)), ((390, 290), (0, 0))]
+)
 def test_draw_key_takes_the_corner_farthest_from_the_point(avoid, quadrant):
     surface = pygame.Surface((400, 300))
     rect = draw_key(surface, KEY, avoid)
     frame = np.transpose(pygame.surfarray.array3d(surface), (1, 0, 2))
     assert (rect.left >= 200, rect.top >= 150) == quadrant and (rect.right <= 200, rect.bottom <= 150) == (
-        not quadrant[0], not quadrant[1])
-    assert _count(frame[rect.top:rect.bottom, rect.left:rect.right], FOCUS_COLOURS["top-down"]) >= 12 * 12
+        not quadrant[0],
+        not quadrant[1],
+    )
+    assert _count(frame[rect.top : rect.bottom, rect.left : rect.right], FOCUS_COLOURS["top-down"]) >= 12 * 12

@@ -68,8 +68,10 @@ def test_the_usarsim_profile_resolves_to_uniform_5_percent_at_5_hz():
         ({"sensor_noise": 0.05}, SensorProfile("uniform", 0.05, 0.2, 0.2)),
         ({"sensor_noise": 0.0}, SensorProfile("uniform", 0.0, 0.2, 0.2)),
         ({"laser_scan_interval_s": DT_S}, SensorProfile("uniform", 0.05, 0.2, DT_S)),
-        ({"sonar_scan_interval_s": 1.0, "noise_model": "gaussian", "sensor_noise": 0.2},
-         SensorProfile("gaussian", 0.2, 1.0, 0.2)),
+        (
+            {"sonar_scan_interval_s": 1.0, "noise_model": "gaussian", "sensor_noise": 0.2},
+            SensorProfile("gaussian", 0.2, 1.0, 0.2),
+        ),
     ],
 )
 def test_explicit_settings_beat_the_profile(kwargs, expected):
@@ -109,14 +111,21 @@ def test_default_noise_is_the_old_gaussian_formula_on_the_envs_rng():
 def test_explicit_default_settings_give_the_default_trajectory():
     default = _trace(AttentiveRescueEnv())
     explicit = _trace(AttentiveRescueEnv(noise_model="gaussian", sensor_noise=0.05))
-    not_given = _trace(AttentiveRescueEnv(sensor_profile=None, noise_model=None, sensor_noise=None,
-                                          sonar_scan_interval_s=None, laser_scan_interval_s=None))
+    not_given = _trace(
+        AttentiveRescueEnv(
+            sensor_profile=None,
+            noise_model=None,
+            sensor_noise=None,
+            sonar_scan_interval_s=None,
+            laser_scan_interval_s=None,
+        )
+    )
     assert_same([(o, i) for o, i, _ in default], [(o, i) for o, i, _ in explicit])
     assert_same([(o, i) for o, i, _ in default], [(o, i) for o, i, _ in not_given])
 
 
 def test_every_step_times_equal_the_world_time():
-    for obs, info, _ in _trace(AttentiveRescueEnv(), steps=6):
+    for _obs, info, _ in _trace(AttentiveRescueEnv(), steps=6):
         assert info["sonar_time_s"] == info["laser_time_s"] == info["time_s"]
 
 
@@ -147,7 +156,8 @@ def test_readings_hold_bit_for_bit_between_scans_and_change_at_scans():
 def test_each_sensor_keeps_its_own_interval():
     trace = _trace(AttentiveRescueEnv(sonar_scan_interval_s=0.1), steps=8)
     assert [info["sonar_time_s"] for _, info, _ in trace] == pytest.approx(
-        [0.0, 0.0, 0.1, 0.1, 0.2, 0.2, 0.3, 0.3, 0.4], abs=1e-12)
+        [0.0, 0.0, 0.1, 0.1, 0.2, 0.2, 0.3, 0.3, 0.4], abs=1e-12
+    )
     assert [info["laser_time_s"] for _, info, _ in trace] == [info["time_s"] for _, info, _ in trace]
     for k in range(1, len(trace)):
         assert not np.array_equal(trace[k][0]["laser"], trace[k - 1][0]["laser"])
@@ -159,7 +169,7 @@ def test_the_rng_stream_does_not_depend_on_the_interval():
     held = _trace(AttentiveRescueEnv(sensor_profile="usarsim"))
     every = _trace(AttentiveRescueEnv(noise_model="uniform"))
     last_scan = 0
-    for k, ((obs, info, _), (obs_every, info_every, _)) in enumerate(zip(held, every)):
+    for k, ((obs, info, _), (_obs_every, info_every, _)) in enumerate(zip(held, every)):
         if k in _scan_steps(0.2):
             last_scan = k
         assert_same(info["robot_pose"], info_every["robot_pose"])
@@ -174,7 +184,10 @@ def test_usarsim_noise_is_within_5_percent_of_the_truth():
     clean = _trace(AttentiveRescueEnv(sensor_profile="usarsim", sensor_noise=0.0))
     worst = 0.0
     for (_, _, reading), (_, _, truth) in zip(noisy, clean):
-        for ranges, exact, high in ((reading.sonar, truth.sonar, SONAR_MAX_M), (reading.laser, truth.laser, LASER_MAX_M)):
+        for ranges, exact, high in (
+            (reading.sonar, truth.sonar, SONAR_MAX_M),
+            (reading.laser, truth.laser, LASER_MAX_M),
+        ):
             echo = exact < high
             np.testing.assert_array_equal(ranges[~echo], high)
             relative = np.abs(ranges[echo] - exact[echo]) / exact[echo]
@@ -230,10 +243,14 @@ INTERVAL_MESSAGE = r"must be None \(a scan every step\) or a finite number of se
         ({"noise_model": 1, "sensor_profile": "usarsim"}, r"noise_model must be one of \['gaussian', 'uniform'\]"),
         ({"sensor_noise": 0.6, "sensor_profile": "usarsim"}, r"sensor_noise must be a number in \[0.0, 0.5\]"),
         ({"sensor_noise": "5%", "noise_model": "uniform"}, r"sensor_noise must be a number in \[0.0, 0.5\]"),
-        *[({"sonar_scan_interval_s": v}, "sonar_scan_interval_s " + INTERVAL_MESSAGE)
-          for v in (0.0, -0.2, math.nan, math.inf, "0.2", True)],
-        *[({"laser_scan_interval_s": v, "sensor_profile": "usarsim"}, "laser_scan_interval_s " + INTERVAL_MESSAGE)
-          for v in (0, -1e-3, math.nan, -math.inf, b"0.2", False)],
+        *[
+            ({"sonar_scan_interval_s": v}, "sonar_scan_interval_s " + INTERVAL_MESSAGE)
+            for v in (0.0, -0.2, math.nan, math.inf, "0.2", True)
+        ],
+        *[
+            ({"laser_scan_interval_s": v, "sensor_profile": "usarsim"}, "laser_scan_interval_s " + INTERVAL_MESSAGE)
+            for v in (0, -1e-3, math.nan, -math.inf, b"0.2", False)
+        ],
     ],
 )
 def test_bad_sensor_settings_raise_value_errors_naming_what_is_allowed(kwargs, message):

@@ -31,8 +31,13 @@ def test_sb3_subproc_vec_env_with_spawn():
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import SubprocVecEnv
 
-    vec = make_vec_env("attentive_gym:AttentiveRescue-v0", n_envs=2, seed=0, vec_env_cls=SubprocVecEnv,
-                       vec_env_kwargs={"start_method": "spawn"})
+    vec = make_vec_env(
+        "attentive_gym:AttentiveRescue-v0",
+        n_envs=2,
+        seed=0,
+        vec_env_cls=SubprocVecEnv,
+        vec_env_kwargs={"start_method": "spawn"},
+    )
     obs = vec.reset()
     assert obs["laser"].shape == (2, 180)
     obs, rewards, dones, infos = vec.step(np.zeros((2, 2), np.float32))

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support import load_tool
 
 from attentive_gym.cli import main
 from attentive_gym.experiments import (
@@ -25,6 +24,7 @@ from attentive_gym.experiments import (
     run_experiment,
 )
 from attentive_gym.experiments.table import COLUMNS, markdown, measure
+from support import load_tool
 
 SEEDS = range(20)
 NOISE = 0.05
@@ -32,39 +32,43 @@ MIN_PASS_RATE = 0.8
 MODES = ("tracker", "window")
 
 # --- why a criterion does not reproduce, measured (see docs/experiments.md) ---------
-_MEAN = ("C is the weighted mean of the active maps (docs/model.md §6), so with F4 = 1 adding F1 < 1 lowers C: "
-         "L(F1+F4) is 0.80 x max(L(F1), L(F4))")
-_IOR_ALTERNATES = ("inhibition of return alternates the focus between the two most salient regions of the static "
-                   "room (s3 and s6, regions 2 and 5): while one is inhibited the other wins, and a third never does")
+_MEAN = (
+    "C is the weighted mean of the active maps (docs/model.md §6), so with F4 = 1 adding F1 < 1 lowers C: "
+    "L(F1+F4) is 0.80 x max(L(F1), L(F4))"
+)
+_IOR_ALTERNATES = (
+    "inhibition of return alternates the focus between the two most salient regions of the static "
+    "room (s3 and s6, regions 2 and 5): while one is inhibited the other wins, and a third never does"
+)
 #: The tracker's speed lags every start and turn: it rises from 0 to the true speed over 0.3-0.5 s.
 _LAG = "the track's speed lags each start and turnaround by 0.3-0.5 s: "
 
 NOT_REPRODUCED_EXACT = {
     "tracker": {
         ("exp01", "first_winner_is_s4"): _LAG + "it is 0.16 m/s (F1 = 0.14 >= θ) only 6 steps after the target "
-                                         "starts at 0.5 m/s, so s4 first wins at 0.85 s, one step late",
+        "starts at 0.5 m/s, so s4 first wins at 0.85 s, one step late",
         ("exp02", "ior_visits_several_regions"): _IOR_ALTERNATES,
         ("exp03", "moving_robot_dominates_L"): _LAG + "a wall's F3 region leads L at 19 of 447 steps with a robot "
-                                               "moving in range (1.10-1.45 s, 5.10-5.35 s, 10.35-10.55 s, "
-                                               "14.75-14.95 s)",
+        "moving in range (1.10-1.45 s, 5.10-5.35 s, 10.35-10.55 s, "
+        "14.75-14.95 s)",
         ("exp04", "F4_is_1_while_goal_holds"): _LAG + "F4 < 1 at 16 of 282 steps where the goal holds (0.65-1.05 s "
-                                               "after the start, 8.80-9.10 s after the pause)",
+        "after the start, 8.80-9.10 s after the pause)",
         ("exp04", "no_ior"): "the laser tracks the target from 7 m, so both top-down courses hold 6.8 s (1.10-7.90 s, "
-                             "9.15-16.00 s), past the 6 s vigilance onset: vigilance adaptation, not IOR, takes M "
-                             "to 0.18",
+        "9.15-16.00 s), past the 6 s vigilance onset: vigilance adaptation, not IOR, takes M "
+        "to 0.18",
         ("exp04", "combined_L_exceeds_single"): _MEAN,
         ("exp05", "faster_holds_focus"): _LAG + "the focus is elsewhere at 13 of 224 steps (0.20-0.25 s, and "
-                                         "6.65-7.15 s after the fast robot's turnaround, when the slow one wins)",
+        "6.65-7.15 s after the fast robot's turnaround, when the slow one wins)",
         ("exp05", "top_down_never_below_1"): _LAG + "the first fire (0.30 s) is bottom-up and its IOR falls into the "
-                                             "top-down course of 0.50 s; the laser tracks the fast robot from 7 m, "
-                                             "so that course holds 6.1 s, into vigilance, whose adaptation "
-                                             "(recovering over 2 s) leaves M < 1 in all 4 top-down courses",
+        "top-down course of 0.50 s; the laser tracks the fast robot from 7 m, "
+        "so that course holds 6.1 s, into vigilance, whose adaptation "
+        "(recovering over 2 s) leaves M < 1 in all 4 top-down courses",
     },
     "window": {
         ("exp02", "ior_visits_several_regions"): _IOR_ALTERNATES,
         ("exp03", "moving_robot_dominates_L"): "the wall's F3 region (s1) wins 8 of 260 steps with a robot moving "
-                                               "in range while the robot's region is not refractory (its own "
-                                               "excitation phase)",
+        "in range while the robot's region is not refractory (its own "
+        "excitation phase)",
         ("exp04", "combined_L_exceeds_single"): _MEAN.replace("0.80", "0.81"),
     },
 }
@@ -76,38 +80,41 @@ _TRACK_NOISE = "5 % range noise (σ 0.35 m at 7 m) on the tracks: "
 NOT_REPRODUCED_NOISY = {
     "tracker": {
         ("exp01", "first_winner_is_s4"): _LAG + "s4 first wins 5-9 steps after the start (0.80-1.00 s), or the "
-                                         "noise makes the static target win at 0.10-0.25 s (7 seeds); 3/20 pass",
+        "noise makes the static target win at 0.10-0.25 s (7 seeds); 3/20 pass",
         ("exp01", "quiet_once_static"): "the track's speed takes ~0.5 s to fall after the target stops at 6 m "
-                                        "(0.3-0.4 m/s at 8.5-8.65 s): s4 fires once or twice more (0/20 seeds)",
+        "(0.3-0.4 m/s at 8.5-8.65 s): s4 fires once or twice more (0/20 seeds)",
         ("exp03", "moving_robot_dominates_L"): _LAG + "and noisy F1 elsewhere: 35-68 of 447 steps (0/20 seeds)",
         ("exp04", "F4_is_1_while_goal_holds"): _LAG + "as noise-free, and noise: 14-33 steps (0/20 seeds)",
         ("exp04", "winners_top_down"): _TRACK_NOISE + "the target still at 7 m or a noisy F4 < 1 fires bottom-up "
-                                       "at the target (7/20 seeds)",
+        "at the target (7/20 seeds)",
         ("exp04", "no_ior"): "vigilance as noise-free, and bottom-up fires bring IOR (1/20 seeds)",
         ("exp04", "M_rises_within_onset"): _TRACK_NOISE + "the first top-down fire's hold is often released "
-                                           "before its 200 ms onset (13/20 seeds)",
+        "before its 200 ms onset (13/20 seeds)",
         ("exp04", "combined_L_exceeds_single"): _MEAN + " (0/20 seeds)",
         ("exp05", "faster_holds_focus"): _LAG + "as noise-free (0/20 seeds)",
         ("exp05", "top_down_never_below_1"): _LAG + "as noise-free (5/20 seeds)",
     },
     "window": {
-        **{key: reason for key, reason in NOT_REPRODUCED_EXACT["window"].items()
-           if key != ("exp02", "ior_visits_several_regions")},  # with noise the room's focus wanders further
+        **{
+            key: reason
+            for key, reason in NOT_REPRODUCED_EXACT["window"].items()
+            if key != ("exp02", "ior_visits_several_regions")
+        },  # with noise the room's focus wanders further
         ("exp01", "first_winner_is_s4"): _SPEED_NOISE + "the static target at 3 m already wins at 0.05 s (0/20)",
         ("exp01", "far_regions_never_win"): _SPEED_NOISE + "a saturated s4 speed lifts F1 = mean(s) = 0.125 > θ in "
-                                            "every other region (10/20 seeds)",
+        "every other region (10/20 seeds)",
         ("exp03", "static_winners_from_F3"): _SPEED_NOISE + "the wall's sonar echoes make F1 lead before the robots "
-                                             "move (0/20 seeds)",
+        "move (0/20 seeds)",
         ("exp03", "moving_robot_dominates_L"): _SPEED_NOISE + "static echoes compete with the moving robots (0/20)",
         ("exp04", "F4_is_1_while_goal_holds"): _SPEED_NOISE + "the measured speed leaves [0.5, 0.9] (0/20 seeds)",
         ("exp04", "winners_top_down"): _SPEED_NOISE + "F1 > F4 at some target winners, which fire bottom-up (0/20)",
         ("exp04", "no_ior"): _SPEED_NOISE + "bottom-up winners bring IOR (0/20 seeds)",
         ("exp04", "M_rises_within_onset"): _SPEED_NOISE + "the first top-down fire's hold is often released before "
-                                           "its 200 ms onset (12/20 seeds)",
+        "its 200 ms onset (12/20 seeds)",
         ("exp05", "faster_holds_focus"): _SPEED_NOISE + "the slower robot's noisy speed meets GREATER(0.6) too and "
-                                         "static echoes fire bottom-up (0/20 seeds)",
+        "static echoes fire bottom-up (0/20 seeds)",
         ("exp05", "top_down_never_below_1"): _SPEED_NOISE + "bottom-up courses' IOR spreads into top-down regions "
-                                             "(0/20 seeds)",
+        "(0/20 seeds)",
     },
 }
 
@@ -148,8 +155,10 @@ def test_check_messages_name_regions_by_their_sonar_and_index():
     assert first.passed and "s4 (region 3)" in first.criterion
     assert first.measured.startswith("first winner s4 (region 3) at ")
     assert _exact("window", "exp01")["far_regions_never_win"].measured == "far regions that won: none"
-    assert "regions fired in the first 3 s: s3 (region 2), s6 (region 5)" in _exact("window", "exp02")[
-        "ior_visits_several_regions"].measured
+    assert (
+        "regions fired in the first 3 s: s3 (region 2), s6 (region 5)"
+        in _exact("window", "exp02")["ior_visits_several_regions"].measured
+    )
 
 
 def test_same_seed_gives_the_same_trace_bit_for_bit():
@@ -188,7 +197,12 @@ def test_the_model_assumes_the_runs_gaussian_sigma(noise, sigma):
 
 def test_usarsim_profile_holds_scans_and_passes_their_times():
     result = run_experiment("exp01", seed=2, profile="usarsim")
-    assert (result.noise, result.noise_model, result.profile, result.scan_times_given) == (0.05, "uniform", "usarsim", True)
+    assert (result.noise, result.noise_model, result.profile, result.scan_times_given) == (
+        0.05,
+        "uniform",
+        "usarsim",
+        True,
+    )
     assert math.isclose(result.trace.config["range_noise_rel"], 0.05 / math.sqrt(3.0))
     scans = np.unique(result.laser_time_s)
     assert np.allclose(np.diff(scans), 0.2) and np.all(result.laser_time_s <= result.trace.t)
@@ -206,18 +220,31 @@ def test_config_reaches_the_model():
     assert result.trace.C.max() > 1.0  # the weighted sum of F1 and F4, no longer their mean
 
 
-@pytest.mark.parametrize("bad", [{"name": "exp6"}, {"name": None}, {"name": "exp01", "noise": -0.1},
-                                 {"name": "exp01", "noise": float("nan")}, {"name": "exp01", "noise": 0.6},
-                                 {"name": "exp01", "seed": -1}, {"name": "exp01", "seed": 1.5},
-                                 {"name": "exp01", "seed": True}, {"name": "exp01", "kinematics": "kalman"},
-                                 {"name": "exp01", "kinematics": None}, {"name": "exp01", "profile": "usarsim2"},
-                                 {"name": "exp01", "config": {"ego_motion": "odometry"}},
-                                 {"name": "exp01", "config": {"kinematics": "window"}},
-                                 {"name": "exp01", "config": {"no_such_field": 1}}, {"name": "exp01", "config": [1]},
-                                 {"name": "exp01", "config": {"threshold": -1.0}}])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        {"name": "exp6"},
+        {"name": None},
+        {"name": "exp01", "noise": -0.1},
+        {"name": "exp01", "noise": float("nan")},
+        {"name": "exp01", "noise": 0.6},
+        {"name": "exp01", "seed": -1},
+        {"name": "exp01", "seed": 1.5},
+        {"name": "exp01", "seed": True},
+        {"name": "exp01", "kinematics": "kalman"},
+        {"name": "exp01", "kinematics": None},
+        {"name": "exp01", "profile": "usarsim2"},
+        {"name": "exp01", "config": {"ego_motion": "odometry"}},
+        {"name": "exp01", "config": {"kinematics": "window"}},
+        {"name": "exp01", "config": {"no_such_field": 1}},
+        {"name": "exp01", "config": [1]},
+        {"name": "exp01", "config": {"threshold": -1.0}},
+    ],
+)
 def test_bad_input_raises_a_clear_value_error(bad):
-    with pytest.raises(ValueError, match="exp01, exp02, exp03, exp04, exp05|noise|seed|kinematics|profile|config|"
-                                         "threshold"):
+    with pytest.raises(
+        ValueError, match="exp01, exp02, exp03, exp04, exp05|noise|seed|kinematics|profile|config|threshold"
+    ):
         run_experiment(**bad)
 
 
@@ -255,10 +282,16 @@ def test_cli_all_runs_the_five(capsys):
     assert all(f"{name}: " in out for name in EXPERIMENT_NAMES)
 
 
-@pytest.mark.parametrize(("argv", "message"), [(["exp9"], "allowed: exp01"), (["exp01", "--noise", "2"], "noise"),
-                                               (["exp01", "--seed", "-3"], "seed"),
-                                               (["exp01", "--kinematics", "kalman"], "kinematics must be one of"),
-                                               (["all", "--profile", "gazebo"], "profile must be None or one of")])
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["exp9"], "allowed: exp01"),
+        (["exp01", "--noise", "2"], "noise"),
+        (["exp01", "--seed", "-3"], "seed"),
+        (["exp01", "--kinematics", "kalman"], "kinematics must be one of"),
+        (["all", "--profile", "gazebo"], "profile must be None or one of"),
+    ],
+)
 def test_cli_bad_input_is_one_line_and_exit_2(argv, message, capsys):
     assert main(["experiment", *argv]) == 2
     err = capsys.readouterr().err.strip()
@@ -285,13 +318,16 @@ def test_table_has_a_column_per_mode_and_the_profile():
     assert all(cell["exact"].values()) and set(cell["rate"]) == set(COLUMNS)
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (["--config", "[1]"], "config must be a mapping of AttentionConfig fields, got list"),
-    (["--config", '"ab"'], "config must be a mapping"),
-    (["--config", '{"treshold": 0.2}'], "unknown AttentionConfig field"),
-    (["--workers", "0"], "workers must be an integer >= 1, got 0"),
-    (["--noise", "0.9"], "noise must be a relative level in"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--config", "[1]"], "config must be a mapping of AttentionConfig fields, got list"),
+        (["--config", '"ab"'], "config must be a mapping"),
+        (["--config", '{"treshold": 0.2}'], "unknown AttentionConfig field"),
+        (["--workers", "0"], "workers must be an integer >= 1, got 0"),
+        (["--noise", "0.9"], "noise must be a relative level in"),
+    ],
+)
 def test_table_refuses_bad_flags_before_any_run(args, message, capsys, monkeypatch, tmp_path):
     from attentive_gym.experiments import table
 
@@ -334,7 +370,11 @@ def test_experiment_modules_import_without_a_cycle():
             continue
         imported = set()
         for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("attentive_gym.experiments."):
+            if (
+                isinstance(node, ast.ImportFrom)
+                and node.module
+                and node.module.startswith("attentive_gym.experiments.")
+            ):
                 imported.add(node.module.rsplit(".", 1)[1])
         graph[path.stem] = imported
     done, active = set(), set()

@@ -59,14 +59,16 @@ def test_figures_import_without_the_runner():
     """A fresh interpreter imports ``experiments.figures`` alone (the package's ``__init__``,
     which imports everything, left out): it never pulls in the runner or the checks."""
     package = Path(__file__).resolve().parents[2] / "attentive_gym" / "experiments"
-    code = ("import sys, types\n"
-            "package = types.ModuleType('attentive_gym.experiments')\n"
-            f"package.__path__ = [{str(package)!r}]\n"
-            "sys.modules['attentive_gym.experiments'] = package\n"
-            "import attentive_gym.experiments.figures\n"
-            "loaded = sorted(m for m in sys.modules if m.startswith('attentive_gym.experiments.'))\n"
-            "print(loaded)\n"
-            "assert loaded == ['attentive_gym.experiments.figures', 'attentive_gym.experiments.registry', "
-            "'attentive_gym.experiments.result'], loaded\n")
+    code = (
+        "import sys, types\n"
+        "package = types.ModuleType('attentive_gym.experiments')\n"
+        f"package.__path__ = [{str(package)!r}]\n"
+        "sys.modules['attentive_gym.experiments'] = package\n"
+        "import attentive_gym.experiments.figures\n"
+        "loaded = sorted(m for m in sys.modules if m.startswith('attentive_gym.experiments.'))\n"
+        "print(loaded)\n"
+        "assert loaded == ['attentive_gym.experiments.figures', 'attentive_gym.experiments.registry', "
+        "'attentive_gym.experiments.result'], loaded\n"
+    )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr

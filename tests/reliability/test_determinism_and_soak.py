@@ -29,8 +29,9 @@ def trajectory(scenario: str, seed: int, steps: int) -> list:
     out = [(obs, info["robot_pose"], info["mover_positions"])]
     for _ in range(steps):
         obs, reward, terminated, truncated, info = env.step(rng.uniform(-1, 1, 2).astype(np.float32))
-        out.append((obs, reward, terminated, truncated, info["robot_pose"], info["mover_positions"],
-                    info["target_distance_m"]))
+        out.append(
+            (obs, reward, terminated, truncated, info["robot_pose"], info["mover_positions"], info["target_distance_m"])
+        )
         if terminated or truncated:
             obs, info = env.reset()
             out.append((obs, info["robot_pose"], info["mover_positions"]))
@@ -49,18 +50,25 @@ def test_spawned_process_reproduces_the_in_process_trajectory_bit_for_bit():
         assert_same(pickle.loads(data), trajectory(*case))
 
 
-_WARM_START_BUG = pytest.mark.xfail(strict=True, reason=(
-    "open bug found here: a pickled World loses pymunk's warm-start state (accumulated joint and "
-    "contact impulses are not pickled), so the copy's odometry differs from the original's by ~1e-17 "
-    "a few steps later; see docs/reliability.md"))
+_WARM_START_BUG = pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "open bug found here: a pickled World loses pymunk's warm-start state (accumulated joint and "
+        "contact impulses are not pickled), so the copy's odometry differs from the original's by ~1e-17 "
+        "a few steps later; see docs/reliability.md"
+    ),
+)
 
 
-@pytest.mark.parametrize("scenario, at", [
-    ("rescue", [0, 37]),
-    # the drive's joints carry impulses from the first step on: a copy made then drifts at once
-    pytest.param("rescue", [1], marks=_WARM_START_BUG),
-    pytest.param("exp05", [5, 90], marks=_WARM_START_BUG),
-])
+@pytest.mark.parametrize(
+    "scenario, at",
+    [
+        ("rescue", [0, 37]),
+        # the drive's joints carry impulses from the first step on: a copy made then drifts at once
+        pytest.param("rescue", [1], marks=_WARM_START_BUG),
+        pytest.param("exp05", [5, 90], marks=_WARM_START_BUG),
+    ],
+)
 def test_pickled_env_mid_episode_continues_identically(scenario, at):
     env = AttentiveRescueEnv(scenario)
     env.reset(seed=2)
@@ -71,7 +79,7 @@ def test_pickled_env_mid_episode_continues_identically(scenario, at):
         if i in at:
             clones[i] = pickle.loads(pickle.dumps(env))
         result = env.step(action)
-        for start, clone in clones.items():
+        for clone in clones.values():
             other = clone.step(action)
             assert_same(result[:4], other[:4])
             assert_same(result[4]["robot_pose"], other[4]["robot_pose"])
@@ -108,8 +116,9 @@ def test_pickled_attention_model_continues_identically():
 def test_async_vector_env_equals_sync_on_every_output_across_resets():
     kwargs = {"num_envs": 2, "time_limit_s": 2.0}
     sync = gym.make_vec("attentive_gym:AttentiveRescue-v0", vectorization_mode="sync", **kwargs)
-    async_ = gym.make_vec("attentive_gym:AttentiveRescue-v0", vectorization_mode="async",
-                          vector_kwargs={"context": "spawn"}, **kwargs)
+    async_ = gym.make_vec(
+        "attentive_gym:AttentiveRescue-v0", vectorization_mode="async", vector_kwargs={"context": "spawn"}, **kwargs
+    )
     try:
         rng = np.random.default_rng(0)
         assert_same(sync.reset(seed=[5, 6])[0], async_.reset(seed=[5, 6])[0])

@@ -20,13 +20,21 @@ _ENV = AttentiveRescueEnv()
 _ENV.reset(seed=0)
 
 weird_floats = st.floats(allow_nan=True, allow_infinity=True, width=64)
-scalars = st.one_of(weird_floats, st.integers(-(2**70), 2**70), st.booleans(), st.none(), st.text(max_size=3),
-                    st.complex_numbers(max_magnitude=10))
+scalars = st.one_of(
+    weird_floats,
+    st.integers(-(2**70), 2**70),
+    st.booleans(),
+    st.none(),
+    st.text(max_size=3),
+    st.complex_numbers(max_magnitude=10),
+)
 actions = st.one_of(
     hnp.arrays(st.sampled_from([np.float32, np.float64]), 2, elements=st.floats(width=32)),
     hnp.arrays(np.float16, 2, elements=st.floats(width=16)),
-    hnp.arrays(st.sampled_from([np.float32, np.float64, np.int64, np.int8, np.bool_]),
-               hnp.array_shapes(min_dims=0, max_dims=3, max_side=3)),
+    hnp.arrays(
+        st.sampled_from([np.float32, np.float64, np.int64, np.int8, np.bool_]),
+        hnp.array_shapes(min_dims=0, max_dims=3, max_side=3),
+    ),
     st.lists(scalars, max_size=4),
     st.tuples(weird_floats, weird_floats),
     scalars,
@@ -64,17 +72,34 @@ def test_any_action_steps_or_raises_a_clear_error(action):
 
 # --- keyword arguments ------------------------------------------------------------------
 KWARG_VALUES = {
-    "sensor_noise": st.one_of(weird_floats, st.sampled_from([0.0, 0.5, 0.51, -0.1, "0.1", None, True, np.float32(0.2)])),
+    "sensor_noise": st.one_of(
+        weird_floats, st.sampled_from([0.0, 0.5, 0.51, -0.1, "0.1", None, True, np.float32(0.2)])
+    ),
     "dt": st.one_of(weird_floats, st.sampled_from([0.5, 0.51, 0.0, 1e-3, "0.05", None, np.float64(0.1)])),
-    "arena_size_m": st.one_of(weird_floats, st.sampled_from([4.0, 3.9, (10, 6), (10,), (10, 10, 10), None, "big",
-                                                             [8.0, 8.0], (np.float32(9.0), 9), (3, 100)])),
+    "arena_size_m": st.one_of(
+        weird_floats,
+        st.sampled_from(
+            [4.0, 3.9, (10, 6), (10,), (10, 10, 10), None, "big", [8.0, 8.0], (np.float32(9.0), 9), (3, 100)]
+        ),
+    ),
     "num_distractors": st.one_of(st.integers(-3, 25), st.sampled_from([2.0, True, None, "3", np.int64(2)])),
     "rubble_per_100m2": st.one_of(weird_floats, st.sampled_from([0, 51, 1e12, "x", None, True])),
     "max_mover_speed_mps": st.one_of(weird_floats, st.sampled_from([0.3, 20.0, 20.1, 1e300, "fast", None])),
     "time_limit_s": st.one_of(weird_floats, st.sampled_from([None, 1e-3, 1e7, "10", True])),
-    "goals": st.sampled_from([None, (), 5, "speed", Goal.between("speed", 0.5, 0.9), [Goal.smaller("speed", 0.3)],
-                              (Goal.smaller("distance", 1.0),), (Goal.greater("speed", 19.0),), ("speed > 1",),
-                              (Goal.direction_is("away"),)]),
+    "goals": st.sampled_from(
+        [
+            None,
+            (),
+            5,
+            "speed",
+            Goal.between("speed", 0.5, 0.9),
+            [Goal.smaller("speed", 0.3)],
+            (Goal.smaller("distance", 1.0),),
+            (Goal.greater("speed", 19.0),),
+            ("speed > 1",),
+            (Goal.direction_is("away"),),
+        ]
+    ),
     "scenario": st.sampled_from(["rescue", "exp01", "exp09", "", None, 3, ["exp01"], "nothere.yaml", "x.txt"]),
     "render_mode": st.sampled_from([None, "rgb_array", "ascii", ["human"], 1]),
     "robot": st.sampled_from([{}, None, "p2at"]),
@@ -90,8 +115,11 @@ KWARG_NAMES = {
 
 
 @settings(max_examples=250)
-@given(st.sets(st.sampled_from(sorted(KWARG_VALUES)), min_size=1, max_size=3).flatmap(
-    lambda keys: st.fixed_dictionaries({k: KWARG_VALUES[k] for k in sorted(keys)})))
+@given(
+    st.sets(st.sampled_from(sorted(KWARG_VALUES)), min_size=1, max_size=3).flatmap(
+        lambda keys: st.fixed_dictionaries({k: KWARG_VALUES[k] for k in sorted(keys)})
+    )
+)
 def test_any_keyword_arguments_build_a_working_env_or_raise_a_clear_error(kwargs):
     def make_and_run():
         env = AttentiveRescueEnv(**kwargs)
@@ -139,8 +167,9 @@ def test_infeasible_arena_raises_value_error_not_runtime_error():
 
 
 def test_numpy_scalars_are_accepted_as_numbers():
-    env = AttentiveRescueEnv(sensor_noise=np.float32(0.1), dt=np.float64(0.1), num_distractors=np.int64(2),
-                             arena_size_m=np.float32(9.0))
+    env = AttentiveRescueEnv(
+        sensor_noise=np.float32(0.1), dt=np.float64(0.1), num_distractors=np.int64(2), arena_size_m=np.float32(9.0)
+    )
     obs, _ = env.reset(seed=0)
     assert_finite_observation(env, obs)
 
@@ -151,8 +180,17 @@ goal_options = st.one_of(
     hnp.arrays(np.float64, GOAL_ENCODING_SIZE, elements=weird_floats),
     hnp.arrays(np.float32, st.integers(0, 20), elements=st.floats(0, 30, width=32)),
     st.lists(st.one_of(st.floats(0, 2), st.text(max_size=1)), min_size=GOAL_ENCODING_SIZE, max_size=GOAL_ENCODING_SIZE),
-    st.sampled_from([Goal.between("speed", 0.5, 0.9), Goal.smaller("speed", 0.3), Goal.direction_is("towards"),
-                     Goal.smaller("distance", 2.0), Goal.greater("speed", 25.0), "speed", 3]),
+    st.sampled_from(
+        [
+            Goal.between("speed", 0.5, 0.9),
+            Goal.smaller("speed", 0.3),
+            Goal.direction_is("towards"),
+            Goal.smaller("distance", 2.0),
+            Goal.greater("speed", 25.0),
+            "speed",
+            3,
+        ]
+    ),
 )
 
 

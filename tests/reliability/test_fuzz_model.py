@@ -16,8 +16,8 @@ from hypothesis.extra import numpy as hnp
 from reliability_helpers import assert_clear_error, outcome
 
 from attentive_gym.attention import MAP_ALIASES, MAP_NAMES, AttentionConfig, AttentionModel, Goal
-from attentive_gym.attention.goals import Feature, Relation
 from attentive_gym.attention.config import MAX_MAP_WEIGHT
+from attentive_gym.attention.goals import Feature, Relation
 
 weird_floats = st.floats(allow_nan=True, allow_infinity=True)
 bounds = st.one_of(weird_floats, st.none(), st.integers(-5, 5), st.sampled_from(["0.5", "x", True, [1.0]]))
@@ -95,8 +95,12 @@ weight_values = st.one_of(weird_floats, st.integers(-2, 3), st.sampled_from([Tru
 def _weight_ok(value) -> bool:
     import numbers
 
-    return (not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
-            and 0 <= value <= MAX_MAP_WEIGHT)
+    return (
+        not isinstance(value, bool)
+        and isinstance(value, numbers.Real)
+        and math.isfinite(value)
+        and 0 <= value <= MAX_MAP_WEIGHT
+    )
 
 
 def _index(key):
@@ -107,9 +111,13 @@ def _index(key):
 
 
 @settings(max_examples=400)
-@given(st.one_of(st.dictionaries(map_keys, weight_values, max_size=7),
-                 st.lists(weight_values, max_size=8),
-                 st.sampled_from(["F1", 3, None, 2.0])))
+@given(
+    st.one_of(
+        st.dictionaries(map_keys, weight_values, max_size=7),
+        st.lists(weight_values, max_size=8),
+        st.sampled_from(["F1", 3, None, 2.0]),
+    )
+)
 def test_any_weights_are_set_exactly_or_refused_naming_the_map(weights):
     model = AttentionModel()
     before = dict(model.weights)
@@ -187,8 +195,11 @@ def _problems(t, last_t, sonar, laser, odometry) -> list[str]:
             linear, angular = odometry
             if not (math.isfinite(float(linear)) and math.isfinite(float(angular))):
                 problems.append("odometry")
-            elif not problems and last_t is not None and not (
-                    math.isfinite(float(linear) * (t - last_t)) and math.isfinite(float(angular) * (t - last_t))):
+            elif (
+                not problems
+                and last_t is not None
+                and not (math.isfinite(float(linear) * (t - last_t)) and math.isfinite(float(angular) * (t - last_t)))
+            ):
                 problems.append("odometry")  # a finite rate over the gap overflows
         except (TypeError, ValueError):
             problems.append("odometry")
@@ -210,7 +221,7 @@ def test_any_input_sequence_steps_or_raises_and_outputs_stay_finite(steps, grid,
         t_now = move if isinstance(move, str) else t + move
         problems = _problems(t_now, last_t, sonar, laser, odometry)
         snapshot = pickle.dumps(model) if problems else None
-        output, error = outcome(lambda: model.step(t_now, sonar, laser, odometry))
+        output, error = outcome(lambda: model.step(t_now, sonar, laser, odometry))  # noqa: B023 (called at once)
         if not problems:
             assert error is None, f"valid step refused: {error!r}"
             for name in ("F", "C", "M", "L", "speeds_mps", "distances_m"):
@@ -223,7 +234,9 @@ def test_any_input_sequence_steps_or_raises_and_outputs_stay_finite(steps, grid,
             assert_clear_error(error, *problems)
             # the refused step left no trace: the model continues exactly as a copy taken before it
             probe_t = (last_t or 0.0) + 0.05
-            assert pickle.loads(pickle.dumps(model)).step(probe_t, *_PROBE) == pickle.loads(snapshot).step(probe_t, *_PROBE)
+            assert pickle.loads(pickle.dumps(model)).step(probe_t, *_PROBE) == pickle.loads(snapshot).step(
+                probe_t, *_PROBE
+            )
 
 
 def test_time_steps_below_a_nanosecond_are_refused_instead_of_dividing_by_zero():

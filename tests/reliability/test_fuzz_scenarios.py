@@ -30,18 +30,34 @@ BASE = {
         {"kind": "segment", "start": [2, -2], "end": [3, -2], "radius_m": 0.05},
     ],
     "movers": [
-        {"name": "survivor", "kind": "victim", "start": {"x_m": 3, "y_m": 0},
-         "behaviour": {"kind": "path", "loop": True, "legs": [{"to": [3, 2], "speed_mps": 0.7}]}},
-        {"name": "bot", "kind": "robot", "start": {"x_m": -1, "y_m": 0},
-         "behaviour": {"kind": "pursue", "speed_mps": 0.5}},
+        {
+            "name": "survivor",
+            "kind": "victim",
+            "start": {"x_m": 3, "y_m": 0},
+            "behaviour": {"kind": "path", "loop": True, "legs": [{"to": [3, 2], "speed_mps": 0.7}]},
+        },
+        {
+            "name": "bot",
+            "kind": "robot",
+            "start": {"x_m": -1, "y_m": 0},
+            "behaviour": {"kind": "pursue", "speed_mps": 0.5},
+        },
     ],
     "task": {"target": "survivor", "goal": {"feature": "speed", "relation": "between", "lo": 0.5, "hi": 0.9}},
 }
 
 junk = st.one_of(
-    st.none(), st.booleans(), st.integers(-10, 10), st.floats(allow_nan=True, allow_infinity=True),
-    st.text(max_size=4), st.lists(st.integers(-3, 3), max_size=3), st.just({}), st.just({"kind": ["box"]}),
-    st.just([[1, 2], [3]]), st.just({1: 2, "a": 3}), st.sampled_from([0.0, -1.0, 1e300, -0.0, 100.0]),
+    st.none(),
+    st.booleans(),
+    st.integers(-10, 10),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=4),
+    st.lists(st.integers(-3, 3), max_size=3),
+    st.just({}),
+    st.just({"kind": ["box"]}),
+    st.just([[1, 2], [3]]),
+    st.just({1: 2, "a": 3}),
+    st.sampled_from([0.0, -1.0, 1e300, -0.0, 100.0]),
 )
 
 
@@ -89,8 +105,25 @@ def _check_builds_or_refuses(data):
 
     scenario, error = outcome(build_and_run)
     if error is not None:
-        assert_clear_error(error, "scenario", "mover", "wall", "rubble", "task", "goal", "box", "circle",
-                           "segment", "leg", "path", "pursue", "evade", "pose", "bound", "overlap")
+        assert_clear_error(
+            error,
+            "scenario",
+            "mover",
+            "wall",
+            "rubble",
+            "task",
+            "goal",
+            "box",
+            "circle",
+            "segment",
+            "leg",
+            "path",
+            "pursue",
+            "evade",
+            "pose",
+            "bound",
+            "overlap",
+        )
     return scenario, error
 
 
@@ -102,7 +135,9 @@ def test_mutated_scenario_dicts_build_or_name_the_problem(path, action, value):
 
 
 @settings(max_examples=100)
-@given(st.lists(st.tuples(st.sampled_from(PATHS), st.sampled_from(["delete", "replace"]), junk), min_size=2, max_size=4))
+@given(
+    st.lists(st.tuples(st.sampled_from(PATHS), st.sampled_from(["delete", "replace"]), junk), min_size=2, max_size=4)
+)
 def test_several_mutations_at_once(mutations):
     data = BASE
     for path, action, value in mutations:
@@ -113,10 +148,14 @@ def test_several_mutations_at_once(mutations):
     _check_builds_or_refuses(data)
 
 
-geometry = st.fixed_dictionaries({
-    "x": st.floats(-6, 6), "y": st.floats(-4, 4), "size": st.one_of(st.floats(-0.5, 3.0), st.sampled_from([0.0, 1e-9, 1e6])),
-    "kind": st.sampled_from(["box", "circle", "segment", "wall", "victim", "robot"]),
-})
+geometry = st.fixed_dictionaries(
+    {
+        "x": st.floats(-6, 6),
+        "y": st.floats(-4, 4),
+        "size": st.one_of(st.floats(-0.5, 3.0), st.sampled_from([0.0, 1e-9, 1e6])),
+        "kind": st.sampled_from(["box", "circle", "segment", "wall", "victim", "robot"]),
+    }
+)
 
 
 @settings(max_examples=200)
@@ -134,8 +173,16 @@ def test_overlapping_out_of_arena_and_degenerate_bodies(bodies):
         elif b["kind"] == "wall":
             data["walls"].append({"start": [x, y], "end": [x, y + size], "thickness_m": 0.2})
         else:
-            data["movers"].append({"name": f"m{i}", "kind": b["kind"], "start": {"x_m": x, "y_m": y},
-                                   "radius_m": size, "length_m": size, "width_m": size})
+            data["movers"].append(
+                {
+                    "name": f"m{i}",
+                    "kind": b["kind"],
+                    "start": {"x_m": x, "y_m": y},
+                    "radius_m": size,
+                    "length_m": size,
+                    "width_m": size,
+                }
+            )
     scenario, error = _check_builds_or_refuses(data)
     if scenario is not None:  # whatever was accepted really is a valid world
         world = World(scenario)
@@ -152,18 +199,28 @@ def test_overlapping_out_of_arena_and_degenerate_bodies(bodies):
         ("name: x\nbounds: [0, 0, 10, 10]\n1: 2\nfoo: 3\n", ("unknown key",)),
         ("name: x\nbounds: [0, 0, 10, 10]\nrubble: [{kind: [box]}]\n", ("kind",)),
         ("name: x\nbounds: [0, 0, 10, 10]\nrubble: [{kind: {a: 1}}]\n", ("kind",)),
-        ("name: x\nbounds: [0, 0, 10, 10]\nmovers: [{name: a, kind: victim, start: {x_m: 1, y_m: 1}, "
-         "behaviour: {kind: [path]}}]\n", ("kind",)),
+        (
+            "name: x\nbounds: [0, 0, 10, 10]\nmovers: [{name: a, kind: victim, start: {x_m: 1, y_m: 1}, "
+            "behaviour: {kind: [path]}}]\n",
+            ("kind",),
+        ),
         ("name: x\nbounds: [0, 0, .nan, 10]\n", ("bounds",)),
         ("name: 2020-01-01\nbounds: [0, 0, 10, 10]\n", ("name",)),
         ("name: x\nbounds: [0, 0, 10, 10]\ntask: {target: a, goal: {feature: speed, 7: 1}}\n", ("unknown key",)),
-        ("name: x\nbounds: [0, 0, 10, 10]\nrobot: {x_m: 5, y_m: 5}\nrubble: [{kind: circle, x_m: 5, y_m: 5, "
-         "radius_m: 1}]\n", ("overlapping",)),
+        (
+            "name: x\nbounds: [0, 0, 10, 10]\nrobot: {x_m: 5, y_m: 5}\nrubble: [{kind: circle, x_m: 5, y_m: 5, "
+            "radius_m: 1}]\n",
+            ("overlapping",),
+        ),
         ("name: x\nbounds: [0, 0, 10, 10]\nenclosed: true\nrobot: {x_m: 0.1, y_m: 5}\n", ("overlapping",)),
-        ("name: x\nbounds: [0, 0, 10, 10]\nrubble: [{kind: box, x_m: 11, y_m: 5, width_m: 1, height_m: 1}]\n",
-         ("outside bounds",)),
-        ("name: x\nbounds: [0, 0, 10, 10]\nrubble: [{kind: box, x_m: 1, y_m: 5, width_m: 0, height_m: 1}]\n",
-         ("width_m",)),
+        (
+            "name: x\nbounds: [0, 0, 10, 10]\nrubble: [{kind: box, x_m: 11, y_m: 5, width_m: 1, height_m: 1}]\n",
+            ("outside bounds",),
+        ),
+        (
+            "name: x\nbounds: [0, 0, 10, 10]\nrubble: [{kind: box, x_m: 1, y_m: 5, width_m: 0, height_m: 1}]\n",
+            ("width_m",),
+        ),
     ],
 )
 def test_bad_yaml_files_name_the_problem(tmp_path, text, names):
@@ -173,8 +230,14 @@ def test_bad_yaml_files_name_the_problem(tmp_path, text, names):
     assert_clear_error(error, *names)
 
 
-@pytest.mark.parametrize("content, suffix", [(b"\xff\xfe\x00name", ".yaml"), (b"{\"name\": NaN}", ".json"),
-                                             (b"{\"name\": \"x\", \"bounds\": [0, 0, 1e999, 5]}", ".json")])
+@pytest.mark.parametrize(
+    "content, suffix",
+    [
+        (b"\xff\xfe\x00name", ".yaml"),
+        (b'{"name": NaN}', ".json"),
+        (b'{"name": "x", "bounds": [0, 0, 1e999, 5]}', ".json"),
+    ],
+)
 def test_undecodable_and_non_finite_files(tmp_path, content, suffix):
     path = tmp_path / f"s{suffix}"
     path.write_bytes(content)

@@ -36,17 +36,20 @@ def test_a_tracked_run_satisfies_the_tracker_invariants():
     assert check_tracker(model._tracker, output.tracks) == []
 
 
-@pytest.mark.parametrize(("fault", "expected"), [
-    ("nan_cv_x", "tracker cv_x is not finite"),
-    ("inf_static_P", "tracker static_P is not finite"),
-    ("non_pd_cv_P", "tracker covariance cv_P is not positive definite"),
-    ("singular_static_P", "tracker covariance static_P is not positive definite"),
-    ("asymmetric_cv_P", "tracker covariance cv_P is not symmetric"),
-    ("p_moving_above_1", "tracker motion probability outside [0, 1]"),
-    ("duplicate_id", "tracker ids"),
-    ("tentative_without_segment", "tentative tracks but the last scan had 0 segments"),
-    ("table_rows", "tracks table has 1 rows but the tracker has 2 live tracks"),
-])
+@pytest.mark.parametrize(
+    ("fault", "expected"),
+    [
+        ("nan_cv_x", "tracker cv_x is not finite"),
+        ("inf_static_P", "tracker static_P is not finite"),
+        ("non_pd_cv_P", "tracker covariance cv_P is not positive definite"),
+        ("singular_static_P", "tracker covariance static_P is not positive definite"),
+        ("asymmetric_cv_P", "tracker covariance cv_P is not symmetric"),
+        ("p_moving_above_1", "tracker motion probability outside [0, 1]"),
+        ("duplicate_id", "tracker ids"),
+        ("tentative_without_segment", "tentative tracks but the last scan had 0 segments"),
+        ("table_rows", "tracks table has 1 rows but the tracker has 2 live tracks"),
+    ],
+)
 def test_planted_tracker_faults_are_reported(fault, expected):
     model, output = _tracked_model()
     tracker, tracks = model._tracker, output.tracks
@@ -69,8 +72,9 @@ def test_planted_tracker_faults_are_reported(fault, expected):
         tracker.hits[k] = 1
         tracker.counters[1] = 0
     elif fault == "table_rows":
-        tracks = dataclasses.replace(tracks, **{f.name: getattr(tracks, f.name)[:1]
-                                                for f in dataclasses.fields(tracks)})
+        tracks = dataclasses.replace(
+            tracks, **{f.name: getattr(tracks, f.name)[:1] for f in dataclasses.fields(tracks)}
+        )
     violations = check_tracker(tracker, tracks)
     assert any(expected in v for v in violations), violations
     assert len(violations) == 1, violations  # named precisely, nothing else flagged
@@ -95,7 +99,7 @@ def test_check_invariants_runs_the_tracker_checks_with_the_model():
     obs, _ = env.reset(seed=3)
     model = AttentionModel()
     checker = InvariantChecker()
-    for k in range(40):
+    for _ in range(40):
         obs, _, terminated, truncated, info = env.step(np.array([0.6, 0.2], np.float32))
         output = model.step(info["time_s"], obs["sonar"], obs["laser"], obs["odometry"])
         assert checker.check(env, obs, output, info, model=model) == []

@@ -67,8 +67,10 @@ class Scene:
         """World ``(a, b, r)`` of every capsule not owned by ``exclude_owner``."""
         return [
             (np.array(shape.body.local_to_world(shape.a)), np.array(shape.body.local_to_world(shape.b)), shape.radius)
-            for owner, _, shapes in self.entries if owner != exclude_owner
-            for shape in shapes if isinstance(shape, pymunk.Segment) and shape.radius > 0.0
+            for owner, _, shapes in self.entries
+            if owner != exclude_owner
+            for shape in shapes
+            if isinstance(shape, pymunk.Segment) and shape.radius > 0.0
         ]
 
     def in_capsule_blind_spot(self, origin) -> bool:
@@ -116,8 +118,9 @@ def _random_shape(rng: np.random.Generator, body: pymunk.Body, centre, kind: str
 SHAPE_KINDS = ("poly", "rounded poly", "segment", "capsule", "circle")
 
 
-def random_scene(seed: int, num_static: int = 10, num_moving: int = 6, kinds=SHAPE_KINDS,
-                 arena_m: float = 8.0) -> Scene:
+def random_scene(
+    seed: int, num_static: int = 10, num_moving: int = 6, kinds=SHAPE_KINDS, arena_m: float = 8.0
+) -> Scene:
     """A seeded scene: static shapes on ``space.static_body`` (one owner each), a placed
     static body, dynamic and kinematic bodies (some with a centre of gravity off their
     origin) carrying 1-3 shapes each at random poses, and the robot (owner 0, masked
@@ -140,8 +143,11 @@ def random_scene(seed: int, num_static: int = 10, num_moving: int = 6, kinds=SHA
     placed = pymunk.Body(body_type=pymunk.Body.STATIC)
     placed.position = tuple(rng.uniform(-arena_m, arena_m, 2))
     placed.angle = rng.uniform(-np.pi, np.pi)
-    scene.add(owner, placed, [_random_shape(rng, placed, rng.uniform(-1, 1, 2), kinds[rng.integers(len(kinds))])
-                              for _ in range(2)])
+    scene.add(
+        owner,
+        placed,
+        [_random_shape(rng, placed, rng.uniform(-1, 1, 2), kinds[rng.integers(len(kinds))]) for _ in range(2)],
+    )
     owner += 1
     for i in range(num_moving):
         body = pymunk.Body(body_type=pymunk.Body.KINEMATIC) if i % 3 == 2 else pymunk.Body(2.0, 1.0)
@@ -149,8 +155,10 @@ def random_scene(seed: int, num_static: int = 10, num_moving: int = 6, kinds=SHA
             body.center_of_gravity = tuple(rng.uniform(-0.3, 0.3, 2))
         body.position = tuple(rng.uniform(-arena_m, arena_m, 2))
         body.angle = rng.uniform(-np.pi, np.pi)
-        shapes = [_random_shape(rng, body, rng.uniform(-0.8, 0.8, 2), kinds[rng.integers(len(kinds))])
-                  for _ in range(rng.integers(1, 4))]
+        shapes = [
+            _random_shape(rng, body, rng.uniform(-0.8, 0.8, 2), kinds[rng.integers(len(kinds))])
+            for _ in range(rng.integers(1, 4))
+        ]
         scene.add(owner, body, shapes)
         owner += 1
     return scene
@@ -167,8 +175,9 @@ def outside_points(scene: Scene, rng: np.random.Generator, count: int, arena_m: 
     return np.array(points)
 
 
-def pymunk_cast(scene: Scene, origins, angles, max_range_m: float,
-                exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def pymunk_cast(
+    scene: Scene, origins, angles, max_range_m: float, exact: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """Ranges and owners from ``space.segment_query_first`` along each ray (the oracle);
     ``exact``: with capsules replaced by their stand-ins (``EXACT_FILTER``)."""
     ranges, owners = [], []
@@ -195,8 +204,14 @@ def refresh(scene: Scene) -> None:
 def pm():
     """Scene builders and pymunk oracles for the sensor tests."""
     return types.SimpleNamespace(
-        ROBOT_ID=ROBOT_ID, QUERY_FILTER=QUERY_FILTER, EXACT_FILTER=EXACT_FILTER, SHAPE_KINDS=SHAPE_KINDS,
-        Scene=Scene, random_scene=random_scene, outside_points=outside_points, pymunk_cast=pymunk_cast,
+        ROBOT_ID=ROBOT_ID,
+        QUERY_FILTER=QUERY_FILTER,
+        EXACT_FILTER=EXACT_FILTER,
+        SHAPE_KINDS=SHAPE_KINDS,
+        Scene=Scene,
+        random_scene=random_scene,
+        outside_points=outside_points,
+        pymunk_cast=pymunk_cast,
         refresh=refresh,
     )
 
@@ -207,5 +222,6 @@ def room() -> SceneGeometry:
     x0, y0, x1, y1 = -3.0, -2.0, 5.0, 4.0
     walls = [(x0, y0, x1, y0), (x1, y0, x1, y1), (x1, y1, x0, y1), (x0, y1, x0, y0)]
     box = [(2.0, -0.5, 2.5, -0.5), (2.5, -0.5, 2.5, 0.5), (2.5, 0.5, 2.0, 0.5), (2.0, 0.5, 2.0, -0.5)]
-    return SceneGeometry(np.array(walls + box), np.array([1] * 4 + [2] * 4), np.array([[-1.0, 1.5, 0.2]]),
-                         np.array([3]))
+    return SceneGeometry(
+        np.array(walls + box), np.array([1] * 4 + [2] * 4), np.array([[-1.0, 1.5, 0.2]]), np.array([3])
+    )

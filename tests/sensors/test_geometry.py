@@ -103,8 +103,11 @@ def test_static_scene_is_placed_once():
     geometry = cache.update()
     assert cache.update() is geometry and cache.moving_bodies == ()
     expected = [placed.local_to_world(v) for v in box.get_vertices()]
-    np.testing.assert_allclose(_sorted_rows(geometry.segments[geometry.segment_owner == 1][:, :2]),
-                               _sorted_rows(np.array(expected)), atol=1e-12)
+    np.testing.assert_allclose(
+        _sorted_rows(geometry.segments[geometry.segment_owner == 1][:, :2]),
+        _sorted_rows(np.array(expected)),
+        atol=1e-12,
+    )
     np.testing.assert_array_equal(geometry.segments[geometry.segment_owner == 2], [[0.0, 5.0, 4.0, 5.0]])
 
 
@@ -181,8 +184,12 @@ def test_a_non_finite_pose_is_reported():
     ],
 )
 def test_scene_geometry_is_checked(kwargs, message):
-    arrays = dict(segments=np.zeros((1, 4)), segment_owner=np.zeros(1, int), circles=np.zeros((1, 3)),
-                  circle_owner=np.zeros(1, int))
+    arrays = dict(
+        segments=np.zeros((1, 4)),
+        segment_owner=np.zeros(1, int),
+        circles=np.zeros((1, 3)),
+        circle_owner=np.zeros(1, int),
+    )
     with pytest.raises(ValueError, match=message):
         SceneGeometry(**{**arrays, **kwargs})
 

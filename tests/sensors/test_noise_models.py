@@ -20,7 +20,6 @@ def _gaussian_oracle(ranges, sigma, normals, min_range_m, max_range_m):
     return noisy
 
 
-
 def test_the_models_are_gaussian_and_uniform():
     assert NOISE_MODELS == ("gaussian", "uniform")
 
@@ -45,7 +44,9 @@ def test_uniform_noise_stays_within_a_of_every_reading():
 def test_uniform_noise_has_the_spread_of_a_uniform():
     a = 0.05
     ranges = np.full(200_000, 2.0)
-    relative = apply_range_noise(ranges, a, SONAR_MIN_M, SONAR_MAX_M, np.random.default_rng(2), model="uniform") / 2.0 - 1.0
+    relative = (
+        apply_range_noise(ranges, a, SONAR_MIN_M, SONAR_MAX_M, np.random.default_rng(2), model="uniform") / 2.0 - 1.0
+    )
     # standard errors: (a / sqrt 3) / sqrt(n) = 6.5e-5 for the mean; for the std of a uniform
     # (kurtosis 1.8): (a / sqrt 3) sqrt(0.8 / (4 n)) = 2.9e-5
     assert abs(relative.mean()) < 3e-4
@@ -96,8 +97,9 @@ def test_suite_default_is_the_gaussian_oracle_sonar_first_then_laser(room):
     default = SensorSuite().read(pose, room, np.random.default_rng(21))
     explicit = SensorSuite(noise_std=0.05, noise_model="gaussian").read(pose, room, np.random.default_rng(21))
     normals = np.random.default_rng(21).standard_normal(16 + 180)
-    np.testing.assert_array_equal(default.sonar, _gaussian_oracle(clean.sonar, 0.05, normals[:16], SONAR_MIN_M,
-                                                                  SONAR_MAX_M))
+    np.testing.assert_array_equal(
+        default.sonar, _gaussian_oracle(clean.sonar, 0.05, normals[:16], SONAR_MIN_M, SONAR_MAX_M)
+    )
     np.testing.assert_array_equal(default.laser, _gaussian_oracle(clean.laser, 0.05, normals[16:], 0.0, LASER_MAX_M))
     np.testing.assert_array_equal(explicit.sonar, default.sonar)
     np.testing.assert_array_equal(explicit.laser, default.laser)
@@ -110,10 +112,12 @@ def test_uniform_suite_matches_apply_range_noise_and_keeps_owners(room):
     reading = suite.read(pose, room, np.random.default_rng(5))
     clean = SensorSuite(noise_std=0.0, noise_model="uniform").read(pose, room, np.random.default_rng(0))
     rng = np.random.default_rng(5)
-    np.testing.assert_array_equal(reading.sonar, apply_range_noise(clean.sonar, 0.05, SONAR_MIN_M, SONAR_MAX_M, rng,
-                                                                   model="uniform"))
-    np.testing.assert_array_equal(reading.laser, apply_range_noise(clean.laser, 0.05, 0.0, LASER_MAX_M, rng,
-                                                                   model="uniform"))
+    np.testing.assert_array_equal(
+        reading.sonar, apply_range_noise(clean.sonar, 0.05, SONAR_MIN_M, SONAR_MAX_M, rng, model="uniform")
+    )
+    np.testing.assert_array_equal(
+        reading.laser, apply_range_noise(clean.laser, 0.05, 0.0, LASER_MAX_M, rng, model="uniform")
+    )
     assert rng.bit_generator.state == _after_uniform_draws(5, 16 + 180)
     np.testing.assert_array_equal(reading.laser_owner, clean.laser_owner)
     np.testing.assert_array_equal(reading.sonar_owner, clean.sonar_owner)
@@ -128,8 +132,9 @@ def _after_uniform_draws(seed: int, count: int) -> dict:
 
 
 def test_unit_noise_draws_per_model():
-    np.testing.assert_array_equal(unit_noise("gaussian", 7, np.random.default_rng(1)),
-                                  np.random.default_rng(1).standard_normal(7))
+    np.testing.assert_array_equal(
+        unit_noise("gaussian", 7, np.random.default_rng(1)), np.random.default_rng(1).standard_normal(7)
+    )
     draws = unit_noise("uniform", (3, 4), np.random.default_rng(1))
     assert draws.shape == (3, 4) and draws.dtype == np.float64
     np.testing.assert_array_equal(draws, 2.0 * np.random.default_rng(1).random((3, 4)) - 1.0)

@@ -82,7 +82,6 @@ def test_bad_limits_and_rng_are_refused():
         apply_range_noise(_readings(), 0.05, 0.15, 5.0, np.random.RandomState(0))
 
 
-
 def test_noise_free_suite_reads_the_ring_and_the_scanner(room):
     pose = (0.3, 0.2, 0.4)
     reading = SensorSuite(noise_std=0.0).read(pose, room, np.random.default_rng(0))

@@ -174,8 +174,12 @@ def _geometry_of(entries) -> SceneGeometry:
 
 
 def test_max_range_and_exclusion_semantics():
-    wall = SceneGeometry(np.array([[5.0, -1.0, 5.0, 1.0], [2.0, -1.0, 2.0, 1.0]]), np.array([3, 4]),
-                         np.array([[8.0, 0.0, 1.0]]), np.array([5]))
+    wall = SceneGeometry(
+        np.array([[5.0, -1.0, 5.0, 1.0], [2.0, -1.0, 2.0, 1.0]]),
+        np.array([3, 4]),
+        np.array([[8.0, 0.0, 1.0]]),
+        np.array([5]),
+    )
     origin, ahead = np.zeros((1, 2)), [0.0]
     ranges, owners = cast_rays(origin, ahead, 10.0, wall)
     assert ranges.tolist() == [2.0] and owners.tolist() == [4]
@@ -196,23 +200,30 @@ def test_cast_fan_equals_cast_rays(pm, seed):
     scene = pm.random_scene(20 + seed)
     geometry = scene.cache().update()
     rng = np.random.default_rng(seed)
-    fans = [(0.0, math.radians(1.0), 180), (2.5, math.radians(0.37), 971), (-3.0, 2 * np.pi / 360 * 0.999, 360),
-            (rng.uniform(-10, 10), rng.uniform(1e-4, 0.05), int(rng.integers(1, 120))), (1.0, 0.5, 1)]
+    fans = [
+        (0.0, math.radians(1.0), 180),
+        (2.5, math.radians(0.37), 971),
+        (-3.0, 2 * np.pi / 360 * 0.999, 360),
+        (rng.uniform(-10, 10), rng.uniform(1e-4, 0.05), int(rng.integers(1, 120))),
+        (1.0, 0.5, 1),
+    ]
     origins = np.vstack([pm.outside_points(scene, rng, 6), [scene.robot.position]])
     for origin in origins:
         for first, step, count in fans:
             ranges, owners = cast_fan(origin, first, step, count, MAX_RANGE_M, geometry, pm.ROBOT_ID)
             angles = first + np.arange(count) * step
-            expected_ranges, expected_owners = cast_rays(np.repeat(origin[None], count, 0), angles, MAX_RANGE_M,
-                                                         geometry, pm.ROBOT_ID)
+            expected_ranges, expected_owners = cast_rays(
+                np.repeat(origin[None], count, 0), angles, MAX_RANGE_M, geometry, pm.ROBOT_ID
+            )
             np.testing.assert_array_equal(ranges, expected_ranges)
             np.testing.assert_array_equal(owners, expected_owners)
 
 
 def test_cast_fan_through_primitives_touching_the_origin():
     """A segment through the origin and a circle around it: every ray is tested."""
-    geometry = SceneGeometry(np.array([[-1.0, 0.0, 1.0, 0.0]]), np.array([1]),
-                             np.array([[0.0, 3.0, 0.5], [0.0, 0.0, 0.2]]), np.array([2, 3]))
+    geometry = SceneGeometry(
+        np.array([[-1.0, 0.0, 1.0, 0.0]]), np.array([1]), np.array([[0.0, 3.0, 0.5], [0.0, 0.0, 0.2]]), np.array([2, 3])
+    )
     for exclude in (-1, 3):
         ranges, owners = cast_fan([0.0, 0.0], 0.1, 0.3, 20, 10.0, geometry, exclude)
         angles = 0.1 + np.arange(20) * 0.3
@@ -281,8 +292,9 @@ def _check_nearest_point(scene, apex, heading, owner, point, distance):
 @pytest.mark.parametrize("seed", range(4))
 def test_cone_nearest_against_a_dense_pymunk_fan(pm, seed):
     scene, geometry, apexes, headings = _cone_case(pm, seed, ("poly", "rounded poly", "capsule", "circle"))
-    ranges, owners, points = cone_nearest_points(apexes, headings, CONE_HALF_WIDTH_RAD, SONAR_RANGE_M, geometry,
-                                                 pm.ROBOT_ID)
+    ranges, owners, points = cone_nearest_points(
+        apexes, headings, CONE_HALF_WIDTH_RAD, SONAR_RANGE_M, geometry, pm.ROBOT_ID
+    )
     assert (owners == -1).any() and (owners > 0).sum() >= 8
     for apex, heading, r, owner, point in zip(apexes, headings, ranges, owners, points):
         fan = _fan_minimum(pm, scene, apex, heading)
@@ -299,8 +311,9 @@ def test_cone_nearest_with_lone_segments(pm):
     """Lone zero-thickness segments can point straight at the apex, so a fan of rays may
     see them much farther or not at all: only the fan's lower bound and the point hold."""
     scene, geometry, apexes, headings = _cone_case(pm, 7, ("segment",), count=30)
-    ranges, owners, points = cone_nearest_points(apexes, headings, CONE_HALF_WIDTH_RAD, SONAR_RANGE_M, geometry,
-                                                 pm.ROBOT_ID)
+    ranges, owners, points = cone_nearest_points(
+        apexes, headings, CONE_HALF_WIDTH_RAD, SONAR_RANGE_M, geometry, pm.ROBOT_ID
+    )
     assert (owners > 0).sum() >= 8
     for apex, heading, r, owner, point in zip(apexes, headings, ranges, owners, points):
         assert _fan_minimum(pm, scene, apex, heading) >= r - 1e-9
@@ -323,8 +336,12 @@ def _circles(*rows):
         (_segments([3.0, -5.0, 3.0, 5.0]), 40.0, 3.0 / math.cos(math.radians(25.0)), None),  # on the right ray
         (_segments([3.0, 0.5, 3.0, 5.0]), 0.0, math.hypot(3.0, 0.5), (3.0, 0.5)),  # endpoint inside the cone
         # x + y = 4: its nearest point (2, 2) is outside the cone, so the left ray (15 deg) clips it
-        (_segments([1.0, 3.0, 5.0, -1.0]), 0.0, 4.0 / (math.cos(math.radians(15.0)) + math.sin(math.radians(15.0))),
-         None),
+        (
+            _segments([1.0, 3.0, 5.0, -1.0]),
+            0.0,
+            4.0 / (math.cos(math.radians(15.0)) + math.sin(math.radians(15.0))),
+            None,
+        ),
         (_segments([3.0, -5.0, 3.0, 5.0], [2.0, 4.0, 2.0, 9.0]), 0.0, 3.0, (3.0, 0.0)),  # the other is outside
         (_circles([4.0, 0.5, 1.0]), 0.0, math.hypot(4.0, 0.5) - 1.0, None),  # centre inside the cone
         (_circles([0.0, 4.0, 1.5]), 60.0, None, None),  # centre outside: enters through the left ray

@@ -138,10 +138,12 @@ def test_profiles_are_read_only():
 def test_resolve_starts_from_the_profile_and_given_settings_win():
     assert resolve_sensor_profile(None) == DEFAULT_SENSOR_PROFILE
     assert resolve_sensor_profile("usarsim") == SENSOR_PROFILES["usarsim"]
-    assert resolve_sensor_profile("usarsim", noise_model="gaussian", noise=0.1, laser_scan_interval_s=0.05) == \
-        SensorProfile("gaussian", 0.1, 0.2, 0.05)
-    assert resolve_sensor_profile(None, noise_model="uniform", sonar_scan_interval_s=0.5) == \
-        SensorProfile("uniform", 0.05, 0.5, None)
+    assert resolve_sensor_profile(
+        "usarsim", noise_model="gaussian", noise=0.1, laser_scan_interval_s=0.05
+    ) == SensorProfile("gaussian", 0.1, 0.2, 0.05)
+    assert resolve_sensor_profile(None, noise_model="uniform", sonar_scan_interval_s=0.5) == SensorProfile(
+        "uniform", 0.05, 0.5, None
+    )
     assert resolve_sensor_profile("usarsim", noise=0.0).noise == 0.0  # a given 0 is not "not given"
 
 
@@ -166,8 +168,9 @@ def test_bad_profile_fields_are_refused_naming_the_field(fields, message):
         SensorProfile(*fields)
     name, noise, sonar, laser = fields
     with pytest.raises(ValueError, match=message):
-        resolve_sensor_profile("usarsim", noise_model=name, noise=noise, sonar_scan_interval_s=sonar,
-                               laser_scan_interval_s=laser)
+        resolve_sensor_profile(
+            "usarsim", noise_model=name, noise=noise, sonar_scan_interval_s=sonar, laser_scan_interval_s=laser
+        )
 
 
 def test_profile_fields_are_converted_to_floats():

@@ -42,9 +42,24 @@ def _scene(pose, segments=(), circles=(), owner=WALL_ID):
 
 def test_p2at_mounts():
     bearings = [90, 50, 30, 10, -10, -30, -50, -90, -90, -130, -150, -170, 170, 150, 130, 90]
-    positions_mm = [(147, 136), (193, 119), (227, 79), (245, 27), (245, -27), (227, -79), (193, -119), (147, -136),
-                    (-144, -136), (-189, -119), (-223, -79), (-241, -27), (-241, 27), (-223, 79), (-189, 119),
-                    (-144, 136)]
+    positions_mm = [
+        (147, 136),
+        (193, 119),
+        (227, 79),
+        (245, 27),
+        (245, -27),
+        (227, -79),
+        (193, -119),
+        (147, -136),
+        (-144, -136),
+        (-189, -119),
+        (-223, -79),
+        (-241, -27),
+        (-241, 27),
+        (-223, 79),
+        (-189, 119),
+        (-144, 136),
+    ]
     assert P2AT_SONAR_MOUNTS.shape == (16, 3)
     np.testing.assert_allclose(np.degrees(P2AT_SONAR_MOUNTS[:, 2]), bearings, atol=1e-12)
     np.testing.assert_allclose(P2AT_SONAR_MOUNTS[:, :2] * 1000.0, positions_mm, atol=1e-9)
@@ -60,8 +75,16 @@ def test_sonar_sees_a_wall_ahead(pose):
     geometry = _scene(pose, segments=[(3.0, -30.0, 3.0, 30.0)])
     ranges, owners = SonarRing().read(pose, geometry)
     cos = lambda deg: math.cos(math.radians(deg))  # noqa: E731
-    expected = [5.0, (3 - 0.193) / cos(35), (3 - 0.227) / cos(15), 3 - 0.245, 3 - 0.245, (3 - 0.227) / cos(15),
-                (3 - 0.193) / cos(35), 5.0] + [5.0] * 8  # s1/s8 would need (3 - 0.147) / cos(75) = 11 m
+    expected = [
+        5.0,
+        (3 - 0.193) / cos(35),
+        (3 - 0.227) / cos(15),
+        3 - 0.245,
+        3 - 0.245,
+        (3 - 0.227) / cos(15),
+        (3 - 0.193) / cos(35),
+        5.0,
+    ] + [5.0] * 8  # s1/s8 would need (3 - 0.147) / cos(75) = 11 m
     np.testing.assert_allclose(ranges, expected, atol=1e-12)
     np.testing.assert_array_equal(owners, [-1] + [WALL_ID] * 6 + [-1] * 9)
 

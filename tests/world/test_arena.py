@@ -99,6 +99,9 @@ def test_a_crowded_arena_draws_its_layout_again_instead_of_failing():
 
 def test_an_arena_without_room_says_so():
     config = ArenaConfig(width_m=4.0, height_m=4.0, num_distractors=20)
-    with pytest.raises(ValueError, match=r"could not place mover .* 4.0 × 4.0 m arena; lower the rubble density or "
-                                         r"the number of distractors \(in 20 layouts in a row\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"could not place mover .* 4.0 × 4.0 m arena; lower the rubble density or "
+        r"the number of distractors \(in 20 layouts in a row\)",
+    ):
         generate_arena(config, np.random.default_rng(0))

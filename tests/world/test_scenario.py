@@ -115,16 +115,19 @@ def test_duplicate_mover_names_are_refused():
         Scenario("dup", (-1, -1, 1, 1), movers=(mover, mover))
 
 
-@pytest.mark.parametrize(("build", "message"), [
-    (lambda: Scenario("s", (0, 0, 5, 5), enclosed="false"), "scenario.enclosed must be true or false"),
-    (lambda: Scenario("s", (0, 0, 5, 5), robot=(1, 1, 0)), "scenario.robot must be a Pose"),
-    (lambda: Scenario("s", (0, 0, 5, 5), walls=[((0, 0), (5, 0))]), r"scenario.walls\[0\] must be a WallSpec"),
-    (lambda: Scenario("s", (0, 0, 5, 5), rubble=[{"kind": "circle"}]), r"scenario.rubble\[0\] must be a BoxRubble"),
-    (lambda: Scenario("s", (0, 0, 5, 5), movers="victim"), "scenario.movers must be a sequence"),
-    (lambda: Scenario("s", (0, 0, 5, 5), task="reach v"), "scenario.task must be a TaskSpec or None"),
-    (lambda: MoverSpec("v", "victim", Pose(1, 1), behaviour="pursue"), "behaviour must be a PathBehaviour"),
-    (lambda: PathBehaviour(legs=[(1, 1)]), r"path.legs\[0\] must be a Leg"),
-])
+@pytest.mark.parametrize(
+    ("build", "message"),
+    [
+        (lambda: Scenario("s", (0, 0, 5, 5), enclosed="false"), "scenario.enclosed must be true or false"),
+        (lambda: Scenario("s", (0, 0, 5, 5), robot=(1, 1, 0)), "scenario.robot must be a Pose"),
+        (lambda: Scenario("s", (0, 0, 5, 5), walls=[((0, 0), (5, 0))]), r"scenario.walls\[0\] must be a WallSpec"),
+        (lambda: Scenario("s", (0, 0, 5, 5), rubble=[{"kind": "circle"}]), r"scenario.rubble\[0\] must be a BoxRubble"),
+        (lambda: Scenario("s", (0, 0, 5, 5), movers="victim"), "scenario.movers must be a sequence"),
+        (lambda: Scenario("s", (0, 0, 5, 5), task="reach v"), "scenario.task must be a TaskSpec or None"),
+        (lambda: MoverSpec("v", "victim", Pose(1, 1), behaviour="pursue"), "behaviour must be a PathBehaviour"),
+        (lambda: PathBehaviour(legs=[(1, 1)]), r"path.legs\[0\] must be a Leg"),
+    ],
+)
 def test_scenarios_built_in_python_check_their_types(build, message):
     with pytest.raises(ValueError, match=message):
         build()
@@ -137,7 +140,11 @@ def test_numpy_numbers_become_floats_and_save_as_yaml(tmp_path):
     leg = Leg((np.float64(2.0), 1.0), np.float64(0.5))
     assert type(box.x_m) is float and type(box.y_m) is float and type(box.width_m) is float
     assert type(leg.speed_mps) is float
-    scenario = Scenario("np", (0, 0, 5, 5), rubble=(box,),
-                        movers=(MoverSpec("v", "victim", Pose(1.0, 4.0), PathBehaviour(legs=(leg,))),))
+    scenario = Scenario(
+        "np",
+        (0, 0, 5, 5),
+        rubble=(box,),
+        movers=(MoverSpec("v", "victim", Pose(1.0, 4.0), PathBehaviour(legs=(leg,))),),
+    )
     path = save_scenario(scenario, tmp_path / "np.yaml")
     assert load_scenario(path) == scenario

@@ -135,8 +135,11 @@ def test_an_enclosed_evader_stops_at_the_wall_s_inner_face():
     run(world, 7.0, 0.0, 0.0)
     # the wall, 0.2 m thick, is centred on x = 5: its inner face is at 4.9
     assert world.mover_positions()[0][0] == pytest.approx(5.0 - 0.1 - 0.25, abs=1e-6)
-    depths = [point.distance for hit in world.space.shape_query(world.movers[0].shape)
-              for point in hit.contact_point_set.points]
+    depths = [
+        point.distance
+        for hit in world.space.shape_query(world.movers[0].shape)
+        for point in hit.contact_point_set.points
+    ]
     assert all(depth > -1e-6 for depth in depths)
 
 
@@ -223,7 +226,10 @@ def test_overlapping_start_is_refused_with_names():
 
 def test_entity_ids_and_public_space():
     scenario = Scenario(
-        "ids", (-5, -5, 5, 5), enclosed=True, rubble=(BoxRubble(2, 2, 0.5, 0.5),),
+        "ids",
+        (-5, -5, 5, 5),
+        enclosed=True,
+        rubble=(BoxRubble(2, 2, 0.5, 0.5),),
         movers=(MoverSpec("a", "victim", Pose(-2, -2)), MoverSpec("b", "robot", Pose(-2, 2))),
     )
     world = World(scenario)
@@ -232,4 +238,6 @@ def test_entity_ids_and_public_space():
     assert [k for _, k in kinds[3:]] == ["wall"] * 4 + ["rubble"]
     assert world.robot.body in world.space.bodies
     geometry = world.geometry()
-    assert set(np.unique(geometry.segment_owner)) | set(np.unique(geometry.circle_owner)) == set(range(len(world.entities)))
+    assert set(np.unique(geometry.segment_owner)) | set(np.unique(geometry.circle_owner)) == set(
+        range(len(world.entities))
+    )

@@ -48,7 +48,9 @@ def test_focus_observation_carries_nothing_from_outside_the_focus(exp01_focus_en
     nearest[others] = 0.1
     F, L, M = out.F.copy(), out.L.copy(), out.M.copy()
     F[:, others], L[others], M[others] = 0.77, 0.0, 2.0
-    perturbed = dataclasses.replace(out, F=F, L=L, M=M, _sources=(grid, readings, valid, rates, nearest, *tracker_sources))
+    perturbed = dataclasses.replace(
+        out, F=F, L=L, M=M, _sources=(grid, readings, valid, rates, nearest, *tracker_sources)
+    )
     event = (out.fired, out.origin == "bottom-up", out.origin == "top-down")
     again = encoder.encode(raw, perturbed.view, event, obs["memory"].reshape(-1, 6))
     for key in obs:
@@ -83,17 +85,22 @@ def test_map_ceilings_bound_the_attentional_map():
     config = AttentionConfig()
     m_high, l_high = map_ceilings(config, gain=1.5)
     # one bottom-up and two top-down courses, spread over the neighbours (e^-2 each)
-    assert m_high == pytest.approx(1.0 + 3.0 * (1.0 + 2 * np.exp(-2.0) + 2 * np.exp(-8.0) + 2 * np.exp(-18.0)), rel=1e-9)
+    assert m_high == pytest.approx(
+        1.0 + 3.0 * (1.0 + 2 * np.exp(-2.0) + 2 * np.exp(-8.0) + 2 * np.exp(-18.0)), rel=1e-9
+    )
     assert l_high == pytest.approx(1.5 * m_high)
 
 
-@pytest.mark.parametrize(("weights", "balance", "c_high"), [
-    ((1, 1, 1, 1, 1, 1), True, 6.0),  # the top-down group scaled to the bottom-up total 3
-    ((1, 1, 1, 1, 0, 0), True, 6.0),  # F4 alone weighs 3 while its goal is set
-    ((1, 1, 1, 1, 0, 0), False, 4.0),
-    ((0, 0, 0, 2, 1, 0), True, 3.0),  # no bottom-up map: nothing to balance
-    ((2, 0, 0, 0, 0, 0), True, 2.0),
-])
+@pytest.mark.parametrize(
+    ("weights", "balance", "c_high"),
+    [
+        ((1, 1, 1, 1, 1, 1), True, 6.0),  # the top-down group scaled to the bottom-up total 3
+        ((1, 1, 1, 1, 0, 0), True, 6.0),  # F4 alone weighs 3 while its goal is set
+        ((1, 1, 1, 1, 0, 0), False, 4.0),
+        ((0, 0, 0, 2, 1, 0), True, 3.0),  # no bottom-up map: nothing to balance
+        ((2, 0, 0, 0, 0, 0), True, 2.0),
+    ],
+)
 def test_unnormalised_ceiling_follows_the_balanced_weights(weights, balance, c_high):
     config = AttentionConfig(normalise_combined=False, balance_groups=balance, weights=weights)
     m_high, l_high = map_ceilings(config, gain=1.0)
@@ -127,8 +134,18 @@ def test_focus_encoder_space_has_the_documented_layout():
     env = make_env("raw")
     encoder = FocusEncoder(AttentionConfig(), env.observation_space, memory_slots=3)
     sizes = {k: s.shape[0] for k, s in encoder.space.spaces.items()}
-    assert sizes == {"region": 9, "event": 3, "sonar": 2, "laser": LASER_BINS, "distance": 1, "motion": 4,
-                     "features": 6, "memory": 18, "odometry": 2, "goal": 13}
+    assert sizes == {
+        "region": 9,
+        "event": 3,
+        "sonar": 2,
+        "laser": LASER_BINS,
+        "distance": 1,
+        "motion": 4,
+        "features": 6,
+        "memory": 18,
+        "odometry": 2,
+        "goal": 13,
+    }
     assert sum(sizes.values()) == 64
     without = FocusEncoder(AttentionConfig(), env.observation_space, memory_slots=0)
     assert "memory" not in without.space.spaces and sum(s.shape[0] for s in without.space.values()) == 46
@@ -148,7 +165,9 @@ def _reference_focus_encode(encoder, raw, view, event, memory):
     obs["event"][:] = event
     obs["sonar"][:] = view.sonar_range_m, view.sonar_echo
     obs["laser"][:] = np.minimum.reduceat(view.laser_ranges_m, encoder._bin_starts[view.region])
-    obs["distance"][0] = encoder._max_distance if view.distance_m is None else min(view.distance_m, encoder._max_distance)
+    obs["distance"][0] = (
+        encoder._max_distance if view.distance_m is None else min(view.distance_m, encoder._max_distance)
+    )
     obs["motion"][0] = min(max(view.range_rate_mps, -encoder._max_speed), encoder._max_speed)
     obs["motion"][2 + view.direction] = 1.0
     obs["features"][:] = view.features
@@ -170,7 +189,10 @@ def test_focus_encodings_of_a_view_and_of_a_region_equal_the_numpy_encoding_exac
             event = tuple(bool(b) for b in rng.integers(0, 2, 3))
             view = None if region is None else out.view_of(region)
             expected = _reference_focus_encode(encoder, raw, view, event, memory)
-            for got in (encoder.encode(raw, view, event, memory), encoder.encode_region(raw, out, region, event, memory)):
+            for got in (
+                encoder.encode(raw, view, event, memory),
+                encoder.encode_region(raw, out, region, event, memory),
+            ):
                 assert list(got) == list(expected)
                 for key in expected:
                     np.testing.assert_array_equal(got[key], expected[key], err_msg=key)

@@ -71,12 +71,15 @@ def test_memory_forgets_after_its_horizon_and_clips_the_distance():
     assert not memory.read(3.0, np.zeros(3), 20.0).any()
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"slots": 0}, "slots must be an integer >= 1"),
-    ({"slots": 2.5}, "slots must be an integer >= 1"),
-    ({"horizon_s": 0.0}, "horizon_s must be a finite number > 0"),
-    ({"horizon_s": float("nan")}, "horizon_s must be a finite number > 0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"slots": 0}, "slots must be an integer >= 1"),
+        ({"slots": 2.5}, "slots must be an integer >= 1"),
+        ({"horizon_s": 0.0}, "horizon_s must be a finite number > 0"),
+        ({"horizon_s": float("nan")}, "horizon_s must be a finite number > 0"),
+    ],
+)
 def test_memory_refuses_bad_settings(kwargs, message):
     with pytest.raises(ValueError, match=message):
         WorkingMemory(**kwargs)
@@ -111,8 +114,12 @@ class _ScriptedRescue(gym.Env):
     def _observe(self):
         target = np.array([5.0, 0.4]) + self.t * np.array([-0.6, 0.0])
         second = np.array([1.5, -3.0]) + self.t * self._second_velocity
-        obs = {"sonar": np.full(16, 5.0, np.float32), "laser": _laser([target, second]).astype(np.float32),
-               "odometry": np.zeros(2, np.float32), "goal": self._goal}
+        obs = {
+            "sonar": np.full(16, 5.0, np.float32),
+            "laser": _laser([target, second]).astype(np.float32),
+            "odometry": np.zeros(2, np.float32),
+            "goal": self._goal,
+        }
         return obs, {"time_s": self.t}
 
     def reset(self, *, seed=None, options=None):
@@ -177,7 +184,9 @@ def test_oracle_sees_the_target_truly_wherever_it_is():
         forward = math.cos(heading) * dx + math.sin(heading) * dy
         left = -math.sin(heading) * dx + math.cos(heading) * dy
         distance = math.hypot(forward, left)
-        np.testing.assert_allclose(obs["memory"][:3], [forward / distance, left / distance, distance], rtol=1e-5, atol=1e-5)
+        np.testing.assert_allclose(
+            obs["memory"][:3], [forward / distance, left / distance, distance], rtol=1e-5, atol=1e-5
+        )
         assert obs["memory"][4] == 1.0 and not obs["memory"][6:].any()
         if forward < 0:
             behind += 1
@@ -246,13 +255,19 @@ def test_focus_layout_variants_share_one_space(variant):
     assert make_env(variant, memory_slots=0).observation_space == make_env("focus", memory_slots=0).observation_space
 
 
-@pytest.mark.parametrize("call, message", [
-    (lambda: make_env("raw", memory_slots=2), "memory_slots applies to the variants"),
-    (lambda: make_env("focus", memory_slots=-1), "memory_slots must be an integer >= 0"),
-    (lambda: make_env("oracle", memory_slots=1.5), "memory_slots must be an integer >= 0"),
-    (lambda: AttentionWrapper(AttentiveRescueEnv(), "saliency", selection="random"), "apply to the 'focus' observation"),
-    (lambda: AttentionWrapper(AttentiveRescueEnv(), "focus", selection="sometimes"), "unknown selection"),
-])
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: make_env("raw", memory_slots=2), "memory_slots applies to the variants"),
+        (lambda: make_env("focus", memory_slots=-1), "memory_slots must be an integer >= 0"),
+        (lambda: make_env("oracle", memory_slots=1.5), "memory_slots must be an integer >= 0"),
+        (
+            lambda: AttentionWrapper(AttentiveRescueEnv(), "saliency", selection="random"),
+            "apply to the 'focus' observation",
+        ),
+        (lambda: AttentionWrapper(AttentiveRescueEnv(), "focus", selection="sometimes"), "unknown selection"),
+    ],
+)
 def test_bad_memory_and_selection_settings_are_refused(call, message):
     with pytest.raises(ValueError, match=message):
         call()

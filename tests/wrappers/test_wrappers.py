@@ -52,7 +52,9 @@ def test_observations_stay_in_their_space_and_flatten_exactly(variant):
     assert np.isfinite(observations).all()
 
 
-@pytest.mark.parametrize("variant", ["focus", "saliency", "masked", "goal-action", "raw-stack", "oracle", "random-focus"])
+@pytest.mark.parametrize(
+    "variant", ["focus", "saliency", "masked", "goal-action", "raw-stack", "oracle", "random-focus"]
+)
 def test_same_seed_gives_the_same_attended_observations(variant):
     first = rollout(make_env(variant), seed=11, steps=120)
     env = make_env(variant)
@@ -97,12 +99,14 @@ def test_goal_action_chooses_goal_and_weights_each_step():
     env.reset(seed=0)
     action = np.zeros(env.action_space.shape, np.float32)
     action[2 + 3] = 1.0  # the fourth goal of the menu
-    action[2 + k:] = [1.0, -1.0, 0.0, 1.0, -1.0, -1.0]
+    action[2 + k :] = [1.0, -1.0, 0.0, 1.0, -1.0, -1.0]
     env.step(action)
     attention = env.env
     assert attention.model.goals == (DEFAULT_GOAL_MENU[3],)
-    assert dict(attention.model.weights) == pytest.approx({"F1": 2.0, "F2": 0.0, "F3": 1.0, "F4": 2.0, "F5": 0.0, "F6": 0.0})
-    action[2:2 + k] = 0.0
+    assert dict(attention.model.weights) == pytest.approx(
+        {"F1": 2.0, "F2": 0.0, "F3": 1.0, "F4": 2.0, "F5": 0.0, "F6": 0.0}
+    )
+    action[2 : 2 + k] = 0.0
     action[2] = 1.0  # "no goal"
     env.step(action)
     assert attention.model.goals == ()
@@ -121,8 +125,18 @@ def test_goal_action_episodes_start_with_the_weights_it_was_made_with():
         assert dict(env.env.model.weights) == {f"F{i}": 2.0 for i in range(1, 7)}  # the action sets them
 
 
-@pytest.mark.parametrize("bad", [np.zeros(2), np.full(14, np.nan), np.zeros((2, 14)), np.zeros(14, complex),
-                                 np.array([object()] * 14), {"a": 1}, ["a"] * 14])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        np.zeros(2),
+        np.full(14, np.nan),
+        np.zeros((2, 14)),
+        np.zeros(14, complex),
+        np.array([object()] * 14),
+        {"a": 1},
+        ["a"] * 14,
+    ],
+)
 def test_goal_action_rejects_malformed_actions(bad):
     env = make_env("goal-action")
     env.reset(seed=0)
@@ -175,12 +189,15 @@ def test_render_overlays_the_focus_on_the_world():
     assert outlined(attended) > 50 and outlined(plain) == 0
 
 
-@pytest.mark.parametrize("wrap", [
-    lambda env: StackedReadings(env, n_frames=3),
-    lambda env: AttentionWrapper(env, "focus", memory_slots=2, selection="random"),
-    lambda env: GoalActionWrapper(AttentionWrapper(env, "focus", weights={"F4": 1.0})),
-    lambda env: OracleFocus(env, memory_slots=1),
-])
+@pytest.mark.parametrize(
+    "wrap",
+    [
+        lambda env: StackedReadings(env, n_frames=3),
+        lambda env: AttentionWrapper(env, "focus", memory_slots=2, selection="random"),
+        lambda env: GoalActionWrapper(AttentionWrapper(env, "focus", weights={"F4": 1.0})),
+        lambda env: OracleFocus(env, memory_slots=1),
+    ],
+)
 def test_a_wrapped_environments_spec_rebuilds_it(wrap):
     """The wrappers record their constructor arguments: gym.make(env.spec) gives the same env."""
     env = wrap(gym.make("AttentiveRescue-v0", scenario="exp04", sensor_noise=0.02))

@@ -42,8 +42,12 @@ _KIND, _LO, _HI, _TOLERANCE, _N_KNOTS, _XP, _FP, PLAN_COLUMNS = 0, 1, 2, 3, 4, 5
 _INACTIVE, _EQUAL, _BETWEEN, _GREATER, _SMALLER, _DIRECTION = 0, 1, 2, 3, 4, 5
 
 #: Kinds of goal (the first column of a goal plan row) by relation.
-_KIND_OF_RELATION = {Relation.EQUAL: _EQUAL, Relation.BETWEEN: _BETWEEN, Relation.GREATER: _GREATER,
-                     Relation.SMALLER: _SMALLER}
+_KIND_OF_RELATION = {
+    Relation.EQUAL: _EQUAL,
+    Relation.BETWEEN: _BETWEEN,
+    Relation.GREATER: _GREATER,
+    Relation.SMALLER: _SMALLER,
+}
 
 
 def fulfilling_range(goal: Goal) -> tuple[float, float]:
@@ -67,10 +71,9 @@ def goal_plan_row(goal: Goal, max_value: float | None) -> np.ndarray:
     row[_LO], row[_HI], row[_TOLERANCE] = goal.lo, goal.hi, goal.tolerance
     xp, fp = goal_knots(goal, max_value)
     row[_N_KNOTS] = len(xp)
-    row[_XP:_XP + len(xp)] = xp
-    row[_FP:_FP + len(fp)] = fp
+    row[_XP : _XP + len(xp)] = xp
+    row[_FP : _FP + len(fp)] = fp
     return row
-
 
 
 #: Reading channels: the front sonars, then the laser beams.
@@ -85,10 +88,26 @@ def new_output_arrays(n_regions: int, batch: tuple[int, ...] = ()) -> tuple[np.n
     empty, J = np.empty, n_regions
     channels = (*batch, N_CHANNELS)
     regions = (*batch, J)
-    return (empty(channels), empty(channels, np.bool_), empty(channels), empty(channels), empty(channels, np.bool_),
-            empty((*batch, FRONT_SONARS), np.int64), np.zeros((*batch, 6, J)), empty(regions), empty(regions), empty(regions),
-            empty(regions), empty(regions), empty(regions), empty(regions, np.int8), empty(regions, np.int8),
-            empty(regions, np.bool_), empty(regions), empty(regions))
+    return (
+        empty(channels),
+        empty(channels, np.bool_),
+        empty(channels),
+        empty(channels),
+        empty(channels, np.bool_),
+        empty((*batch, FRONT_SONARS), np.int64),
+        np.zeros((*batch, 6, J)),
+        empty(regions),
+        empty(regions),
+        empty(regions),
+        empty(regions),
+        empty(regions),
+        empty(regions),
+        empty(regions, np.int8),
+        empty(regions, np.int8),
+        empty(regions, np.bool_),
+        empty(regions),
+        empty(regions),
+    )
 
 
 @njit(cache=True)
@@ -114,8 +133,9 @@ def load_row(sonar, laser, row):
 
 
 @njit(cache=True)
-def sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, push, readings, valid,
-           rates):
+def sense(
+    row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, push, readings, valid, rates
+):
     """§2–§3: clip the new readings to each sensor's maximum, store them in the memory
     (``SensorMemory.buffers``) and take the range rates.
 
@@ -154,25 +174,98 @@ def window_kinematics(rates, valid, max_speed, epsilon, speeds, moving):
 
 
 @njit(cache=True)
-def sonar_grid_maps(readings, valid, rates, speeds, moving, max_ranges, max_speed, epsilon, max_distance, laser_only,
-                     laser_max, beam_region, active, goal_plan, require_target, combine, F, C_BU, C_TD, C,
-                     region_speed, distances, nearest, origins, directions, fulfilled):
+def sonar_grid_maps(
+    readings,
+    valid,
+    rates,
+    speeds,
+    moving,
+    max_ranges,
+    max_speed,
+    epsilon,
+    max_distance,
+    laser_only,
+    laser_max,
+    beam_region,
+    active,
+    goal_plan,
+    require_target,
+    combine,
+    F,
+    C_BU,
+    C_TD,
+    C,
+    region_speed,
+    distances,
+    nearest,
+    origins,
+    directions,
+    fulfilled,
+):
     """§4–§6 of a step on the sonar grid (J = 8): F1–F3 with the region quantities, then
     ``goal_maps``. Every array after ``combine`` is an output."""
     labels = _sonar_grid_features(
-        rates, speeds, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region, active[0] > 0.0,
-        active[1] > 0.0, active[2] > 0.0, laser_only, laser_max, F, region_speed, nearest, distances,
+        rates,
+        speeds,
+        readings,
+        valid,
+        max_ranges,
+        max_speed,
+        epsilon,
+        max_distance,
+        beam_region,
+        active[0] > 0.0,
+        active[1] > 0.0,
+        active[2] > 0.0,
+        laser_only,
+        laser_max,
+        F,
+        region_speed,
+        nearest,
+        distances,
     )
     echo = nearest < np.inf
     for j in range(labels.shape[0]):
         directions[j] = np.int8(labels[j])
-    goal_maps(F, region_speed, moving[:labels.shape[0]], labels, distances, echo, goal_plan, require_target,
-               combine, C_BU, C_TD, C, origins, fulfilled)
+    goal_maps(
+        F,
+        region_speed,
+        moving[: labels.shape[0]],
+        labels,
+        distances,
+        echo,
+        goal_plan,
+        require_target,
+        combine,
+        C_BU,
+        C_TD,
+        C,
+        origins,
+        fulfilled,
+    )
 
 
 @njit(cache=True)
-def _sonar_grid_features(rates, speeds, readings, valid, max_ranges, max_speed, epsilon, max_distance, beam_region,
-                         do_f1, do_f2, do_f3, laser_only, laser_max, F, region_speed, nearest, distances):
+def _sonar_grid_features(
+    rates,
+    speeds,
+    readings,
+    valid,
+    max_ranges,
+    max_speed,
+    epsilon,
+    max_distance,
+    beam_region,
+    do_f1,
+    do_f2,
+    do_f3,
+    laser_only,
+    laser_max,
+    F,
+    region_speed,
+    nearest,
+    distances,
+):
     """§3's labels, F1–F3 (active rows of ``F`` only) and the region quantities on the
     sonar grid (8 front sonars then 180 beams in the channel vectors ``rates`` and
     ``speeds``, m/s).
@@ -287,8 +380,22 @@ def _goal_holds(kind, lo, hi, tolerance, x):
 
 
 @njit(cache=True)
-def goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan, require_target, combine,
-               C_BU, C_TD, C, origins, fulfilled):
+def goal_maps(
+    F,
+    region_speed,
+    speed_target,
+    labels,
+    distances,
+    echo,
+    goal_plan,
+    require_target,
+    combine,
+    C_BU,
+    C_TD,
+    C,
+    origins,
+    fulfilled,
+):
     """§5–§6 on any grid: the active top-down maps ``F[3:6]`` and the goal mask, then C.
 
     Args:
@@ -312,7 +419,7 @@ def goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan,
         any_goal = True
         lo, hi, tolerance = goal_plan[r, _LO], goal_plan[r, _HI], goal_plan[r, _TOLERANCE]
         n_knots = int(goal_plan[r, _N_KNOTS])
-        xp, fp = goal_plan[r, _XP:_XP + n_knots], goal_plan[r, _FP:_FP + n_knots]
+        xp, fp = goal_plan[r, _XP : _XP + n_knots], goal_plan[r, _FP : _FP + n_knots]
         for j in range(n_regions):
             if r == 0:
                 x, target = region_speed[j], speed_target[j]
@@ -340,8 +447,9 @@ def goal_maps(F, region_speed, speed_target, labels, distances, echo, goal_plan,
 
 
 @njit(cache=True)
-def select(t, fulfilled, origins, C, gain, threshold, spread, params, bu_regions, bu_starts, td_regions, td_times,
-            counts, M, L):
+def select(
+    t, fulfilled, origins, C, gain, threshold, spread, params, bu_regions, bu_starts, td_regions, td_times, counts, M, L
+):
     """§7–§8 with the courses (the arrays of ``CourseBook``, with room for one more of each
     kind): update the top-down holds at ``t`` (s), evaluate the courses' centre gains,
     ``saliency`` into ``M`` and ``L`` ``(J,)``, then start a course at the winner if it
@@ -360,8 +468,9 @@ def select(t, fulfilled, origins, C, gain, threshold, spread, params, bu_regions
     if L[winner] >= threshold:
         if origins[winner]:
             # a course is held while the goal holds, so one starts only where it holds
-            fired = fulfilled[winner] and not top_down_holding(winner, params, bu_regions, bu_starts, td_regions,
-                                                               td_times, counts)
+            fired = fulfilled[winner] and not top_down_holding(
+                winner, params, bu_regions, bu_starts, td_regions, td_times, counts
+            )
         else:
             fired = not bottom_up_running(winner, t, params, bu_regions, bu_starts, td_regions, td_times, counts)
         if fired:
@@ -391,16 +500,102 @@ def saliency(gains, spread, C, gain, M, L):
 
 
 @njit(cache=True)
-def attend_one(row, limits, state, times, samples, ego_offset, t, dt, slope_samples, ego_change, moved, push, tracked,
-               linear, angular, laser_new, sonar_new, wanted_speed, beam_cos, beam_sin, sonar_cos, sonar_sin,
-               beam_step_rad, tracker_params, confirm_hits, max_speed, epsilon, beam_region, cone_bounds, match_m,
-               match_sigmas, noise_rel, noise_floor_m, pose, odometry, sonar_pose, bounds, segments, cv_x, cv_P,
-               static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
-               counters, sonar_x, sonar_P, sonar_hits, sonar_t, track_rows, track_covariance, max_ranges, max_distance,
-               laser_only, laser_max, active, goal_plan, require_target, combine, gain, threshold, spread,
-               course_params, bu_regions, bu_starts, td_regions, td_times, counts, readings, valid, rates, speeds,
-               moving, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest, origins, directions, fulfilled,
-               M, L):
+def attend_one(
+    row,
+    limits,
+    state,
+    times,
+    samples,
+    ego_offset,
+    t,
+    dt,
+    slope_samples,
+    ego_change,
+    moved,
+    push,
+    tracked,
+    linear,
+    angular,
+    laser_new,
+    sonar_new,
+    wanted_speed,
+    beam_cos,
+    beam_sin,
+    sonar_cos,
+    sonar_sin,
+    beam_step_rad,
+    tracker_params,
+    confirm_hits,
+    max_speed,
+    epsilon,
+    beam_region,
+    cone_bounds,
+    match_m,
+    match_sigmas,
+    noise_rel,
+    noise_floor_m,
+    pose,
+    odometry,
+    sonar_pose,
+    bounds,
+    segments,
+    cv_x,
+    cv_P,
+    static_x,
+    static_P,
+    p_moving,
+    alive,
+    ids,
+    hits,
+    misses,
+    born_s,
+    filter_t,
+    seen_s,
+    extent_m,
+    segment_of,
+    counters,
+    sonar_x,
+    sonar_P,
+    sonar_hits,
+    sonar_t,
+    track_rows,
+    track_covariance,
+    max_ranges,
+    max_distance,
+    laser_only,
+    laser_max,
+    active,
+    goal_plan,
+    require_target,
+    combine,
+    gain,
+    threshold,
+    spread,
+    course_params,
+    bu_regions,
+    bu_starts,
+    td_regions,
+    td_times,
+    counts,
+    readings,
+    valid,
+    rates,
+    speeds,
+    moving,
+    region_slot,
+    F,
+    C_BU,
+    C_TD,
+    C,
+    region_speed,
+    distances,
+    nearest,
+    origins,
+    directions,
+    fulfilled,
+    M,
+    L,
+):
     """One step of a model on the sonar grid (J = 8), in one call: ``sense``, then the
     tracker's ``track_step`` (``tracked``) or ``window_kinematics``, ``sonar_grid_maps`` and
     ``select``. Returns ``(winner, fired, n_tracks)``: the winner ``argmax L``, whether a
@@ -426,23 +621,126 @@ def attend_one(row, limits, state, times, samples, ego_offset, t, dt, slope_samp
       ``C``, region speeds, distances, nearest readings, origins, directions, goal flags,
       ``M`` and ``L``.
     """
-    sense(row, limits, state, times, samples, ego_offset, t, slope_samples, ego_change, moved, push, readings, valid,
-          rates)
+    sense(
+        row,
+        limits,
+        state,
+        times,
+        samples,
+        ego_offset,
+        t,
+        slope_samples,
+        ego_change,
+        moved,
+        push,
+        readings,
+        valid,
+        rates,
+    )
     n_tracks = 0
     if tracked:
-        n_tracks = track_step(t, dt, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, beam_cos,
-                              beam_sin, sonar_cos, sonar_sin, beam_step_rad, tracker_params, confirm_hits, max_speed,
-                              epsilon, beam_region, cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, pose,
-                              odometry, sonar_pose, bounds, segments, cv_x, cv_P, static_x, static_P, p_moving, alive,
-                              ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of, counters, sonar_x,
-                              sonar_P, sonar_hits, sonar_t, track_rows, track_covariance, rates, speeds, moving,
-                              region_slot)
+        n_tracks = track_step(
+            t,
+            dt,
+            linear,
+            angular,
+            laser_new,
+            sonar_new,
+            readings,
+            valid,
+            wanted_speed,
+            beam_cos,
+            beam_sin,
+            sonar_cos,
+            sonar_sin,
+            beam_step_rad,
+            tracker_params,
+            confirm_hits,
+            max_speed,
+            epsilon,
+            beam_region,
+            cone_bounds,
+            match_m,
+            match_sigmas,
+            noise_rel,
+            noise_floor_m,
+            pose,
+            odometry,
+            sonar_pose,
+            bounds,
+            segments,
+            cv_x,
+            cv_P,
+            static_x,
+            static_P,
+            p_moving,
+            alive,
+            ids,
+            hits,
+            misses,
+            born_s,
+            filter_t,
+            seen_s,
+            extent_m,
+            segment_of,
+            counters,
+            sonar_x,
+            sonar_P,
+            sonar_hits,
+            sonar_t,
+            track_rows,
+            track_covariance,
+            rates,
+            speeds,
+            moving,
+            region_slot,
+        )
     else:
         window_kinematics(rates, valid, max_speed, epsilon, speeds, moving)
         region_slot[:] = -1
-    sonar_grid_maps(readings, valid, rates, speeds, moving, max_ranges, max_speed, epsilon, max_distance, laser_only,
-                    laser_max, beam_region, active, goal_plan, require_target, combine, F, C_BU, C_TD, C,
-                    region_speed, distances, nearest, origins, directions, fulfilled)
-    winner, fired = select(t, fulfilled, origins, C, gain, threshold, spread, course_params, bu_regions, bu_starts,
-                           td_regions, td_times, counts, M, L)
+    sonar_grid_maps(
+        readings,
+        valid,
+        rates,
+        speeds,
+        moving,
+        max_ranges,
+        max_speed,
+        epsilon,
+        max_distance,
+        laser_only,
+        laser_max,
+        beam_region,
+        active,
+        goal_plan,
+        require_target,
+        combine,
+        F,
+        C_BU,
+        C_TD,
+        C,
+        region_speed,
+        distances,
+        nearest,
+        origins,
+        directions,
+        fulfilled,
+    )
+    winner, fired = select(
+        t,
+        fulfilled,
+        origins,
+        C,
+        gain,
+        threshold,
+        spread,
+        course_params,
+        bu_regions,
+        bu_starts,
+        td_regions,
+        td_times,
+        counts,
+        M,
+        L,
+    )
     return winner, fired, n_tracks

@@ -44,8 +44,9 @@ from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RIN
 __all__ = ["SensorLog", "LogFormatError", "load_log", "replay_log", "parse_goal", "parse_maps"]
 
 
-def load_log(path: str | os.PathLike, *, topics: BagTopics | None = None,
-             config: AttentionConfig | None = None) -> SensorLog:
+def load_log(
+    path: str | os.PathLike, *, topics: BagTopics | None = None, config: AttentionConfig | None = None
+) -> SensorLog:
     """Read a logged run: a ``.csv`` or ``.npz`` file (formats in the module docstring) or a
     ROS bag (``.bag``, ``.db3``, ``.mcap`` or a ROS 2 bag folder; ``rosbag.read_bag``).
 
@@ -65,15 +66,17 @@ def load_log(path: str | os.PathLike, *, topics: BagTopics | None = None,
     if is_bag_path(path):
         return read_bag(path, topics, config)
     if topics is not None:
-        raise LogFormatError(f"{path}: topic options apply to ROS bags only "
-                             f"({', '.join(BAG_SUFFIXES)} or a ROS 2 bag folder)")
+        raise LogFormatError(
+            f"{path}: topic options apply to ROS bags only ({', '.join(BAG_SUFFIXES)} or a ROS 2 bag folder)"
+        )
     suffix = path.suffix.lower()
     if suffix == ".csv":
         return _load_csv(path)
     if suffix == ".npz":
         return _load_npz(path)
-    raise LogFormatError(f"{path}: unknown log format {suffix!r}; allowed: .csv, .npz, "
-                         f"{', '.join(BAG_SUFFIXES)} or a ROS 2 bag folder")
+    raise LogFormatError(
+        f"{path}: unknown log format {suffix!r}; allowed: .csv, .npz, {', '.join(BAG_SUFFIXES)} or a ROS 2 bag folder"
+    )
 
 
 def _load_csv(path: Path) -> SensorLog:
@@ -93,18 +96,23 @@ def _load_csv(path: Path) -> SensorLog:
         if set(sonar_names) == {f"sonar_{i}" for i in range(n_sonar)}:
             break
     else:
-        raise LogFormatError(f"{path}: sonar columns must be sonar_0..sonar_{SONAR_RING - 1} or "
-                             f"sonar_0..sonar_{FRONT_SONARS - 1}; found {len(sonar_names)}: {sonar_names[:4]}...")
+        raise LogFormatError(
+            f"{path}: sonar columns must be sonar_0..sonar_{SONAR_RING - 1} or "
+            f"sonar_0..sonar_{FRONT_SONARS - 1}; found {len(sonar_names)}: {sonar_names[:4]}..."
+        )
     if set(laser_names) != {f"laser_{i}" for i in range(LASER_BEAMS)}:
         missing = sorted({f"laser_{i}" for i in range(LASER_BEAMS)} - set(laser_names), key=len)
-        raise LogFormatError(f"{path}: laser columns must be laser_0..laser_{LASER_BEAMS - 1}; "
-                             f"found {len(laser_names)}, missing {missing[:5]}")
+        raise LogFormatError(
+            f"{path}: laser columns must be laser_0..laser_{LASER_BEAMS - 1}; "
+            f"found {len(laser_names)}, missing {missing[:5]}"
+        )
     if "t" not in column:
         raise LogFormatError(f"{path}: missing the time column 't' (seconds)")
     has_v, has_w = "v" in column, "w" in column
     if has_v != has_w:
-        raise LogFormatError(f"{path}: odometry needs both columns 'v' (m/s) and 'w' (rad/s), found only "
-                             f"{'v' if has_v else 'w'}")
+        raise LogFormatError(
+            f"{path}: odometry needs both columns 'v' (m/s) and 'w' (rad/s), found only {'v' if has_v else 'w'}"
+        )
     if not rows:
         raise LogFormatError(f"{path}: no readings after the header")
     wanted = ["t", *(f"sonar_{i}" for i in range(n_sonar)), *(f"laser_{i}" for i in range(LASER_BEAMS))]
@@ -143,13 +151,16 @@ def _load_npz(path: Path) -> SensorLog:
     except (ValueError, OSError) as err:
         raise LogFormatError(f"{path}: not a readable .npz archive ({err})") from None
     if not isinstance(data, np.lib.npyio.NpzFile):  # a single array saved with np.save, named .npz
-        raise LogFormatError(f"{path}: holds one array, not an .npz archive of named arrays t, sonar, laser "
-                             "(np.savez writes one)")
+        raise LogFormatError(
+            f"{path}: holds one array, not an .npz archive of named arrays t, sonar, laser (np.savez writes one)"
+        )
     with data:
         missing = [name for name in ("t", "sonar", "laser") if name not in data.files]
         if missing:
-            raise LogFormatError(f"{path}: missing arrays {missing}; a log needs t (T,), sonar (T, 16|8), "
-                                 f"laser (T, 180) and optionally odometry (T, 2)")
+            raise LogFormatError(
+                f"{path}: missing arrays {missing}; a log needs t (T,), sonar (T, 16|8), "
+                f"laser (T, 180) and optionally odometry (T, 2)"
+            )
         arrays = {}
         for name in ("t", "sonar", "laser", "odometry"):
             if name not in data.files:
@@ -188,8 +199,10 @@ def parse_goal(spec: str) -> Goal:
         ValueError: for a malformed specification or an invalid goal.
     """
     parts = [p.strip().lower() for p in spec.split(":")]
-    usage = ("goal specification must be FEATURE:RELATION:BOUNDS, e.g. speed:between:0.5:0.9, "
-             "speed:greater:0.6, distance:smaller:2, speed:equal:0.7[:tol], direction:towards")
+    usage = (
+        "goal specification must be FEATURE:RELATION:BOUNDS, e.g. speed:between:0.5:0.9, "
+        "speed:greater:0.6, distance:smaller:2, speed:equal:0.7[:tol], direction:towards"
+    )
     if len(parts) < 2:
         raise ValueError(f"{usage}; got {spec!r}")
     feature = parts[0]
@@ -233,8 +246,10 @@ def parse_maps(spec: str) -> Mapping[str, float]:
         name, _, value = item.partition("=")
         key = MAP_ALIASES.get(name.strip().lower(), name.strip().upper())
         if key not in MAP_NAMES:
-            raise ValueError(f"unknown feature map {name.strip()!r} in {spec!r}; allowed: "
-                             f"{', '.join(MAP_NAMES)} or {', '.join(MAP_ALIASES)}")
+            raise ValueError(
+                f"unknown feature map {name.strip()!r} in {spec!r}; allowed: "
+                f"{', '.join(MAP_NAMES)} or {', '.join(MAP_ALIASES)}"
+            )
         if key in weights:
             raise ValueError(f"map {key} named twice in {spec!r}")
         try:

@@ -87,7 +87,7 @@ class ScanResampler:
     uncovered: np.ndarray
 
     @classmethod
-    def for_scan(cls, angle_min_rad: float, angle_increment_rad: float, n_ranges: int) -> "ScanResampler":
+    def for_scan(cls, angle_min_rad: float, angle_increment_rad: float, n_ranges: int) -> ScanResampler:
         """The resampler of scans of ``n_ranges`` beams from ``angle_min_rad`` by ``angle_increment_rad``.
 
         Raises:
@@ -97,8 +97,10 @@ class ScanResampler:
         if n_ranges < 1:
             raise ValueError(f"a laser scan needs at least one range, got {n_ranges}")
         if not (np.isfinite(angle_min_rad) and np.isfinite(angle_increment_rad)):
-            raise ValueError(f"a laser scan's angle_min and angle_increment must be finite (rad), "
-                             f"got {angle_min_rad!r} and {angle_increment_rad!r}")
+            raise ValueError(
+                f"a laser scan's angle_min and angle_increment must be finite (rad), "
+                f"got {angle_min_rad!r} and {angle_increment_rad!r}"
+            )
         if angle_increment_rad == 0.0 and n_ranges > 1:
             raise ValueError(f"a laser scan of {n_ranges} ranges needs a non-zero angle_increment (rad), got 0")
         bearings = angle_min_rad + np.arange(n_ranges) * angle_increment_rad
@@ -127,8 +129,9 @@ class ScanResampler:
         return beams
 
 
-def front_sonars_from_laser(laser: np.ndarray, cone_half_width_deg: float, min_range_m: float,
-                            max_range_m: float) -> np.ndarray:
+def front_sonars_from_laser(
+    laser: np.ndarray, cone_half_width_deg: float, min_range_m: float, max_range_m: float
+) -> np.ndarray:
     """The 8 front sonars as the laser sees them: the nearest echo in each sonar's cone.
 
     Args:

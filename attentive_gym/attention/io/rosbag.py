@@ -58,8 +58,16 @@ from attentive_gym.attention.io.ros_readings import (
 from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
 
-__all__ = ["BAG_SUFFIXES", "LASER_TYPE", "RANGE_TYPE", "ODOMETRY_TYPE", "BagTopics", "is_bag_path",
-           "parse_bag_topics", "read_bag"]
+__all__ = [
+    "BAG_SUFFIXES",
+    "LASER_TYPE",
+    "RANGE_TYPE",
+    "ODOMETRY_TYPE",
+    "BagTopics",
+    "is_bag_path",
+    "parse_bag_topics",
+    "read_bag",
+]
 
 #: Suffixes of bag files: ROS 1 bags, ROS 2 sqlite3 and MCAP storage files.
 BAG_SUFFIXES = (".bag", ".db3", ".mcap")
@@ -67,7 +75,6 @@ BAG_SUFFIXES = (".bag", ".db3", ".mcap")
 LASER_TYPE = "sensor_msgs/msg/LaserScan"
 RANGE_TYPE = "sensor_msgs/msg/Range"
 ODOMETRY_TYPE = "nav_msgs/msg/Odometry"
-
 
 
 @dataclass(frozen=True)
@@ -106,12 +113,15 @@ class BagTopics:
             if not all(np.isfinite(b) for b in self.sonar_bearings_deg):
                 raise ValueError(f"sonar bearings must be finite numbers (deg), got {list(self.sonar_bearings_deg)}")
             if self.sonars is not None and len(self.sonar_bearings_deg) != len(self.sonars):
-                raise ValueError(f"{len(self.sonar_bearings_deg)} sonar bearings for {len(self.sonars)} sonar topics; "
-                                 "give one bearing (deg) per topic")
+                raise ValueError(
+                    f"{len(self.sonar_bearings_deg)} sonar bearings for {len(self.sonars)} sonar topics; "
+                    "give one bearing (deg) per topic"
+                )
 
 
-def parse_bag_topics(laser: str | None = None, sonars: str | None = None, odometry: str | None = None,
-                     sonar_bearings: str | None = None) -> BagTopics | None:
+def parse_bag_topics(
+    laser: str | None = None, sonars: str | None = None, odometry: str | None = None, sonar_bearings: str | None = None
+) -> BagTopics | None:
     """``BagTopics`` from the command line's strings; None when none is given.
 
     Args:
@@ -129,8 +139,9 @@ def parse_bag_topics(laser: str | None = None, sonars: str | None = None, odomet
         try:
             bearings = tuple(float(b) for b in sonar_bearings.split(","))
         except ValueError:
-            raise ValueError(f"sonar bearings must be comma-separated numbers (deg), e.g. 90,50,30; "
-                             f"got {sonar_bearings!r}") from None
+            raise ValueError(
+                f"sonar bearings must be comma-separated numbers (deg), e.g. 90,50,30; got {sonar_bearings!r}"
+            ) from None
     sonar_topics = None if sonars is None else tuple(name.strip() for name in sonars.split(","))
     return BagTopics(laser, sonar_topics, odometry, bearings)
 
@@ -178,12 +189,15 @@ def read_bag(path: str | Path, topics: BagTopics | None = None, config: Attentio
     keep = scan_stamps >= max(first.values(), default=scan_stamps[0])
     if not keep.any():
         late = max(first, key=first.get)
-        raise LogFormatError(f"{path}: no scan on {laser_topic} at or after the first message of {late}; "
-                             "the sonars and odometry are read at the scans' stamps")
+        raise LogFormatError(
+            f"{path}: no scan on {laser_topic} at or after the first message of {late}; "
+            "the sonars and odometry are read at the scans' stamps"
+        )
     stamps = scan_stamps[keep]
     laser = _laser_readings(path, streams[laser_topic], config)[keep]
-    sonar = _sonar_readings([streams[topic] for topic in sonar_topics], topics.sonar_bearings_deg, stamps, laser,
-                            config)
+    sonar = _sonar_readings(
+        [streams[topic] for topic in sonar_topics], topics.sonar_bearings_deg, stamps, laser, config
+    )
     odometry = None
     if odometry_topic is not None:
         stream = streams[odometry_topic]
@@ -211,8 +225,13 @@ class _Stream:
 #: range_min, range_max, ranges)``; Range ``(range, min_range, max_range)``; Odometry
 #: ``(v, w)`` (rad, m, m/s, rad/s).
 _FIELDS = {
-    LASER_TYPE: lambda m: (float(m.angle_min), float(m.angle_increment), float(m.range_min), float(m.range_max),
-                           np.asarray(m.ranges, dtype=np.float64)),
+    LASER_TYPE: lambda m: (
+        float(m.angle_min),
+        float(m.angle_increment),
+        float(m.range_min),
+        float(m.range_max),
+        np.asarray(m.ranges, dtype=np.float64),
+    ),
     RANGE_TYPE: lambda m: (float(m.range), float(m.min_range), float(m.max_range)),
     ODOMETRY_TYPE: lambda m: (float(m.twist.twist.linear.x), float(m.twist.twist.angular.z)),
 }
@@ -230,8 +249,9 @@ def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[
         from rosbags.highlevel import AnyReader, AnyReaderError
         from rosbags.typesys import Stores, get_typestore
     except ImportError:
-        raise LogFormatError(f"{path}: reading ROS bags needs the rosbags package; "
-                             "install it with pip install 'attentive_gym[ros]'") from None
+        raise LogFormatError(
+            f"{path}: reading ROS bags needs the rosbags package; install it with pip install 'attentive_gym[ros]'"
+        ) from None
     source = path
     if path.is_dir() and not (path / "metadata.yaml").exists():
         raise LogFormatError(f"{path}: a folder is read as a ROS 2 bag, but it holds no metadata.yaml")
@@ -244,8 +264,9 @@ def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[
             counts = {name: info.msgcount for name, info in reader.topics.items()}
             chosen = laser_topic, sonar_topics, odometry_topic = _choose_topics(path, types, topics)
             if counts[laser_topic] == 0:
-                raise LogFormatError(f"{path}: topic {laser_topic} holds no {LASER_TYPE} message; "
-                                     f"topics: {_listing(types, counts)}")
+                raise LogFormatError(
+                    f"{path}: topic {laser_topic} holds no {LASER_TYPE} message; topics: {_listing(types, counts)}"
+                )
             wanted = [laser_topic, *sonar_topics, *([odometry_topic] if odometry_topic else [])]
             streams = _read_streams(reader, wanted)
     except AnyReaderError as err:
@@ -267,17 +288,22 @@ def _choose_topics(path: Path, types: dict[str, str], topics: BagTopics) -> tupl
         sonars = sorted((name for name, kind in types.items() if kind == RANGE_TYPE), key=_natural_key)
     bearings = topics.sonar_bearings_deg
     if bearings is not None and len(bearings) != len(sonars):
-        raise LogFormatError(f"{path}: {len(bearings)} sonar bearings for {len(sonars)} {RANGE_TYPE} topics "
-                             f"({', '.join(sonars) or 'none'}); give one bearing (deg) per topic")
+        raise LogFormatError(
+            f"{path}: {len(bearings)} sonar bearings for {len(sonars)} {RANGE_TYPE} topics "
+            f"({', '.join(sonars) or 'none'}); give one bearing (deg) per topic"
+        )
     if bearings is None and sonars and len(sonars) not in (FRONT_SONARS, SONAR_RING):
-        raise LogFormatError(f"{path}: {len(sonars)} {RANGE_TYPE} topics ({', '.join(sonars)}) do not map onto the "
-                             f"P2AT ring, which takes {FRONT_SONARS} (front sonars) or {SONAR_RING} (whole ring); "
-                             "give their bearings with --sonar-bearings, or choose topics with --sonar-topics")
+        raise LogFormatError(
+            f"{path}: {len(sonars)} {RANGE_TYPE} topics ({', '.join(sonars)}) do not map onto the "
+            f"P2AT ring, which takes {FRONT_SONARS} (front sonars) or {SONAR_RING} (whole ring); "
+            "give their bearings with --sonar-bearings, or choose topics with --sonar-topics"
+        )
     return laser, sonars, odometry
 
 
-def _one_topic(path: Path, types: dict[str, str], named: str | None, kind: str, flag: str,
-               required: bool) -> str | None:
+def _one_topic(
+    path: Path, types: dict[str, str], named: str | None, kind: str, flag: str, required: bool
+) -> str | None:
     """The topic ``named`` (checked), else the only topic of message type ``kind``."""
     if named is not None:
         _check_topic(path, types, named, kind, flag)
@@ -294,14 +320,19 @@ def _check_topic(path: Path, types: dict[str, str], name: str, kind: str, flag: 
     if name not in types:
         raise LogFormatError(f"{path}: no topic {name} (named by {flag}); topics: {_listing(types)}")
     if types[name] != kind:
-        raise LogFormatError(f"{path}: topic {name} (named by {flag}) is {types[name]}, not {kind}; "
-                             f"topics: {_listing(types)}")
+        raise LogFormatError(
+            f"{path}: topic {name} (named by {flag}) is {types[name]}, not {kind}; topics: {_listing(types)}"
+        )
 
 
 def _listing(types: dict[str, str], counts: dict[str, int] | None = None) -> str:
     """``/odom (nav_msgs/msg/Odometry), /scan (...)``, with message counts when given."""
-    return ", ".join(f"{name} ({kind}{f', {counts[name]} messages' if counts else ''})"
-                     for name, kind in sorted(types.items())) or "none"
+    return (
+        ", ".join(
+            f"{name} ({kind}{f', {counts[name]} messages' if counts else ''})" for name, kind in sorted(types.items())
+        )
+        or "none"
+    )
 
 
 def _natural_key(name: str) -> list[tuple[int, int, str]]:
@@ -329,8 +360,10 @@ def _check_time_order(path: Path, topic: str, stamps: np.ndarray, strict: bool) 
     if bad.any():
         k = int(np.flatnonzero(bad)[0]) + 1
         rule = "increase from scan to scan" if strict else "never decrease"
-        raise LogFormatError(f"{path}: time goes backwards on {topic}: message {k} is stamped "
-                             f"{_seconds(stamps[k])} s after {_seconds(stamps[k - 1])} s; stamps must {rule}")
+        raise LogFormatError(
+            f"{path}: time goes backwards on {topic}: message {k} is stamped "
+            f"{_seconds(stamps[k])} s after {_seconds(stamps[k - 1])} s; stamps must {rule}"
+        )
 
 
 def _seconds(stamp_ns: int) -> str:
@@ -355,16 +388,22 @@ def _laser_readings(path: Path, stream: _Stream, config: AttentionConfig) -> np.
     return beams
 
 
-def _sonar_readings(streams: list[_Stream], bearings_deg: tuple[float, ...] | None, stamps: np.ndarray,
-                    laser: np.ndarray, config: AttentionConfig) -> np.ndarray:
+def _sonar_readings(
+    streams: list[_Stream],
+    bearings_deg: tuple[float, ...] | None,
+    stamps: np.ndarray,
+    laser: np.ndarray,
+    config: AttentionConfig,
+) -> np.ndarray:
     """``(T, 16)`` or ``(T, 8)`` sonar ranges (m) at the scans' ``stamps`` (ns), ``laser`` ``(T, 180)``."""
     no_echo = config.sonar_max_range_m
     readings = []
     for stream in streams:
         value, low, high = np.asarray(stream.fields, dtype=np.float64).T
         unset = ~(low < high)
-        ranges = ranges_or_no_echo(value, np.where(unset, config.sonar_min_range_m, low),
-                                   np.where(unset, no_echo, high), no_echo)
+        ranges = ranges_or_no_echo(
+            value, np.where(unset, config.sonar_min_range_m, low), np.where(unset, no_echo, high), no_echo
+        )
         readings.append(latest_at_or_before(stamps, stream.stamps, ranges))
     if streams and bearings_deg is None:
         return np.stack(readings, axis=1)

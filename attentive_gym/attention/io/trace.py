@@ -93,8 +93,10 @@ TRACK_ARRAYS: tuple[str, ...] = ("track_step", *(f"track_{name}" for name, _, _ 
 
 def _no_tracks() -> dict[str, np.ndarray]:
     """The track arrays of a trace without tracks (N = 0)."""
-    return {"track_step": np.zeros(0, np.int64),
-            **{f"track_{name}": np.zeros((0, *shape), dtype) for name, shape, dtype in _TRACK_COLUMNS}}
+    return {
+        "track_step": np.zeros(0, np.int64),
+        **{f"track_{name}": np.zeros((0, *shape), dtype) for name, shape, dtype in _TRACK_COLUMNS},
+    }
 
 
 def _track_field(name: str):
@@ -229,8 +231,10 @@ class TraceRecorder:
             "fired": np.asarray(rows["fired"], dtype=bool),
             "origin": np.asarray(rows["origin"], dtype=np.int8),
             "track_step": np.concatenate(rows["track_step"]),
-            **{f"track_{name}": np.concatenate(rows[f"track_{name}"]).astype(dtype, copy=False).reshape(-1, *shape)
-               for name, shape, dtype in _TRACK_COLUMNS},
+            **{
+                f"track_{name}": np.concatenate(rows[f"track_{name}"]).astype(dtype, copy=False).reshape(-1, *shape)
+                for name, shape, dtype in _TRACK_COLUMNS
+            },
         }
         return Trace(**arrays, config=self.config.to_dict())
 
@@ -269,16 +273,22 @@ def load_trace(path: str | os.PathLike) -> Trace:
         present = [name for name in TRACK_ARRAYS if name in data.files]
         if present and len(present) < len(TRACK_ARRAYS):
             absent = [name for name in TRACK_ARRAYS if name not in data.files]
-            raise ValueError(f"{path}: has track arrays {present} but not {absent}; a trace has all of "
-                             f"{list(TRACK_ARRAYS)} or none")
+            raise ValueError(
+                f"{path}: has track arrays {present} but not {absent}; a trace has all of {list(TRACK_ARRAYS)} or none"
+            )
         arrays.update({name: data[name] for name in present} if present else _no_tracks())
         config = json.loads(str(data["config_json"]))
     n = arrays["t"].shape[0]
     n_regions = arrays["C"].shape[-1] if arrays["C"].ndim == 2 else -1
     expected = {
-        "t": (n,), "O1": (n, FRONT_SONARS), "O2": (n, LASER_BEAMS), "F": (n, 6, n_regions),
+        "t": (n,),
+        "O1": (n, FRONT_SONARS),
+        "O2": (n, LASER_BEAMS),
+        "F": (n, 6, n_regions),
         **{name: (n, n_regions) for name in _REGION_ARRAYS},
-        "focus": (n,), "fired": (n,), "origin": (n,),
+        "focus": (n,),
+        "fired": (n,),
+        "origin": (n,),
     }
     n_rows = arrays["track_step"].shape[0] if arrays["track_step"].ndim == 1 else -1
     expected["track_step"] = (n_rows,)
@@ -290,6 +300,8 @@ def load_trace(path: str | os.PathLike) -> Trace:
     if not np.issubdtype(steps.dtype, np.integer):
         raise ValueError(f"{path}: array track_step has dtype {steps.dtype}, expected an integer dtype")
     if n_rows and (steps[0] < 0 or steps[-1] >= n or np.any(np.diff(steps) < 0)):
-        raise ValueError(f"{path}: track_step must be sorted and within [0, {n}) (the steps), got values from "
-                         f"{steps.min()} to {steps.max()}")
+        raise ValueError(
+            f"{path}: track_step must be sorted and within [0, {n}) (the steps), got values from "
+            f"{steps.min()} to {steps.max()}"
+        )
     return Trace(**arrays, config=config)

@@ -24,8 +24,17 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["segment_scan", "measure_segments", "split_foreground", "carve_body", "SEGMENT_FIELDS",
-           "SURFACE_OFFSET_FRACTION", "STRUCTURE", "UPDATE_ONLY", "TRACKABLE"]
+__all__ = [
+    "segment_scan",
+    "measure_segments",
+    "split_foreground",
+    "carve_body",
+    "SEGMENT_FIELDS",
+    "SURFACE_OFFSET_FRACTION",
+    "STRUCTURE",
+    "UPDATE_ONLY",
+    "TRACKABLE",
+]
 
 #: Columns of ``measure_segments``' table, one row per segment.
 SEGMENT_FIELDS = ("start", "stop", "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
@@ -96,8 +105,21 @@ def segment_scan(ranges_m, no_echo_from_m, noise_rel, noise_floor_m, jump_m, jum
 
 
 @njit(cache=True)
-def measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, bounds, count, noise_rel, noise_floor_m,
-                     surface_sigma_m, max_extent_m, min_beams, table):
+def measure_segments(
+    ranges_m,
+    cos_b,
+    sin_b,
+    beam_step_rad,
+    no_echo_from_m,
+    bounds,
+    count,
+    noise_rel,
+    noise_floor_m,
+    surface_sigma_m,
+    max_extent_m,
+    min_beams,
+    table,
+):
     """Measure each segment of ``segment_scan`` as an object, in the robot frame.
 
     Args:
@@ -128,9 +150,20 @@ def measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
             hidden_ends += 1
         if stop == n_beams or (ranges_m[stop] < no_echo_from_m and ranges_m[stop] < ranges_m[stop - 1]):
             hidden_ends += 1
-        extent = _measure_run(ranges_m, cos_b, sin_b, beam_step_rad, start, stop, -1.0,
-                              hidden_ends * (0.5 * max_extent_m) ** 2, noise_rel, noise_floor_m, surface_sigma_m,
-                              table[m])
+        extent = _measure_run(
+            ranges_m,
+            cos_b,
+            sin_b,
+            beam_step_rad,
+            start,
+            stop,
+            -1.0,
+            hidden_ends * (0.5 * max_extent_m) ** 2,
+            noise_rel,
+            noise_floor_m,
+            surface_sigma_m,
+            table[m],
+        )
         if extent > max_extent_m:
             table[m, _CANDIDATE] = STRUCTURE
         else:
@@ -138,8 +171,25 @@ def measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
 
 
 @njit(cache=True)
-def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, bounds, count, noise_rel, noise_floor_m,
-                     surface_sigma_m, max_extent_m, min_beams, flank_beams, sigmas, margin_m, edge_sigmas, table):
+def split_foreground(
+    ranges_m,
+    cos_b,
+    sin_b,
+    beam_step_rad,
+    no_echo_from_m,
+    bounds,
+    count,
+    noise_rel,
+    noise_floor_m,
+    surface_sigma_m,
+    max_extent_m,
+    min_beams,
+    flank_beams,
+    sigmas,
+    margin_m,
+    edge_sigmas,
+    table,
+):
     """Find bodies standing in front of structure: runs of beams inside a ``STRUCTURE``
     segment that lie significantly nearer than the surface around them, with a range
     jump at both ends; each becomes a segment of its own, appended after the ``count``
@@ -232,8 +282,9 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
     flanks = np.empty((n_beams + 1, 4))
     for k in range(n_beams - w + 1):
         if closes[k]:
-            flanks[k, 0], flanks[k, 1], flanks[k, 2], flanks[k, 3] = _group(px, py, pr, k, k + w, noise_rel,
-                                                                            noise_floor_m)
+            flanks[k, 0], flanks[k, 1], flanks[k, 2], flanks[k, 3] = _group(
+                px, py, pr, k, k + w, noise_rel, noise_floor_m
+            )
     used = np.zeros(n_beams, np.bool_)
     widest = _SEARCH_EXTENT_FACTOR * max_extent_m
     for m in range(count):
@@ -269,12 +320,26 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
                             if variance > 0.0:
                                 z = (depth - margin_m) / math.sqrt(variance)
                                 last_x, last_y = ranges_m[j - 1] * cos_b[j - 1], ranges_m[j - 1] * sin_b[j - 1]
-                                if z > best_z and \
-                                        _flank_bound(px, py, pr, i, j, w, mean_range, span, noise_rel, noise_floor_m,
-                                                     margin_m, best_z) and \
-                                        math.hypot(last_x - xi, last_y - yi) <= widest and \
-                                        _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth, noise_rel,
-                                                noise_floor_m) >= edge_sigmas:
+                                if (
+                                    z > best_z
+                                    and _flank_bound(
+                                        px,
+                                        py,
+                                        pr,
+                                        i,
+                                        j,
+                                        w,
+                                        mean_range,
+                                        span,
+                                        noise_rel,
+                                        noise_floor_m,
+                                        margin_m,
+                                        best_z,
+                                    )
+                                    and math.hypot(last_x - xi, last_y - yi) <= widest
+                                    and _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth, noise_rel, noise_floor_m)
+                                    >= edge_sigmas
+                                ):
                                     best_z, best_i, best_j = z, i, j
                     j = next_close[j + 1]
             if best_i < 0:
@@ -286,8 +351,20 @@ def split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, boun
             if math.hypot(last_x - first_x, last_y - first_y) > max_extent_m:
                 continue  # the body in front is larger than any that moves: structure, and so is any part of it
             bounds[total, 0], bounds[total, 1] = best_i, best_j
-            _measure_run(ranges_m, cos_b, sin_b, beam_step_rad, best_i, best_j, -1.0, 0.0, noise_rel, noise_floor_m,
-                         surface_sigma_m, table[total])
+            _measure_run(
+                ranges_m,
+                cos_b,
+                sin_b,
+                beam_step_rad,
+                best_i,
+                best_j,
+                -1.0,
+                0.0,
+                noise_rel,
+                noise_floor_m,
+                surface_sigma_m,
+                table[total],
+            )
             table[total, _CANDIDATE] = TRACKABLE if best_j - best_i >= min_beams else UPDATE_ONLY
             total += 1
     return total
@@ -321,8 +398,9 @@ def _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth_m, noise_rel, noise_floor
             continue
         near, far = (pr[q1] - pr[q0]) / inner, (pr[o1] - pr[o0]) / outer
         sigma_near, sigma_far = max(noise_rel * near, noise_floor_m), max(noise_rel * far, noise_floor_m)
-        z = (far - near - _EDGE_DEPTH_FRACTION * depth_m) / math.sqrt(sigma_near * sigma_near / inner
-                                                                      + sigma_far * sigma_far / outer)
+        z = (far - near - _EDGE_DEPTH_FRACTION * depth_m) / math.sqrt(
+            sigma_near * sigma_near / inner + sigma_far * sigma_far / outer
+        )
         if longer >= 4:
             h = longer // 2
             if side == 0:
@@ -349,8 +427,10 @@ def _flank_bound(px, py, pr, i, j, w, mean_range, span, noise_rel, noise_floor_m
     sigma = max(noise_rel * mean_range, noise_floor_m)
     n = j - i
     needed = best_z * sigma / math.sqrt(n) + margin_m
-    return farther - mean_range * math.cos(0.5 * span) >= needed and \
-        farther - math.hypot(px[j] - px[i], py[j] - py[i]) / n >= needed
+    return (
+        farther - mean_range * math.cos(0.5 * span) >= needed
+        and farther - math.hypot(px[j] - px[i], py[j] - py[i]) / n >= needed
+    )
 
 
 @njit(cache=True)
@@ -414,8 +494,20 @@ def _depth_variance(a, b, q, na, nb, nq, behind, ux, uy, cross):
 
 
 @njit(cache=True)
-def _measure_run(ranges_m, cos_b, sin_b, beam_step_rad, start, stop, known_extent_m, hidden_var_m2, noise_rel,
-                 noise_floor_m, surface_sigma_m, row):
+def _measure_run(
+    ranges_m,
+    cos_b,
+    sin_b,
+    beam_step_rad,
+    start,
+    stop,
+    known_extent_m,
+    hidden_var_m2,
+    noise_rel,
+    noise_floor_m,
+    surface_sigma_m,
+    row,
+):
     """Measure the beams ``start <= i < stop`` as one body into ``row`` (``SEGMENT_FIELDS``,
     all but ``candidate``); the surface offset uses ``known_extent_m`` when it is >= 0, else
     the run's own extent; ``hidden_var_m2`` is added across the line of sight (m²).
@@ -449,8 +541,23 @@ def _measure_run(ranges_m, cos_b, sin_b, beam_step_rad, start, stop, known_exten
 
 
 @njit(cache=True)
-def carve_body(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, x_m, y_m, extent_m, noise_rel, noise_floor_m,
-               jump_m, jump_sigmas, surface_sigma_m, min_beams, row):
+def carve_body(
+    ranges_m,
+    cos_b,
+    sin_b,
+    beam_step_rad,
+    no_echo_from_m,
+    x_m,
+    y_m,
+    extent_m,
+    noise_rel,
+    noise_floor_m,
+    jump_m,
+    jump_sigmas,
+    surface_sigma_m,
+    min_beams,
+    row,
+):
     """Measure a body expected at ``(x_m, y_m)`` (its centre, robot frame) of extent
     ``extent_m`` from the beams around its bearing, whatever segment they belong to.
 
@@ -485,7 +592,19 @@ def carve_body(ranges_m, cos_b, sin_b, beam_step_rad, no_echo_from_m, x_m, y_m, 
             start = -1
     if best_stop - best_start < min_beams:
         return False
-    _measure_run(ranges_m, cos_b, sin_b, beam_step_rad, best_start, best_stop, extent_m, (0.5 * extent_m) ** 2,
-                 noise_rel, noise_floor_m, surface_sigma_m, row)
+    _measure_run(
+        ranges_m,
+        cos_b,
+        sin_b,
+        beam_step_rad,
+        best_start,
+        best_stop,
+        extent_m,
+        (0.5 * extent_m) ** 2,
+        noise_rel,
+        noise_floor_m,
+        surface_sigma_m,
+        row,
+    )
     row[_CANDIDATE] = UPDATE_ONLY
     return True

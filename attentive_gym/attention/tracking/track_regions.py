@@ -48,9 +48,36 @@ def _relative(k, t_s, pose, cv_x, filter_t):
 
 
 @njit(cache=True)
-def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, wanted_speed, beam_step_rad, beam_region,
-                   cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, readings, valid, cv_x, p_moving, alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits,
-                   rates, speeds, moving, region_track):
+def track_channels(
+    t_s,
+    pose,
+    confirm_hits,
+    max_speed,
+    epsilon,
+    wanted_speed,
+    beam_step_rad,
+    beam_region,
+    cone_bounds,
+    match_m,
+    match_sigmas,
+    noise_rel,
+    noise_floor_m,
+    readings,
+    valid,
+    cv_x,
+    p_moving,
+    alive,
+    hits,
+    filter_t,
+    segment_of,
+    bounds,
+    sonar_x,
+    sonar_hits,
+    rates,
+    speeds,
+    moving,
+    region_track,
+):
     """Per-channel kinematics from the tracks (see the module docstring).
 
     Args:
@@ -93,7 +120,9 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, wanted_speed, be
                 rates[n_sonar + i], speeds[n_sonar + i], moving[n_sonar + i] = rate, speed, is_moving
         j = _region_of(c * dx + s * dy, -s * dx + c * dy, beam_step_rad, beam_region)
         # wanted moving tracks first (by motion probability), then the fastest
-        score = speed if not (is_moving and wanted_speed[0] <= speed <= wanted_speed[1]) else 2.0 * max_speed + p_moving[k]
+        score = (
+            speed if not (is_moving and wanted_speed[0] <= speed <= wanted_speed[1]) else 2.0 * max_speed + p_moving[k]
+        )
         if j >= 0 and (region_track[j] < 0 or score > best[j]):
             region_track[j] = k
             best[j] = score
@@ -114,8 +143,23 @@ def track_channels(t_s, pose, confirm_hits, max_speed, epsilon, wanted_speed, be
 
 
 @njit(cache=True)
-def track_table(t_s, pose, confirm_hits, beam_step_rad, beam_region, cv_x, cv_P, p_moving, alive, ids, hits, born_s,
-                filter_t, table, covariance):
+def track_table(
+    t_s,
+    pose,
+    confirm_hits,
+    beam_step_rad,
+    beam_region,
+    cv_x,
+    cv_P,
+    p_moving,
+    alive,
+    ids,
+    hits,
+    born_s,
+    filter_t,
+    table,
+    covariance,
+):
     """The live tracks in the robot frame: one row of ``tracker.TRACK_TABLE_FIELDS`` each in
     ``table`` ``(capacity, 11)`` and their covariances in ``covariance`` ``(capacity, 4, 4)``;
     returns the number of rows written (slot order)."""

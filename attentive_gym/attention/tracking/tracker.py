@@ -60,8 +60,17 @@ from attentive_gym.attention.tracking.segmentation import (
 )
 from attentive_gym.attention.tracking.track_regions import track_channels, track_table
 
-__all__ = ["Tracker", "TrackTable", "EMPTY_TRACKS", "track_scan", "track_step", "advance_pose", "table_from_rows",
-           "TRACK_TABLE_FIELDS", "STATE_FIELDS"]
+__all__ = [
+    "Tracker",
+    "TrackTable",
+    "EMPTY_TRACKS",
+    "track_scan",
+    "track_step",
+    "advance_pose",
+    "table_from_rows",
+    "TRACK_TABLE_FIELDS",
+    "STATE_FIELDS",
+]
 
 #: The probability that a new track moves, before any evidence.
 _MOTION_PRIOR = 0.5
@@ -73,11 +82,36 @@ _EXTENT_SMOOTHING = 0.1
 #: bodies that touch a wall are part of the structure.
 _CARVE_PROBABILITY = 0.5
 # parameter vector of the kernels, built once from the configuration
-(_NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _JUMP, _JUMP_SIGMAS, _MIN_BEAMS, _MAX_EXTENT, _SURFACE, _Q, _DRIFT,
- _SWITCH_RATE, _POSITION_SIGMA, _SPEED_SIGMA, _GATE, _CONFIRM, _DELETE, _SONAR_Q, _COAST, _MOUNT_X, _MOUNT_Y,
- _FG_FLANK, _FG_SIGMAS, _FG_MARGIN, _FG_EDGE, _N_PARAMS) = range(25)
-_X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (SEGMENT_FIELDS.index(f) for f in (
-    "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate"))
+(
+    _NO_ECHO,
+    _NOISE_REL,
+    _NOISE_FLOOR,
+    _JUMP,
+    _JUMP_SIGMAS,
+    _MIN_BEAMS,
+    _MAX_EXTENT,
+    _SURFACE,
+    _Q,
+    _DRIFT,
+    _SWITCH_RATE,
+    _POSITION_SIGMA,
+    _SPEED_SIGMA,
+    _GATE,
+    _CONFIRM,
+    _DELETE,
+    _SONAR_Q,
+    _COAST,
+    _MOUNT_X,
+    _MOUNT_Y,
+    _FG_FLANK,
+    _FG_SIGMAS,
+    _FG_MARGIN,
+    _FG_EDGE,
+    _N_PARAMS,
+) = range(25)
+_X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (
+    SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,15 +164,33 @@ class TrackTable:
 #: Columns of the compiled table behind ``TrackTable`` (one row per track).
 TRACK_TABLE_FIELDS = ("id", "x", "y", "vx", "vy", "speed", "p_moving", "age", "confirmed", "region", "slot")
 _N_TABLE = len(TRACK_TABLE_FIELDS)
-_TABLE_ATTRIBUTES = ("id", "position_m", "velocity_mps", "speed_mps", "moving_probability", "covariance", "age_s",
-                     "confirmed", "region")
+_TABLE_ATTRIBUTES = (
+    "id",
+    "position_m",
+    "velocity_mps",
+    "speed_mps",
+    "moving_probability",
+    "covariance",
+    "age_s",
+    "confirmed",
+    "region",
+)
 
 
 def table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
     """A read-only ``TrackTable`` from the track rows of ``Tracker.step`` ``(n, 11)`` (columns
     ``TRACK_TABLE_FIELDS``) and their covariances ``(n, 4, 4)``."""
-    arrays = (rows[:, 0].astype(np.int64), rows[:, 1:3], rows[:, 3:5], rows[:, 5], rows[:, 6], covariance, rows[:, 7],
-              rows[:, 8] > 0.0, rows[:, 9].astype(np.int64))
+    arrays = (
+        rows[:, 0].astype(np.int64),
+        rows[:, 1:3],
+        rows[:, 3:5],
+        rows[:, 5],
+        rows[:, 6],
+        covariance,
+        rows[:, 7],
+        rows[:, 8] > 0.0,
+        rows[:, 9].astype(np.int64),
+    )
     for array in arrays:
         array.flags.writeable = False
     table = object.__new__(TrackTable)  # the frozen dataclass's fields, without its __init__
@@ -147,9 +199,34 @@ def table_from_rows(rows: np.ndarray, covariance: np.ndarray) -> TrackTable:
 
 
 #: The ``Tracker`` arrays ``track_step`` updates in place, in its argument order.
-STATE_FIELDS = ("pose", "odometry", "sonar_pose", "bounds", "segments", "cv_x", "cv_P", "static_x", "static_P",
-                "p_moving", "alive", "ids", "hits", "misses", "born_s", "filter_t", "seen_s", "extent_m", "segment_of",
-                "counters", "sonar_x", "sonar_P", "sonar_hits", "sonar_t", "_rows", "_covariance")
+STATE_FIELDS = (
+    "pose",
+    "odometry",
+    "sonar_pose",
+    "bounds",
+    "segments",
+    "cv_x",
+    "cv_P",
+    "static_x",
+    "static_P",
+    "p_moving",
+    "alive",
+    "ids",
+    "hits",
+    "misses",
+    "born_s",
+    "filter_t",
+    "seen_s",
+    "extent_m",
+    "segment_of",
+    "counters",
+    "sonar_x",
+    "sonar_P",
+    "sonar_hits",
+    "sonar_t",
+    "_rows",
+    "_covariance",
+)
 
 #: The table of a step without tracks (every mode but "tracker").
 EMPTY_TRACKS = table_from_rows(np.zeros((0, _N_TABLE)), np.zeros((0, 4, 4)))
@@ -237,10 +314,23 @@ class Tracker:
         beam, the sonar cones' beam bounds, and the sonar-to-laser match distance (m),
         jump σs and range noise (relative, floor m)."""
         cfg = self.config
-        return (self.beam_cos, self.beam_sin, self._sonar_cos, self._sonar_sin, self.beam_step_rad, self.params,
-                cfg.track_confirm_hits, cfg.max_speed_mps, cfg.direction_epsilon_mps, self._beam_region,
-                self._cone_bounds, cfg.sonar_ego_match_m, cfg.segment_jump_sigmas, cfg.range_noise_rel,
-                cfg.range_noise_floor_m)
+        return (
+            self.beam_cos,
+            self.beam_sin,
+            self._sonar_cos,
+            self._sonar_sin,
+            self.beam_step_rad,
+            self.params,
+            cfg.track_confirm_hits,
+            cfg.max_speed_mps,
+            cfg.direction_epsilon_mps,
+            self._beam_region,
+            self._cone_bounds,
+            cfg.sonar_ego_match_m,
+            cfg.segment_jump_sigmas,
+            cfg.range_noise_rel,
+            cfg.range_noise_floor_m,
+        )
 
     @property
     def state(self) -> tuple[np.ndarray, ...]:
@@ -249,9 +339,20 @@ class Tracker:
         scratch rows."""
         return tuple(getattr(self, name) for name in STATE_FIELDS)
 
-    def step(self, t_s: float, dt_s: float, odometry: tuple[float, float] | None, laser_new: bool, sonar_new: bool,
-             readings: np.ndarray, valid: np.ndarray, rates: np.ndarray, speeds: np.ndarray, moving: np.ndarray,
-             wanted_speed: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    def step(
+        self,
+        t_s: float,
+        dt_s: float,
+        odometry: tuple[float, float] | None,
+        laser_new: bool,
+        sonar_new: bool,
+        readings: np.ndarray,
+        valid: np.ndarray,
+        rates: np.ndarray,
+        speeds: np.ndarray,
+        moving: np.ndarray,
+        wanted_speed: np.ndarray,
+    ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
         """One reading, in one compiled call (``track_step``): dead-reckon the pose over
         ``dt_s``, take the laser scan and the sonar reading where they are new, and write
         every reading channel's kinematics.
@@ -278,8 +379,23 @@ class Tracker:
         """
         linear, angular = (0.0, 0.0) if odometry is None else odometry
         region_slot = np.empty(FRONT_SONARS, np.int64)
-        n = track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, *self.constants,
-                       *self.state, rates, speeds, moving, region_slot)
+        n = track_step(
+            t_s,
+            dt_s,
+            linear,
+            angular,
+            laser_new,
+            sonar_new,
+            readings,
+            valid,
+            wanted_speed,
+            *self.constants,
+            *self.state,
+            rates,
+            speeds,
+            moving,
+            region_slot,
+        )
         return region_slot, (self._rows[:n].copy(), self._covariance[:n].copy())
 
 
@@ -308,11 +424,62 @@ def advance_pose(dt_s, linear, angular, pose, odometry):
 
 
 @njit(cache=True)
-def track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid, wanted_speed, beam_cos, beam_sin,
-               sonar_cos, sonar_sin, beam_step_rad, params, confirm_hits, max_speed, epsilon, beam_region, cone_bounds,
-               match_m, match_sigmas, noise_rel, noise_floor_m, pose, odometry, sonar_pose, bounds, segments, cv_x, cv_P,
-               static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
-               counters, sonar_x, sonar_P, sonar_hits, sonar_t, rows, covariance, rates, speeds, moving, region_slot):
+def track_step(
+    t_s,
+    dt_s,
+    linear,
+    angular,
+    laser_new,
+    sonar_new,
+    readings,
+    valid,
+    wanted_speed,
+    beam_cos,
+    beam_sin,
+    sonar_cos,
+    sonar_sin,
+    beam_step_rad,
+    params,
+    confirm_hits,
+    max_speed,
+    epsilon,
+    beam_region,
+    cone_bounds,
+    match_m,
+    match_sigmas,
+    noise_rel,
+    noise_floor_m,
+    pose,
+    odometry,
+    sonar_pose,
+    bounds,
+    segments,
+    cv_x,
+    cv_P,
+    static_x,
+    static_P,
+    p_moving,
+    alive,
+    ids,
+    hits,
+    misses,
+    born_s,
+    filter_t,
+    seen_s,
+    extent_m,
+    segment_of,
+    counters,
+    sonar_x,
+    sonar_P,
+    sonar_hits,
+    sonar_t,
+    rows,
+    covariance,
+    rates,
+    speeds,
+    moving,
+    region_slot,
+):
     """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``,
     ``sonar_filters`` of ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
     ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows.
@@ -322,17 +489,94 @@ def track_step(t_s, dt_s, linear, angular, laser_new, sonar_new, readings, valid
     advance_pose(dt_s, linear, angular, pose, odometry)
     n_sonar = region_slot.shape[0]
     if laser_new:
-        track_scan(t_s, pose, readings[n_sonar:], beam_cos, beam_sin, beam_step_rad, params, bounds, segments, cv_x,
-                   cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m,
-                   segment_of, counters)
+        track_scan(
+            t_s,
+            pose,
+            readings[n_sonar:],
+            beam_cos,
+            beam_sin,
+            beam_step_rad,
+            params,
+            bounds,
+            segments,
+            cv_x,
+            cv_P,
+            static_x,
+            static_P,
+            p_moving,
+            alive,
+            ids,
+            hits,
+            misses,
+            born_s,
+            filter_t,
+            seen_s,
+            extent_m,
+            segment_of,
+            counters,
+        )
     if sonar_new:
-        sonar_filters(t_s, pose, sonar_pose, readings[:n_sonar], valid[:n_sonar], sonar_cos, sonar_sin, params,
-                      sonar_x, sonar_P, sonar_hits, sonar_t)
-    track_channels(t_s, pose, confirm_hits, max_speed, epsilon, wanted_speed, beam_step_rad, beam_region,
-                   cone_bounds, match_m, match_sigmas, noise_rel, noise_floor_m, readings, valid, cv_x, p_moving,
-                   alive, hits, filter_t, segment_of, bounds, sonar_x, sonar_hits, rates, speeds, moving, region_slot)
-    return track_table(t_s, pose, confirm_hits, beam_step_rad, beam_region, cv_x, cv_P, p_moving, alive, ids, hits,
-                       born_s, filter_t, rows, covariance)
+        sonar_filters(
+            t_s,
+            pose,
+            sonar_pose,
+            readings[:n_sonar],
+            valid[:n_sonar],
+            sonar_cos,
+            sonar_sin,
+            params,
+            sonar_x,
+            sonar_P,
+            sonar_hits,
+            sonar_t,
+        )
+    track_channels(
+        t_s,
+        pose,
+        confirm_hits,
+        max_speed,
+        epsilon,
+        wanted_speed,
+        beam_step_rad,
+        beam_region,
+        cone_bounds,
+        match_m,
+        match_sigmas,
+        noise_rel,
+        noise_floor_m,
+        readings,
+        valid,
+        cv_x,
+        p_moving,
+        alive,
+        hits,
+        filter_t,
+        segment_of,
+        bounds,
+        sonar_x,
+        sonar_hits,
+        rates,
+        speeds,
+        moving,
+        region_slot,
+    )
+    return track_table(
+        t_s,
+        pose,
+        confirm_hits,
+        beam_step_rad,
+        beam_region,
+        cv_x,
+        cv_P,
+        p_moving,
+        alive,
+        ids,
+        hits,
+        born_s,
+        filter_t,
+        rows,
+        covariance,
+    )
 
 
 @njit(cache=True)
@@ -368,9 +612,32 @@ def sonar_filters(t_s, pose, sonar_pose, readings_m, valid, sonar_cos, sonar_sin
 
 
 @njit(cache=True)
-def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, bounds, segments, cv_x, cv_P,
-               static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, seen_s, extent_m, segment_of,
-               counters):
+def track_scan(
+    t_s,
+    robot_pose,
+    ranges_m,
+    cos_b,
+    sin_b,
+    beam_step_rad,
+    params,
+    bounds,
+    segments,
+    cv_x,
+    cv_P,
+    static_x,
+    static_P,
+    p_moving,
+    alive,
+    ids,
+    hits,
+    misses,
+    born_s,
+    filter_t,
+    seen_s,
+    extent_m,
+    segment_of,
+    counters,
+):
     """One laser scan into the tracks, in place (the arrays of ``Tracker``).
 
     1. Segment the scan and measure each segment (laser frame); look for bodies standing
@@ -395,15 +662,43 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
        when full).
     """
     no_echo = params[_NO_ECHO]
-    n_segments = segment_scan(ranges_m, no_echo, params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP],
-                              params[_JUMP_SIGMAS], bounds)
-    measure_segments(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, bounds, n_segments, params[_NOISE_REL],
-                     params[_NOISE_FLOOR], params[_SURFACE], params[_MAX_EXTENT], int(params[_MIN_BEAMS]),
-                     segments)
-    n_segments = split_foreground(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, bounds, n_segments,
-                                  params[_NOISE_REL], params[_NOISE_FLOOR], params[_SURFACE], params[_MAX_EXTENT],
-                                  int(params[_MIN_BEAMS]), int(params[_FG_FLANK]), params[_FG_SIGMAS],
-                                  params[_FG_MARGIN], params[_FG_EDGE], segments)
+    n_segments = segment_scan(
+        ranges_m, no_echo, params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP], params[_JUMP_SIGMAS], bounds
+    )
+    measure_segments(
+        ranges_m,
+        cos_b,
+        sin_b,
+        beam_step_rad,
+        no_echo,
+        bounds,
+        n_segments,
+        params[_NOISE_REL],
+        params[_NOISE_FLOOR],
+        params[_SURFACE],
+        params[_MAX_EXTENT],
+        int(params[_MIN_BEAMS]),
+        segments,
+    )
+    n_segments = split_foreground(
+        ranges_m,
+        cos_b,
+        sin_b,
+        beam_step_rad,
+        no_echo,
+        bounds,
+        n_segments,
+        params[_NOISE_REL],
+        params[_NOISE_FLOOR],
+        params[_SURFACE],
+        params[_MAX_EXTENT],
+        int(params[_MIN_BEAMS]),
+        int(params[_FG_FLANK]),
+        params[_FG_SIGMAS],
+        params[_FG_MARGIN],
+        params[_FG_EDGE],
+        segments,
+    )
     counters[1] = n_segments
     c, s = math.cos(robot_pose[2]), math.sin(robot_pose[2])
     pose = np.empty(3)  # the laser's
@@ -452,8 +747,22 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
         k = rows[a]
         b = assignment[a]
         if b >= 0:
-            _update(k, dts[k], z[b], r[b], segments[candidate[b], _EXTENT], params, cv_x, cv_P, static_x, static_P,
-                    p_moving, hits, misses, extent_m)
+            _update(
+                k,
+                dts[k],
+                z[b],
+                r[b],
+                segments[candidate[b], _EXTENT],
+                params,
+                cv_x,
+                cv_P,
+                static_x,
+                static_P,
+                p_moving,
+                hits,
+                misses,
+                extent_m,
+            )
             seen_s[k] = t_s
             segment_of[k] = candidate[b]
             taken[b] = True
@@ -466,15 +775,43 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
         if not hidden and p_moving[k] > _CARVE_PROBABILITY:
             # a moving body merged into a longer segment? look for it where the track expects it
             dx, dy = cv_x[k, 0] - pose[0], cv_x[k, 1] - pose[1]
-            found = carve_body(ranges_m, cos_b, sin_b, beam_step_rad, no_echo, c * dx + s * dy, -s * dx + c * dy,
-                               extent_m[k], params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP],
-                               params[_JUMP_SIGMAS], params[_SURFACE], int(params[_MIN_BEAMS]), carved)
+            found = carve_body(
+                ranges_m,
+                cos_b,
+                sin_b,
+                beam_step_rad,
+                no_echo,
+                c * dx + s * dy,
+                -s * dx + c * dy,
+                extent_m[k],
+                params[_NOISE_REL],
+                params[_NOISE_FLOOR],
+                params[_JUMP],
+                params[_JUMP_SIGMAS],
+                params[_SURFACE],
+                int(params[_MIN_BEAMS]),
+                carved,
+            )
             if found:
                 _to_odometry(pose, c, s, carved, carved_z, carved_r)
                 found = _mahalanobis2(cv_x[k], cv_P[k], carved_z, carved_r)[0] < params[_GATE]
             if found:  # not a segment of its own: the track still dies after track_coast_s
-                _update(k, dts[k], carved_z, carved_r, extent_m[k], params, cv_x, cv_P, static_x, static_P,
-                        p_moving, hits, misses, extent_m)
+                _update(
+                    k,
+                    dts[k],
+                    carved_z,
+                    carved_r,
+                    extent_m[k],
+                    params,
+                    cv_x,
+                    cv_P,
+                    static_x,
+                    static_P,
+                    p_moving,
+                    hits,
+                    misses,
+                    extent_m,
+                )
         if not (hidden or found):
             misses[k] += 1
         if misses[k] >= params[_DELETE] or t_s - seen_s[k] > params[_COAST]:
@@ -487,8 +824,25 @@ def track_scan(t_s, robot_pose, ranges_m, cos_b, sin_b, beam_step_rad, params, b
             slot += 1
         if slot == capacity:
             break
-        _birth(slot, t_s, z[b], r[b], params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses,
-               born_s, filter_t, counters)
+        _birth(
+            slot,
+            t_s,
+            z[b],
+            r[b],
+            params,
+            cv_x,
+            cv_P,
+            static_x,
+            static_P,
+            p_moving,
+            alive,
+            ids,
+            hits,
+            misses,
+            born_s,
+            filter_t,
+            counters,
+        )
         seen_s[slot] = t_s
         extent_m[slot] = segments[candidate[b], _EXTENT]
         segment_of[slot] = candidate[b]
@@ -548,8 +902,9 @@ def _hidden(state, pose, ranges_m, beam_step_rad, margin_m):
 
 
 @njit(cache=True)
-def _birth(k, t_s, z, r, params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s,
-           filter_t, counters):
+def _birth(
+    k, t_s, z, r, params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, counters
+):
     """Start track slot ``k`` at the measurement ``z`` ``(2,)`` with covariance ``r`` ``(2, 2)``."""
     position_var = params[_POSITION_SIGMA] ** 2
     cv_x[k, 0], cv_x[k, 1], cv_x[k, 2], cv_x[k, 3] = z[0], z[1], 0.0, 0.0
