@@ -6,7 +6,8 @@
 - ``require``: import an optional module, or raise ``MissingExtraError``.
 
 The core (``pip install attentive_gym``) runs the environments and the attention library;
-rendering needs the ``render`` extra (pygame) and figures the ``plot`` extra (matplotlib).
+rendering needs the ``render`` extra (pygame), figures the ``plot`` extra (matplotlib), and
+training or evaluating agents the ``agents`` extra (torch, stable-baselines3).
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ __all__ = ["EXTRAS", "MissingExtraError", "require"]
 EXTRAS: dict[str, tuple[str, str]] = {
     "pygame": ("pygame", "render"),
     "matplotlib": ("matplotlib", "plot"),
+    "torch": ("torch", "agents"),
+    "stable_baselines3": ("stable-baselines3", "agents"),
 }
 
 

@@ -162,8 +162,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="attentive-gym",
         description="attentive_gym: a bio-inspired attentional model for multi-sensor robots, its Gymnasium "
         "rescue environment, and RL comparisons of attended against raw observations.",
-        epilog="start with: 'attentive-gym compare --quick' (PPO on raw, focus and oracle observations, about "
-        "10 minutes on 2 cores) or 'attentive-gym experiment all' (the paper's five experiments); "
+        epilog="start with: 'attentive-gym compare --quick' (PPO on raw, focus and oracle observations, "
+        "3 seeds each) or 'attentive-gym experiment all' (the paper's five experiments); "
         "'attentive-gym COMMAND --help' lists a command's options.",
     )
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")

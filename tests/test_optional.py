@@ -48,9 +48,10 @@ def test_require_sees_a_missing_package_behind_a_cached_submodule(no_matplotlib)
 
 def test_require_refuses_a_module_that_is_not_an_optional_dependency():
     with pytest.raises(
-        ValueError, match=r"'torch' is not an optional dependency; allowed packages: pygame, matplotlib"
+        ValueError,
+        match=r"'numba' is not an optional dependency; allowed packages: pygame, matplotlib, torch, stable_baselines3",
     ):
-        require("torch", "training")
+        require("numba", "compiling")
 
 
 def test_a_broken_install_is_not_reported_as_a_missing_extra(tmp_path, monkeypatch):
@@ -128,3 +129,18 @@ def test_the_package_and_every_environment_work_with_neither_pygame_nor_matplotl
     result = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "ok"
+
+
+@pytest.mark.parametrize("missing", ["torch", "stable_baselines3"])
+@pytest.mark.parametrize("command", [["train", "--steps", "512", "--out", "{out}/run"], ["compare", "--quick"]])
+def test_agent_commands_without_the_agents_extra_stop_before_any_work(monkeypatch, tmp_path, capsys, missing, command):
+    from attentive_gym.cli import EXIT_USAGE, main
+
+    monkeypatch.setitem(sys.modules, missing, None)
+    monkeypatch.chdir(tmp_path)
+    status = main([part.format(out=tmp_path) for part in command])
+    assert status == EXIT_USAGE
+    assert f'attentive-gym {command[0]} needs {EXTRAS[missing][0]}: pip install "attentive_gym[agents]"' in (
+        capsys.readouterr().err
+    )
+    assert not list(tmp_path.iterdir())

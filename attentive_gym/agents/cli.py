@@ -15,6 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from attentive_gym._optional import require
 from attentive_gym.agents.backends import BACKENDS
 from attentive_gym.agents.config import (
     ALGO_DEFAULTS,
@@ -262,7 +263,15 @@ def add_train(subparsers) -> None:
     parser.set_defaults(handler=_run_train)
 
 
+def _require_agents_extra(command: str) -> None:
+    """Raise ``MissingExtraError`` naming the ``agents`` extra, before any work, when torch or
+    stable-baselines3 is not installed."""
+    for module in ("torch", "stable_baselines3"):
+        require(module, f"attentive-gym {command}")
+
+
 def _run_train(args: argparse.Namespace) -> int:
+    _require_agents_extra("train")
     from attentive_gym.agents.training import holds_progress, train
 
     out = args.out or Path("runs") / f"train-{RunSpec(variant=args.variant, seed=args.seed).run_name}"
@@ -322,6 +331,7 @@ def add_evaluate(subparsers) -> None:
 
 
 def _run_evaluate(args: argparse.Namespace) -> int:
+    _require_agents_extra("evaluate")
     from attentive_gym.agents.evaluation import check_video_dir, evaluate_policy, record_videos
     from attentive_gym.agents.training import env_factory, eval_seed, load_policy
 
@@ -388,7 +398,7 @@ def add_compare(subparsers) -> None:
     parser.add_argument(
         "--quick",
         action="store_true",
-        help=f"a ~10-minute budget on 2 cores: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
+        help=f"the README's quick comparison: {','.join(QUICK['variants'])} × {_QUICK_SEEDS} seeds × "
         f"{QUICK['total_steps']} steps in an {QUICK['env_kwargs']['arena_size_m']:g} m arena "
         "(explicit options still win)",
     )
@@ -405,6 +415,7 @@ def add_compare(subparsers) -> None:
 
 
 def _run_compare(args: argparse.Namespace) -> int:
+    _require_agents_extra("compare")
     from attentive_gym.agents.compare import compare, runs_hold_progress
     from attentive_gym.agents.config import parse_seeds, parse_variants
 
