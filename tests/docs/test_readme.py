@@ -17,3 +17,21 @@ def test_the_readme_has_python_examples():
 def test_readme_example_runs(index, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(EXAMPLES[index], f"README.md example {index}", "exec"), {"__name__": "readme_example"})
+
+
+VARIANT_ROW = re.compile(r"^\| `([a-z-]+)` \| `(AttentiveRescue\w*-v\d+)` \| .* \| (\d+) \|$", flags=re.M)
+PAGES_WITH_THE_VARIANT_TABLE = (README, README.parent / "docs" / "observations.md")
+
+
+@pytest.mark.parametrize("page", PAGES_WITH_THE_VARIANT_TABLE, ids=lambda page: page.name)
+def test_the_variant_tables_name_every_variant_with_its_id_and_observation_size(page):
+    from attentive_gym.wrappers import make_env
+    from attentive_gym.wrappers.variants import VARIANT_IDS, VARIANTS
+
+    rows = VARIANT_ROW.findall(page.read_text(encoding="utf-8"))
+    assert [variant for variant, _, _ in rows] == list(VARIANTS)
+    for variant, env_id, size in rows:
+        assert env_id == VARIANT_IDS[variant], (page.name, variant)
+        env = make_env(variant, flatten=True)
+        assert env.observation_space.shape == (int(size),), (page.name, variant)
+        env.close()
