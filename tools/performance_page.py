@@ -76,15 +76,23 @@ def machines(figures: Figures) -> dict[str, tuple[int, int]]:
     return {name: (run["cpus"], run["numba_threads"]) for name, run in sorted(runs.items())}
 
 
+def _machine(cpus: int, threads: int) -> str:
+    return f"a machine with {cpus} cores, numba on {threads} thread{'s' * (threads != 1)}"
+
+
 def machine_text(figures: Figures) -> str:
-    """The machine of the runs: the cores and numba threads each benchmark had."""
-    kinds = set(machines(figures).values())
-    if len(kinds) == 1:
-        cpus, threads = kinds.pop()
-        return f"a machine with {cpus} cores, numba on {threads} thread{'s' * (threads != 1)}"
-    return "; ".join(
-        f"`{name}` on {cpus} cores with {threads} numba threads" for name, (cpus, threads) in machines(figures).items()
-    )
+    """The machine of the runs: the cores and numba threads most benchmarks had, and the
+    benchmarks that had others."""
+    by_kind: dict[tuple[int, int], list[str]] = {}
+    for name, kind in machines(figures).items():
+        by_kind.setdefault(kind, []).append(name)
+    common = max(by_kind, key=lambda kind: len(by_kind[kind]))
+    others = [
+        f"{', '.join(f'`{name}`' for name in names)} on {_machine(*kind)}"
+        for kind, names in by_kind.items()
+        if kind != common
+    ]
+    return _machine(*common) + (f" ({'; '.join(others)})" if others else "")
 
 
 def commands(figures: Figures) -> str:

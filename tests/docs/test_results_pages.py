@@ -111,6 +111,13 @@ def test_the_performance_page_shows_ratios_of_the_same_run_and_leaves_out_what_w
     assert "`raw` |" not in page.split("Against VMAS")[0].split("## The native vector env")[1]  # no raw peers row
     assert "The floor" not in page and "by the number of envs" not in page  # sections not measured
     assert "NUMBA_NUM_THREADS" not in page  # numba's default: every core
+    vector_on_one = [
+        {**row, "value": "1"} if (row["benchmark"], row["metric"]) == ("vector", "numba_threads") else row
+        for row in _performance_rows()
+    ]
+    assert performance_page.machine_text(performance_page.Figures(vector_on_one)) == (
+        "a machine with 2 cores, numba on 2 threads (`vector` on a machine with 2 cores, numba on 1 thread)"
+    )
     one_thread = [{**row, "value": "1"} if row["metric"] == "numba_threads" else row for row in _performance_rows()]
     assert "export NUMBA_NUM_THREADS=1" in performance_page.commands(performance_page.Figures(one_thread))
     assert performance_page.headline(tmp_path) == [
