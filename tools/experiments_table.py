@@ -5,7 +5,7 @@ over ``--seeds`` noisy seeds in each column (``attentive_gym.experiments.table.m
 writes the measurement as tidy rows to ``--csv`` (default
 ``docs/results/experiment_checks.csv``) and prints the Markdown table. ``python
 tools/report.py render`` then writes ``docs/results/checks.md`` from the CSV without
-rerunning anything. About 2 minutes on 2 cores with the defaults::
+rerunning anything (the page says how long the defaults take)::
 
     python tools/experiments_table.py                                  # 20 seeds at 5 %, the committed CSV
     python tools/experiments_table.py --config '{"normalise_combined": false, "threshold": 0.2}' --csv /tmp/sum.csv

@@ -16,7 +16,7 @@ With ``extend``, a comparison whose settings differ only by a larger ``total_ste
 every run on to the new budget from its latest checkpoint (``training.train``'s ``extend``).
 SIGINT or SIGTERM stop the runs in progress and start no queued one: ``compare`` raises
 ``Interrupted`` saying what finished. ``QUICK`` (from ``config``) is the budget of
-``attentive-gym compare --quick``: about ten minutes on two cores.
+``attentive-gym compare --quick`` (its run time: the README's main job).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@
 - ``markdown(measured)``: the table as Markdown, with a row of totals.
 
 The repository's ``tools/experiments_table.py`` measures the table into
-``docs/results/experiment_checks.csv`` (about 2 minutes on 2 cores) and
+``docs/results/experiment_checks.csv`` (its run time: ``docs/results/checks.md``) and
 ``tools/report.py render`` writes the docs page from it. ``python -m
 attentive_gym.experiments.table`` still prints the table, with a ``DeprecationWarning``.
 """
