@@ -52,7 +52,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "## Reproduce",
             "",
             "```bash",
-            f"{WRITTEN_BY}    # about 2 minutes on 2 cores; writes {SOURCE.as_posix()}",
+            f"{WRITTEN_BY}    # about 15 s on 2 cores once the kernels are compiled; writes {SOURCE.as_posix()}",
             "python tools/report.py render",
             "```",
             "",
