@@ -7,7 +7,8 @@
 
 The core (``pip install attentive_gym``) runs the environments and the attention library;
 rendering needs the ``render`` extra (pygame), figures the ``plot`` extra (matplotlib), and
-training or evaluating agents the ``agents`` extra (torch, stable-baselines3).
+training or evaluating agents the ``agents`` extra (torch, stable-baselines3), and
+recording videos the ``video`` extra (moviepy).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ EXTRAS: dict[str, tuple[str, str]] = {
     "matplotlib": ("matplotlib", "plot"),
     "torch": ("torch", "agents"),
     "stable_baselines3": ("stable-baselines3", "agents"),
+    "moviepy": ("moviepy", "video"),
 }
 
 

@@ -49,7 +49,8 @@ def test_require_sees_a_missing_package_behind_a_cached_submodule(no_matplotlib)
 def test_require_refuses_a_module_that_is_not_an_optional_dependency():
     with pytest.raises(
         ValueError,
-        match=r"'numba' is not an optional dependency; allowed packages: pygame, matplotlib, torch, stable_baselines3",
+        match=r"'numba' is not an optional dependency; "
+        r"allowed packages: pygame, matplotlib, torch, stable_baselines3, moviepy",
     ):
         require("numba", "compiling")
 
@@ -143,4 +144,18 @@ def test_agent_commands_without_the_agents_extra_stop_before_any_work(monkeypatc
     assert f'attentive-gym {command[0]} needs {EXTRAS[missing][0]}: pip install "attentive_gym[agents]"' in (
         capsys.readouterr().err
     )
+    assert not list(tmp_path.iterdir())
+
+
+def test_evaluate_with_video_without_moviepy_names_the_video_extra_before_loading_the_model(
+    monkeypatch, tmp_path, capsys
+):
+    from attentive_gym.cli import EXIT_USAGE, main
+
+    monkeypatch.setitem(sys.modules, "moviepy", None)
+    status = main(["evaluate", str(tmp_path / "no-such-run"), "--video", str(tmp_path / "videos")])
+    assert status == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert 'needs moviepy: pip install "attentive_gym[video]"' in err
+    assert "no-such-run" not in err  # refused before the model is looked for
     assert not list(tmp_path.iterdir())

@@ -336,6 +336,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     from attentive_gym.agents.training import env_factory, eval_seed, load_policy
 
     if args.video:
+        require("moviepy", "--video (gymnasium's RecordVideo writes MP4 with it)")
         check_video_dir(args.video)
     model, spec = load_policy(args.model)
     seed = eval_seed(spec) if args.seed is None else args.seed

@@ -20,6 +20,7 @@ import gymnasium as gym
 import numpy as np
 
 from attentive_gym._checks import check_int
+from attentive_gym._optional import require
 
 __all__ = [
     "EvalResult",
@@ -227,15 +228,10 @@ def record_videos(model: Any, make_env_fn: Callable[..., gym.Env], video_dir, ep
     returns the files written.
 
     ``make_env_fn(render_mode="rgb_array")`` must build the environment. Needs ``moviepy``
-    (``pip install moviepy``); raises ``ValueError`` saying so when it is missing, and when
-    ``video_dir`` already holds videos (``check_video_dir``).
+    (the ``video`` extra): raises ``MissingExtraError`` naming the extra when it is missing,
+    and ``ValueError`` when ``video_dir`` already holds videos (``check_video_dir``).
     """
-    try:
-        import moviepy  # noqa: F401
-    except ImportError:
-        raise ValueError(
-            "--video needs moviepy (gymnasium's RecordVideo writes MP4 with it): pip install moviepy"
-        ) from None
+    require("moviepy", "--video (gymnasium's RecordVideo writes MP4 with it)")
     from pathlib import Path
 
     check_video_dir(video_dir)

@@ -5,9 +5,13 @@
   ``attentive_gym.agents.merged``; this module re-exports them.
 - The commands that rewrite the docs (``add``, ``render``) are the repository's
   ``tools/report.py``, which ``render`` now writes ``docs/results/rl.md`` with, besides the
-  other results pages and the README's headline. ``main`` and ``render_block`` still work in
-  a checkout of the repository (an editable install), where ``tools/`` is, and raise
-  ``RuntimeError`` naming the replacement elsewhere.
+  other results pages and the README's headline. In a checkout of the repository (an
+  editable install), where ``tools/`` is, ``main`` forwards to that tool and ``render_block``
+  still works; elsewhere both raise ``RuntimeError`` naming the replacement. ``main`` takes
+  the tool's options: ``add`` as before, and ``render [--check] [--root DIR]``, which writes
+  every page under ``DIR`` (default: the checkout); the old ``render`` options
+  ``--comparison``, ``--clutter-csv``, ``--readme`` and ``--figures`` are gone, and paths are
+  the checkout's, not the working directory's.
 
 Importing this module warns with a ``DeprecationWarning``.
 """
