@@ -1,10 +1,12 @@
 """The speed benchmarks' figures as tidy CSV rows, all benchmarks in one file.
 
 ``Figures(benchmark)`` collects one row per (section, subject, number of envs, metric);
-``write(path)`` merges them into ``path``: the rows of other benchmarks stay, this
-benchmark's previous rows are replaced, and a ``run`` section records the machine the run
-had (``cpus``: the cores this process may use; ``numba_threads``). ``tools/report.py
-render`` turns the file (``docs/results/performance.csv``) into ``docs/results/performance.md``.
+``write(path)`` merges them into ``path``: the sections this run wrote replace this
+benchmark's rows of those sections, in their place, and every other row stays, so a run of
+some sections keeps the benchmark's others. A ``run`` section, rewritten by every run,
+records the machine the run had (``cpus``: the cores this process may use;
+``numba_threads``). ``tools/report.py render`` turns the file
+(``docs/results/performance.csv``) into ``docs/results/performance.md``.
 Metric names carry their unit: ``*_us`` µs, ``*_per_s`` per second, ``*_mib`` MiB, and
 ``*_fraction`` / ``*_ratio`` no unit.
 """
@@ -52,19 +54,41 @@ class Figures:
             )
 
     def write(self, path: str | os.PathLike) -> Path:
-        """Merge the rows into the CSV at ``path`` (created if missing), with the ``run`` rows."""
+        """Merge the rows into the CSV at ``path`` (created if missing), with the ``run`` rows.
+
+        Each section this run wrote takes the place of the rows this benchmark had in that
+        section; a section new to the file goes after the benchmark's last row (or at the
+        end); all other rows stay where they are.
+        """
         path = Path(path)
-        kept = []
-        if path.is_file():
-            with open(path, newline="", encoding="utf-8") as handle:
-                kept = [row for row in csv.DictReader(handle) if row["benchmark"] != self.benchmark]
         run = Figures(self.benchmark)
         run.add("run", "machine", {"cpus": cpus(), "numba_threads": numba.get_num_threads()})
+        fresh: dict[str, list[dict[str, str]]] = {}
+        for row in [*run.rows, *self.rows]:
+            fresh.setdefault(row["section"], []).append(row)
+        merged: list[dict[str, str]] = []
+        for row in _read(path):
+            if row["benchmark"] != self.benchmark or row["section"] not in fresh:
+                merged.append(row)
+            elif fresh[row["section"]]:  # the section's first old row: the new rows go here
+                merged.extend(fresh[row["section"]])
+                fresh[row["section"]] = []
+        ours = [i for i, row in enumerate(merged) if row["benchmark"] == self.benchmark]
+        at = ours[-1] + 1 if ours else len(merged)
+        merged[at:at] = [row for rows in fresh.values() for row in rows]
         buffer = io.StringIO()
         writer = csv.DictWriter(buffer, fieldnames=list(COLUMNS), lineterminator="\n")
         writer.writeheader()
-        writer.writerows([*kept, *run.rows, *self.rows])
+        writer.writerows(merged)
         with atomic_file(path) as handle:
             handle.write(buffer.getvalue())
         print(f"wrote {len(self.rows)} rows of {self.benchmark} to {path}")
         return path
+
+
+def _read(path: Path) -> list[dict[str, str]]:
+    """The rows of the CSV at ``path`` as text, none where it does not exist yet."""
+    if not path.is_file():
+        return []
+    with open(path, newline="", encoding="utf-8") as handle:
+        return list(csv.DictReader(handle))
