@@ -5,11 +5,15 @@ Every import statement counts, at module level or inside a function: a lazy impo
 function runs as soon as the function does, and one that goes up a layer is how a circle
 hides (the module level stays acyclic while the program is not). Only imports under
 ``if TYPE_CHECKING:`` are left out, since they never run.
+
+The attention library's rule is an allow-list, so that a new subpackage or dependency is
+refused until it is allowed here on purpose.
 """
 
 from __future__ import annotations
 
 import ast
+import sys
 from pathlib import Path
 
 import pytest
@@ -18,10 +22,14 @@ import attentive_gym
 
 PACKAGE = "attentive_gym"
 ROOT = Path(attentive_gym.__file__).parent
-#: Third-party packages the attention library must not import (``attentive_gym/__init__.py``: pure numpy).
-ATTENTION_FORBIDS_EXTERNAL = ("gymnasium", "pymunk", "pygame", "torch")
-#: Subpackages above the attention library, which it must not import.
-ATTENTION_FORBIDS_INTERNAL = tuple(f"{PACKAGE}.{name}" for name in ("world", "sensors", "envs", "wrappers", "agents"))
+ATTENTION = f"{PACKAGE}.attention"
+#: Third-party packages the attention library may import anywhere (``attentive_gym/__init__.py``:
+#: pure numpy, compiled with numba, whose llvmlite it reaches for its intrinsics). Besides these: the
+#: standard library, its own modules and the package's top-level private modules (``attentive_gym._*``).
+ATTENTION_ALLOWS_EXTERNAL = frozenset({"numpy", "numba", "llvmlite"})
+#: Third-party packages it may import only inside a function, so that importing the library never
+#: needs them: rosbags, the ``ros`` extra (``attention.io.rosbag`` reads ROS bags with it).
+ATTENTION_ALLOWS_LAZY = frozenset({"rosbags"})
 
 
 def module_name(path: Path) -> str:
@@ -40,8 +48,9 @@ def _is_type_checking_block(node: ast.AST) -> bool:
     return isinstance(node, ast.If) and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING")
 
 
-def _import_nodes(tree: ast.AST):
-    """The ``Import`` and ``ImportFrom`` nodes of ``tree`` at any depth, but not under ``if TYPE_CHECKING:``."""
+def _import_nodes(tree: ast.AST, *, into_functions: bool = True):
+    """The ``Import`` and ``ImportFrom`` nodes of ``tree`` at any depth, but not under ``if TYPE_CHECKING:``;
+    with ``into_functions=False`` only those that run on import (none inside a function's body)."""
     stack = [tree]
     while stack:
         node = stack.pop()
@@ -49,17 +58,20 @@ def _import_nodes(tree: ast.AST):
             yield node
         elif _is_type_checking_block(node):
             stack.extend(node.orelse)
-        else:
+        elif into_functions or not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
             stack.extend(ast.iter_child_nodes(node))
 
 
-def imported_names(name: str, path: Path) -> set[str]:
+def imported_names(name: str, path: Path, *, module_level_only: bool = False) -> set[str]:
     """The dotted names module ``name`` (at ``path``) imports: ``import a.b`` → ``a.b``;
     ``from a import b`` → ``a.b`` (``b`` may be a submodule or an attribute of ``a``: ``_resolve``
-    tells); ``from a import *`` → ``a``; relative imports resolved against the module's package."""
+    tells); ``from a import *`` → ``a``; relative imports resolved against the module's package.
+    With ``module_level_only``, only the imports that run when the module is imported (not those
+    inside functions)."""
     is_package = path.name == "__init__.py"
     names = set()
-    for node in _import_nodes(ast.parse(path.read_text(), filename=str(path))):
+    tree = ast.parse(path.read_text(), filename=str(path))
+    for node in _import_nodes(tree, into_functions=not module_level_only):
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
             continue
@@ -165,6 +177,7 @@ def test_the_graph_finder_sees_lazy_and_relative_imports(tmp_path):
         f"{PACKAGE}.agents.b",
         f"{PACKAGE}.attention.model",
     }
+    assert imported_names(f"{PACKAGE}.agents.a", source, module_level_only=True) == {"typing.TYPE_CHECKING"}
     assert imported_names(f"{PACKAGE}.agents", package / "__init__.py") == {f"{PACKAGE}.agents.a.thing"}
     (package / "b.py").write_text("from attentive_gym.agents.a import f\n")
     modules = {
@@ -199,19 +212,63 @@ def test_no_import_circle():
     assert not found, "import circles (each module imports the next):\n" + "\n".join(" -> ".join(c) for c in found)
 
 
-@pytest.mark.parametrize(
-    "name", sorted(n for n in package_modules() if n == f"{PACKAGE}.attention" or n.startswith(f"{PACKAGE}.attention."))
-)
-def test_the_attention_library_imports_no_layer_above_it(name):
-    """``attentive_gym.attention`` is pure numpy (+ numba): no simulator, no RL stack, nothing above it."""
-    imported = imported_names(name, package_modules()[name])
-    forbidden = sorted(
-        i
-        for i in imported
-        if i.split(".")[0] in ATTENTION_FORBIDS_EXTERNAL
-        or any(i == layer or i.startswith(layer + ".") for layer in ATTENTION_FORBIDS_INTERNAL)
+def attention_import_refusals(name: str, path: Path, modules: dict[str, Path]) -> list[str]:
+    """The imports of attention-library module ``name`` (at ``path``) that its allow-list refuses,
+    each with the reason; ``modules``: the package's modules, by dotted name."""
+    module_level = imported_names(name, path, module_level_only=True)
+    refused = []
+    for imported in sorted(imported_names(name, path)):
+        top = imported.split(".")[0]
+        if top == PACKAGE:
+            if imported == ATTENTION or imported.startswith(ATTENTION + "."):
+                continue
+            loaded = _resolve(imported, modules)
+            if loaded is not None and loaded.count(".") == 1 and loaded.split(".")[1].startswith("_"):
+                continue
+            refused.append(f"{imported} (a part of {PACKAGE} outside the attention library and its private helpers)")
+        elif top in sys.stdlib_module_names or top in ATTENTION_ALLOWS_EXTERNAL:
+            continue
+        elif top in ATTENTION_ALLOWS_LAZY:
+            if imported in module_level:
+                refused.append(f"{imported} (at module level; {top} may be imported only inside a function)")
+        else:
+            refused.append(f"{imported} (a third-party package not on the allow-list)")
+    return refused
+
+
+def test_the_attention_rule_refuses_what_is_not_allowed(tmp_path):
+    """The allow-list itself: a layer above, a sibling subpackage, a public top-level module, an
+    unlisted third-party package and a module-level rosbags import are refused; what is allowed passes."""
+    modules = package_modules()
+    source = tmp_path / "probe.py"
+    source.write_text(
+        "import os.path\nimport numpy as np\nfrom numba import njit\nfrom attentive_gym._atomic import atomic_file\n"
+        "from . import config\nimport rosbags.typesys\nimport matplotlib.pyplot\n"
+        "from attentive_gym.perception import geometry\nfrom attentive_gym import registration\n"
+        "def read():\n    from rosbags.highlevel import AnyReader\n    import yaml\n"
+        "    from attentive_gym.viz import x\n"
     )
-    assert not forbidden, (
-        f"{name} imports {forbidden}; the attention library may import numpy, numba, the "
-        f"standard library, its own modules and {PACKAGE}'s private helpers"
+    refused = attention_import_refusals(f"{ATTENTION}.probe", source, modules)
+    assert [entry.split(" ")[0] for entry in refused] == [
+        f"{PACKAGE}.perception.geometry",
+        f"{PACKAGE}.registration",
+        f"{PACKAGE}.viz.x",
+        "matplotlib.pyplot",
+        "rosbags.typesys",
+        "yaml",
+    ]
+
+
+@pytest.mark.parametrize(
+    "name", sorted(n for n in package_modules() if n == ATTENTION or n.startswith(ATTENTION + "."))
+)
+def test_the_attention_library_imports_only_what_it_may(name):
+    """``attentive_gym.attention`` is pure numpy (+ numba): no simulator, no RL stack, no plotting,
+    nothing above it (the allow-list of ``attention_import_refusals``)."""
+    modules = package_modules()
+    refused = attention_import_refusals(name, modules[name], modules)
+    assert not refused, (
+        f"{name} imports " + "; ".join(refused) + f": the attention library may import the standard library, "
+        f"{', '.join(sorted(ATTENTION_ALLOWS_EXTERNAL))}, {', '.join(sorted(ATTENTION_ALLOWS_LAZY))} inside "
+        f"functions only, its own modules and {PACKAGE}'s top-level private modules ({PACKAGE}._*)"
     )
