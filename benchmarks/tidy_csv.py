@@ -14,14 +14,13 @@ Metric names carry their unit: ``*_us`` µs, ``*_per_s`` per second, ``*_mib`` M
 from __future__ import annotations
 
 import csv
-import io
 import os
 from collections.abc import Mapping
 from pathlib import Path
 
 import numba
 
-from attentive_gym._atomic import atomic_file
+from attentive_gym.agents.results import write_csv_atomic
 
 #: The file's columns; ``num_envs`` is empty where the figure is not a vector env's.
 COLUMNS = ("benchmark", "section", "subject", "num_envs", "metric", "value")
@@ -76,12 +75,7 @@ class Figures:
         ours = [i for i, row in enumerate(merged) if row["benchmark"] == self.benchmark]
         at = ours[-1] + 1 if ours else len(merged)
         merged[at:at] = [row for rows in fresh.values() for row in rows]
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=list(COLUMNS), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(merged)
-        with atomic_file(path) as handle:
-            handle.write(buffer.getvalue())
+        write_csv_atomic(path, merged, COLUMNS)
         print(f"wrote {len(self.rows)} rows of {self.benchmark} to {path}")
         return path
 

@@ -14,30 +14,18 @@ rerunning anything (the page says how long the defaults take)::
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from attentive_gym._atomic import atomic_file
+from attentive_gym.agents.results import write_csv_atomic
 from attentive_gym.experiments.table import CSV_COLUMNS, markdown, measure, to_rows
 
 #: The repository's root (this file is in ``tools/``).
 ROOT = Path(__file__).resolve().parents[1]
 #: Where the committed measurement lives.
 DEFAULT_CSV = ROOT / "docs" / "results" / "experiment_checks.csv"
-
-
-def write_rows(path: Path, rows: Sequence[dict[str, str]]) -> None:
-    """Write ``rows`` (``CSV_COLUMNS``) to ``path`` atomically."""
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=list(CSV_COLUMNS), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    with atomic_file(path) as handle:
-        handle.write(buffer.getvalue())
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -60,7 +48,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ValueError, json.JSONDecodeError) as err:
         print(f"{parser.prog}: error: {err}", file=sys.stderr)
         return 2
-    write_rows(args.csv, to_rows(measured, args.seeds, args.noise, config))
+    write_csv_atomic(args.csv, to_rows(measured, args.seeds, args.noise, config), CSV_COLUMNS)
     print(markdown(measured, args.seeds, args.noise))
     print(f"\nwrote {args.csv}")
     return 0
