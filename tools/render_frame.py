@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from attentive_gym.attention import ORIGIN_TOP_DOWN
 from attentive_gym.attention.regions import laser_bearings_rad
+from attentive_gym.perception.geometry import true_target_bearing
 from attentive_gym.wrappers import make_env
 
 #: Where the README expects its picture.
@@ -54,7 +56,7 @@ def render_frame(seed: int = 0, min_time_s: float = 2.0, max_steps: int = 800) -
             output = info["attention"]
             if (
                 info["time_s"] >= min_time_s
-                and output.origin == "top-down"
+                and output.origin == ORIGIN_TOP_DOWN
                 and target_in_region(info, grid.beam_slices[output.focus])
             ):
                 return env.render(), float(info["time_s"])
@@ -72,9 +74,7 @@ def target_in_region(info: dict, beams: slice) -> bool:
     """Whether the task's target lies within the laser beams ``beams`` of a region (each
     beam ``HALF_BEAM_RAD`` wide on either side of its bearing), by its centre's bearing
     from the robot (``info`` of an env step)."""
-    x, y, heading = info["robot_pose"]
-    tx, ty = info["mover_positions"][info["target_index"]]
-    bearing = (np.arctan2(ty - y, tx - x) - heading + np.pi) % (2 * np.pi) - np.pi  # rad, robot frame
+    bearing = true_target_bearing(info)  # rad, robot frame
     bearings = laser_bearings_rad()
     return bool(bearings[beams.start] - HALF_BEAM_RAD <= bearing <= bearings[beams.stop - 1] + HALF_BEAM_RAD)
 
