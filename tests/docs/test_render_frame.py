@@ -1,26 +1,18 @@
 """``tools/render_frame.py``: the README's picture shows a top-down focus on the target."""
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from attentive_gym.attention import Grid
 from attentive_gym.wrappers.overlay import FOCUS_COLOURS
-
-TOOL = Path(__file__).resolve().parents[2] / "tools" / "render_frame.py"
+from support import load_tool
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("render_frame", TOOL)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["render_frame"] = module
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("render_frame")
 
 
 def _info(bearing_rad: float, heading_rad: float = 0.7) -> dict:
