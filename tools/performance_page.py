@@ -4,6 +4,8 @@ From ``docs/results/performance.csv``, the tidy rows the speed benchmarks write 
 ``--csv`` (``benchmarks/tidy_csv.py``: benchmark, section, subject, num_envs, metric, value):
 
 - ``Figures(rows)``: look-ups into the rows, ``None`` where a figure was not measured;
+- ``env_speeds`` / ``model_costs`` / ``vector_peers``: the figures that both the page and
+  the README's headline give, looked up in one place;
 - ``single_env_table`` / ``vector_tables`` / ``machine_text``: the page's parts;
 - ``headline(root)``: up to three figures for the README (native vector env against the
   sync one, a raw step against BipedalWalker-v3, the model's share of a raw step);
@@ -107,19 +109,44 @@ def commands(figures: Figures) -> str:
     return "\n".join(lines)
 
 
+def env_speeds(f: Figures) -> tuple[float | None, float | None]:
+    """Steps per second of a raw ``AttentiveRescue-v0`` step and of BipedalWalker-v3 (same run)."""
+    return (
+        f.get("env", "peers", "AttentiveRescue-v0", "steps_per_s"),
+        f.get("env", "peers", "BipedalWalker-v3", "steps_per_s"),
+    )
+
+
+def model_costs(f: Figures) -> tuple[float | None, float | None, float | None]:
+    """µs of the attentional model's step (six maps) with the robot still and moving, and of
+    a raw env step (same run)."""
+    return (
+        f.get("attention", "model", "robot still", "step_us"),
+        f.get("attention", "model", "robot moving", "step_us"),
+        f.get("attention", "model", "raw AttentiveRescue-v0", "step_us"),
+    )
+
+
+def vector_peers(f: Figures, variant: str) -> tuple[float | None, float | None, float | None]:
+    """µs per env-step, with 16 envs running ``variant``, of the native vector env, of
+    gymnasium's sync vector env and of BipedalWalker-v3 (one env) (same run)."""
+    return (
+        f.get("vector", "peers", variant, "native_us", 16),
+        f.get("vector", "peers", variant, "sync_us", 16),
+        f.get("vector", "peers", variant, "bipedal_walker_us", 16),
+    )
+
+
 def single_env_table(f: Figures) -> str:
     """The single env's figures, each beside its peer of the same run."""
-    ours, walker = (f.get("env", "peers", name, "steps_per_s") for name in ("AttentiveRescue-v0", "BipedalWalker-v3"))
+    ours, walker = env_speeds(f)
     analytic, per_ray = (
         f.get("sensors", "sweep", name, "sweep_us") for name in ("analytic kernels", "pymunk per-ray queries")
     )
     rays = f.get("sensors", "sweep", "pymunk per-ray queries", "rays")
     few, many = (f.get("env", "rubble", f"{n} rubble pieces", "step_us") for n in (10, 200))
     few_shapes, many_shapes = (f.get("env", "rubble", f"{n} rubble pieces", "shapes") for n in (10, 200))
-    still, moving, env_us = (
-        f.get("attention", "model", name, "step_us")
-        for name in ("robot still", "robot moving", "raw AttentiveRescue-v0")
-    )
+    still, moving, env_us = model_costs(f)
     variant_rates = [f.get("wrappers", "variants", name, "steps_per_s") for name in ATTENDED]
     wrapper_walker = f.get("wrappers", "variants", "BipedalWalker-v3", "steps_per_s")
     ppo = next(
@@ -201,16 +228,20 @@ def vector_tables(f: Figures) -> list[str]:
     def vector(section: str, subject: str, metric: str, n: int) -> float | None:
         return f.get("vector", section, subject, metric, n)
 
-    peers = [
-        [
-            f"`{variant}`",
-            *(_us(vector("peers", variant, m, 16)) for m in ("native_us", "sync_us", "bipedal_walker_us")),
-            f"{_ratio(vector('peers', variant, 'sync_us', 16), vector('peers', variant, 'native_us', 16))}×",
-            f"{_ratio(vector('peers', variant, 'bipedal_walker_us', 16), vector('peers', variant, 'native_us', 16))}×",
-        ]
-        for variant in ("focus", "raw")
-        if vector("peers", variant, "native_us", 16) is not None
-    ]
+    peers = []
+    for variant in ("focus", "raw"):
+        native, sync, walker = vector_peers(f, variant)
+        if native is not None:
+            peers.append(
+                [
+                    f"`{variant}`",
+                    _us(native),
+                    _us(sync),
+                    _us(walker),
+                    f"{_ratio(sync, native)}×",
+                    f"{_ratio(walker, native)}×",
+                ]
+            )
     if peers:
         out += [
             "Random actions with autoreset, N = 16, µs per env-step (medians of alternating rounds):",
@@ -303,23 +334,20 @@ def headline(root: Path) -> list[str]:
     """Up to three one-line figures for the README, each a ratio measured in one run."""
     f = Figures(read_rows(root, SOURCE.name, WRITTEN_BY))
     lines = []
-    native, sync = f.get("vector", "peers", "focus", "native_us", 16), f.get("vector", "peers", "focus", "sync_us", 16)
+    native, sync, _ = vector_peers(f, "focus")
     if native is not None and sync is not None:
         lines.append(
-            f"the native vector env (`focus`, 16 envs): {sync / native:.2f}× the env-steps per second of "
+            f"the native vector env (`focus`, 16 envs): {_ratio(sync, native)}× the env-steps per second of "
             "gymnasium's sync vector env;"
         )
-    ours, walker = (f.get("env", "peers", name, "steps_per_s") for name in ("AttentiveRescue-v0", "BipedalWalker-v3"))
+    ours, walker = env_speeds(f)
     if ours is not None and walker is not None:
-        lines.append(f"a raw `AttentiveRescue-v0` step: {ours / walker:.2f}× BipedalWalker-v3's steps per second;")
-    still, moving, env_us = (
-        f.get("attention", "model", name, "step_us")
-        for name in ("robot still", "robot moving", "raw AttentiveRescue-v0")
-    )
+        lines.append(f"a raw `AttentiveRescue-v0` step: {_ratio(ours, walker)}× BipedalWalker-v3's steps per second;")
+    still, moving, env_us = model_costs(f)
     if None not in (still, moving, env_us):
         lines.append(
-            f"the attentional model's step (six maps): {still / env_us:.2f} / {moving / env_us:.2f} of a raw env step "
-            "(robot still / moving)."
+            f"the attentional model's step (six maps): {_ratio(still, env_us)} / {_ratio(moving, env_us)} of a raw "
+            "env step (robot still / moving)."
         )
     return lines
 
