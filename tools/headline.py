@@ -16,8 +16,7 @@ from typing import Any
 
 import performance_page
 import rl_page
-from attentive_gym.agents.config import RunSpec
-from attentive_gym.agents.merged import SCALED, algo_tag, budgets
+from attentive_gym.agents.merged import SCALED, budgets, default_tag
 from attentive_gym.agents.plots import steps_label
 from attentive_gym.agents.results import summarise
 from page_text import FIGURES, RENDER_COMMAND, RESULTS, interval, table
@@ -35,7 +34,7 @@ def rl_headline(comparison: Sequence[Mapping[str, Any]]) -> tuple[int, list[dict
     Raises:
         ValueError: no budget has all of ``HEADLINE_VARIANTS`` with today's defaults.
     """
-    default = algo_tag(RunSpec().to_dict())
+    default = default_tag()
     rows = [
         row
         for row in comparison

@@ -17,12 +17,11 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.merged import (
     SCALED,
-    algo_tag,
     budgets,
     clutter_targets,
+    default_tag,
     labelled,
     learning_curve_figures,
     ordered,
@@ -43,7 +42,7 @@ CLUTTER = RESULTS / "rl_clutter.csv"
 def _intro(comparison: Sequence[Mapping[str, Any]]) -> str:
     """What the runs were and how to read their names and intervals."""
     episodes = sorted({int(row["n_episodes"]) for row in comparison})
-    default = algo_tag(RunSpec().to_dict())
+    default = default_tag()
     return f"""\
 The comparison trains every variant in {COMPARISON_ARENA} (the clutter sweep: 0–5
 distractors) and evaluates it at every checkpoint on {" or ".join(map(str, episodes))} episodes

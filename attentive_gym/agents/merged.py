@@ -7,7 +7,8 @@ training setting it came from:
   merged clutter sweep (``EVAL_COLUMNS`` with ``algo``, ``obs_scaling`` and, for a sweep,
   ``num_distractors``).
 - ``algo_tag(run)``: the setting tag of a comparison's rows (its algorithm, and its learning
-  rate unless SB3's constant default); ``tagged_rate(tag)``: the rate a tag names.
+  rate unless SB3's constant default); ``default_tag()``: the tag of today's default setting
+  (``RunSpec``'s); ``tagged_rate(tag)``: the rate a tag names.
 - ``merge_rows(existing, new, algo, keys, obs_scaling)``: ``new`` rows, tagged, replace the
   rows of the same runs.
 - ``labelled(rows)`` / ``ordered(rows)``: variant names that say their setting
@@ -44,6 +45,7 @@ __all__ = [
     "ORACLE",
     "NOT_ATTENDED",
     "algo_tag",
+    "default_tag",
     "tagged_rate",
     "merge_rows",
     "labelled",
@@ -74,6 +76,12 @@ def algo_tag(run: Mapping[str, Any]) -> str:
     if spec.learning_rate() == SB3_LEARNING_RATE:
         return spec.algo
     return f"{spec.algo}, lr {spec.hyper_parameters()['learning_rate']}"
+
+
+def default_tag() -> str:
+    """``algo_tag`` of today's default setting: the rows a ``RunSpec()`` with no fields given
+    would be tagged with."""
+    return algo_tag(RunSpec().to_dict())
 
 
 def tagged_rate(tag: str) -> float | str:
@@ -212,7 +220,7 @@ def learning_curve_figures(rows: Sequence[Mapping[str, Any]]) -> list[tuple[str,
     today's default setting (``RunSpec``'s) first, in ``rl_learning_curves.png``, the others
     in ``rl_learning_curves_<setting>.png``; the first setting present takes the plain name
     when the default's is absent."""
-    default = algo_tag(RunSpec().to_dict())
+    default = default_tag()
     settings = sorted(dict.fromkeys(row["algo"] for row in rows), key=lambda tag: tag != default)
     figures = []
     for k, tag in enumerate(settings):
