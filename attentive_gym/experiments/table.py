@@ -12,18 +12,21 @@
 The repository's ``tools/experiments_table.py`` measures the table into
 ``docs/results/experiment_checks.csv`` (its run time: ``docs/results/checks.md``) and
 ``tools/report.py render`` writes the docs page from it. ``python -m
-attentive_gym.experiments.table`` still prints the table, with a ``DeprecationWarning``.
+attentive_gym.experiments.table`` runs that tool, in a checkout of the repository, with a
+``DeprecationWarning``.
 """
 
 from __future__ import annotations
 
-import argparse
+import importlib.util
 import json
 import math
 import sys
 import warnings
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 from attentive_gym._checks import check_int
@@ -225,32 +228,50 @@ def markdown(measured: Measured, n_seeds: int = 20, noise: float = 0.05) -> str:
 
 #: What replaces ``python -m attentive_gym.experiments.table``.
 _REPLACEMENT = "python tools/experiments_table.py (in a checkout of the repository; it also writes the CSV)"
+#: The repository's tools folder, where a checkout has it.
+_TOOLS = Path(__file__).resolve().parents[2] / "tools"
+#: The tool ``main`` forwards to.
+_TOOL = "experiments_table"
+
+
+def _tool() -> ModuleType:
+    """The module ``tools/experiments_table.py`` of the checkout this package was installed from.
+
+    Raises:
+        RuntimeError: the package is not installed from a checkout (no ``tools/`` beside it).
+    """
+    path = _TOOLS / f"{_TOOL}.py"
+    loaded = sys.modules.get(_TOOL)
+    if loaded is not None and getattr(loaded, "__file__", None) == str(path):
+        return loaded
+    if not path.is_file():
+        raise RuntimeError(
+            f"python -m attentive_gym.experiments.table moved to the repository's tools/{_TOOL}.py, "
+            f"which is not installed; run {_REPLACEMENT}"
+        )
+    sys.path.insert(0, str(_TOOLS))  # the tool imports its siblings
+    try:
+        spec = importlib.util.spec_from_file_location(_TOOL, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[_TOOL] = module
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(_TOOLS))
+    return module
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m attentive_gym.experiments.table [--seeds N] [--noise S] [--config JSON] [--workers W]``:
-    print the table. Deprecated: a ``DeprecationWarning`` names the replacement."""
+    """Deprecated: ``python tools/experiments_table.py`` with the same arguments (``--seeds``,
+    ``--noise``, ``--config``, ``--workers`` as before, and ``--csv``: the tool also writes the
+    measurement, by default to the checkout's ``docs/results/experiment_checks.csv``).
+
+    Raises:
+        RuntimeError: the package is not installed from a checkout, so there is no tool to run.
+    """
     warnings.warn(
         f"python -m attentive_gym.experiments.table is deprecated; use {_REPLACEMENT}", DeprecationWarning, stacklevel=2
     )
-    parser = argparse.ArgumentParser(
-        prog="python -m attentive_gym.experiments.table",
-        description="Measure every experiment check per kinematics mode; print Markdown.",
-    )
-    parser.add_argument("--seeds", type=int, default=20, help="noisy seeds per column (default 20)")
-    parser.add_argument("--noise", type=float, default=0.05, help="Gaussian noise σ of the noisy runs (default 0.05)")
-    parser.add_argument("--config", default=None, help="extra AttentionConfig fields as a JSON object")
-    parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
-    args = parser.parse_args(argv)
-    try:
-        config = json.loads(args.config) if args.config else None
-        if args.seeds < 1:
-            raise ValueError(f"--seeds must be >= 1, got {args.seeds}")
-        print(markdown(measure(range(args.seeds), args.noise, config, args.workers), args.seeds, args.noise))
-    except (ValueError, json.JSONDecodeError) as err:
-        print(f"{parser.prog}: error: {err}", file=sys.stderr)
-        return 2
-    return 0
+    return _tool().main(argv)
 
 
 if __name__ == "__main__":

@@ -333,11 +333,19 @@ def test_table_refuses_bad_flags_before_any_run(args, message, capsys, monkeypat
 
     monkeypatch.setattr(table, "run_experiment", lambda *a, **k: pytest.fail("an experiment ran"))
     with pytest.warns(DeprecationWarning, match="use python tools/experiments_table.py"):
-        assert table.main(["--seeds", "1", *args]) == 2
-    assert message in capsys.readouterr().err
+        assert table.main(["--seeds", "1", "--csv", str(tmp_path / "checks.csv"), *args]) == 2  # forwards to the tool
+    assert message in capsys.readouterr().err and not (tmp_path / "checks.csv").exists()
     tool = load_tool("experiments_table")
     assert tool.main(["--seeds", "1", "--csv", str(tmp_path / "checks.csv"), *args]) == 2
     assert message in capsys.readouterr().err and not (tmp_path / "checks.csv").exists()
+
+
+def test_the_deprecated_table_command_without_a_checkout_names_the_tool(monkeypatch, tmp_path):
+    from attentive_gym.experiments import table
+
+    monkeypatch.setattr(table, "_TOOLS", tmp_path / "tools")
+    with pytest.warns(DeprecationWarning), pytest.raises(RuntimeError, match="tools/experiments_table.py"):
+        table.main(["--seeds", "1"])
 
 
 def test_the_tool_writes_the_measurement_as_rows_that_read_back(tmp_path, capsys, monkeypatch):
