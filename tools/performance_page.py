@@ -361,7 +361,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "",
             banner([SOURCE]),
             f"Each benchmark ran once, on {machine_text(f)}, and timed its peers in the same run, in alternating "
-            "rounds. The machine is shared and its speed drifts within a run: read the ratios, not the absolute "
+            "rounds. Speeds drift within a run on any machine: read the ratios of the same run, not the absolute "
             "times.",
             "",
             "## A single environment",
