@@ -93,17 +93,18 @@ def test_the_random_controller_is_seeded_and_stand_still_is_zero():
     assert controllers.stand_still({}, {}).tolist() == [0.0, 0.0]
 
 
-def test_success_rates_of_every_controller_are_fractions(attended_env):
+def test_every_steering_controller_reaches_more_targets_than_random_actions(attended_env):
+    """On seeds 0..3 of 10 s episodes, noise-free: the oracle reaches 2/4 targets, the focus
+    controller 1/4 and the memory controller 2/4, random actions none."""
     arena = {"arena_size_m": 8.0, "num_distractors": 2}
-    env = attended_env("window", arena=arena, time_limit_s=1.0)
-    for make_policy in (
-        lambda env, seed: FocusController(env.unwrapped.dt),
-        lambda env, seed: controllers.true_bearing_controller,
-        lambda env, seed: RandomController(env.action_space, seed),
-    ):
-        assert 0.0 <= controllers.control_success(env, make_policy, [0]) <= 1.0
-    focus_env = attended_env("tracker", variant="focus", arena=arena, time_limit_s=1.0)
-    assert 0.0 <= controllers.control_success(focus_env, lambda env, seed: controllers.memory_controller, [0]) <= 1.0
+    seeds = range(4)
+    env = attended_env("window", arena=arena, time_limit_s=10.0)
+    random = controllers.control_success(env, lambda env, seed: RandomController(env.action_space, seed), seeds)
+    focus = controllers.control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
+    oracle = controllers.control_success(env, lambda env, seed: controllers.true_bearing_controller, seeds)
+    focus_env = attended_env("tracker", variant="focus", arena=arena, time_limit_s=10.0)
+    memory = controllers.control_success(focus_env, lambda env, seed: controllers.memory_controller, seeds)
+    assert oracle > random and focus > random and memory > random, (oracle, focus, memory, random)
 
 
 def test_the_oracle_reaches_targets_that_standing_still_does_not(attended_env):
