@@ -82,6 +82,7 @@ from attentive_gym.perception.metrics import (
     target_cases,
 )
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, TRACK_MATCH_M, record_episode
+from attentive_gym.perception.settings import CONTROL_ARENA, PERCEPTION_ARENA, make_attentive_env
 from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
 from call_timer import CallTimer
@@ -91,9 +92,6 @@ SECTIONS = ("speed", "focus", "control", "cost", "clutter")
 DEFAULT_SECTIONS = ("speed", "focus", "control", "cost")
 ROBOT_MODES = ("still", "driving")
 
-# The attended variant the benchmark runs. The model and ``info["attention"]`` are the same
-# in every attended variant; "saliency" also passes the raw laser on, which the wander needs.
-VARIANT = "saliency"
 USARSIM_NOISE_HALF_WIDTH = 0.05  # the usarsim profile's uniform noise: ±5 % of the reading
 
 
@@ -122,8 +120,6 @@ NOISE_SETTINGS = (
 CONTROL_NOISE = ("gauss 0.05", "usarsim")
 COST_NOISE = "gauss 0.05"
 
-PERCEPTION_ARENA = {"arena_size_m": 10.0, "num_distractors": 3}
-CONTROL_ARENA = {"arena_size_m": 8.0, "num_distractors": 2}
 CLUTTER_ARENA = {"arena_size_m": 8.0, "rubble_per_100m2": 3.0}  # the RL comparison's (docs/results/rl.md)
 CLUTTER_DISTRACTORS = (1, 2, 3, 5)
 CLUTTER_NOISE = "gauss 0.05"
@@ -132,17 +128,6 @@ COST_RECORD_S = 30.0  # length of the driving episode whose readings the cost se
 
 
 # ===================================================================== environments
-def make_attentive_env(mode: str, noise: NoiseSetting, variant: str = VARIANT, **env_kwargs: Any):
-    """The attended environment ``variant`` (default ``VARIANT``; ``"focus"`` for an
-    observation with the working memory) with the model in kinematics ``mode``.
-
-    Raises:
-        TypeError: when the installed environment does not accept a keyword of ``noise``.
-    """
-    config = AttentionConfig(kinematics=mode, range_noise_rel=noise.sigma_rel)
-    return make_env(variant, attention=config, **noise.env_kwargs, **env_kwargs)
-
-
 def make_raw_env(noise: NoiseSetting, **env_kwargs: Any):
     """The raw ``AttentiveRescue-v0`` environment (no model, no checker wrappers)."""
     return make_env("raw", **noise.env_kwargs, **env_kwargs)
@@ -187,7 +172,7 @@ def perception_records(modes: Iterable[str], episodes: int, seconds: float, goal
     for mode in modes:
         for noise in NOISE_SETTINGS:
             try:
-                env = make_attentive_env(mode, noise, **PERCEPTION_ARENA)
+                env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, **PERCEPTION_ARENA)
             except TypeError as error:
                 for robot in ROBOT_MODES:
                     yield mode, noise.name, robot, error
@@ -379,7 +364,7 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
         random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
         raw.close()
         for mode in modes:
-            env = make_attentive_env(mode, noise, **world)
+            env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, **world)
             records = [
                 record_episode(env, seed, goals[seed % len(goals)], Wander(seed), seconds) for seed in range(episodes)
             ]
@@ -387,7 +372,7 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
             on, steps = sum(on for on, _ in per_goal), sum(n for _, n in per_goal)
             focus = on / steps if steps else math.nan
             env.close()
-            focus_env = make_attentive_env(mode, noise, "focus", **world)
+            focus_env = make_attentive_env(mode, noise.sigma_rel, "focus", **noise.env_kwargs, **world)
             memory = control_success(focus_env, lambda env, seed: memory_controller, seeds)
             focus_env.close()
             memory_ratio = memory / oracle if oracle else math.nan
@@ -459,10 +444,12 @@ def print_control(results: Results, modes, episodes: int) -> None:
         oracle = control_success(raw, lambda env, seed: true_bearing_controller, seeds)
         random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
         for mode in modes:
-            env = make_attentive_env(mode, noise, **CONTROL_ARENA)
+            env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, **CONTROL_ARENA)
             focus = control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
             memory = control_success(
-                make_attentive_env(mode, noise, "focus", **CONTROL_ARENA), lambda env, seed: memory_controller, seeds
+                make_attentive_env(mode, noise.sigma_rel, "focus", **noise.env_kwargs, **CONTROL_ARENA),
+                lambda env, seed: memory_controller,
+                seeds,
             )
             ratio = focus / oracle if oracle else math.nan
             memory_ratio = memory / oracle if oracle else math.nan

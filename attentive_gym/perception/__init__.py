@@ -10,7 +10,8 @@ library code:
   (``EpisodeRecord``);
 - ``metrics``: the speed error, the focus on target and why it is or is not there, from
   records;
-- ``geometry``: robot-frame geometry and what counts as in view.
+- ``geometry``: robot-frame geometry and what counts as in view;
+- ``settings``: the benchmark's attended environments (``make_attentive_env``) and arenas.
 
 The environments come from ``attentive_gym.wrappers.make_env`` (an attended variant, whose
 ``info["attention"]`` is the model's output); this package needs gymnasium and pymunk.
@@ -52,9 +53,13 @@ from attentive_gym.perception.metrics import (
     target_cases,
 )
 from attentive_gym.perception.records import TARGET_CASES, EpisodeRecord, record_episode, static_regions
+from attentive_gym.perception.settings import CONTROL_ARENA, PERCEPTION_ARENA, VARIANT, make_attentive_env
 
 __all__ = [
+    "CONTROL_ARENA",
+    "PERCEPTION_ARENA",
     "TARGET_CASES",
+    "VARIANT",
     "EpisodeRecord",
     "FocusController",
     "Policy",
@@ -68,6 +73,7 @@ __all__ = [
     "focus_by_track_age",
     "focus_on_target",
     "in_view",
+    "make_attentive_env",
     "memory_controller",
     "pair_masks",
     "record_episode",

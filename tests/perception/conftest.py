@@ -8,29 +8,23 @@ from __future__ import annotations
 
 import pytest
 
-from attentive_gym.attention import AttentionConfig, Goal
-from attentive_gym.perception import Wander, record_episode, stand_still
-from attentive_gym.wrappers import make_env
+from attentive_gym.attention import Goal
+from attentive_gym.perception import PERCEPTION_ARENA, VARIANT, Wander, make_attentive_env, record_episode, stand_still
 
-#: The perception benchmark's arena: 10 m, 3 distractors.
-PERCEPTION_ARENA = {"arena_size_m": 10.0, "num_distractors": 3}
-#: Its steering arena: 8 m, 2 distractors.
-CONTROL_ARENA = {"arena_size_m": 8.0, "num_distractors": 2}
 SEED = 0  # a seed whose first 2 s show a mover in front within 5 m for over 1 s
 SECONDS = 2.0
 GOAL = Goal.between("speed", 0.5, 0.9)  # a speed goal: goal agreement is defined
 
 
-def _attended_env(mode: str, noise: float = 0.0, variant: str = "saliency", arena=None, **env_kwargs):
-    """The attended ``variant`` with the model in kinematics ``mode`` at Gaussian noise
-    ``noise`` (relative σ), in ``arena`` (default ``PERCEPTION_ARENA``)."""
-    config = AttentionConfig(kinematics=mode, range_noise_rel=noise)
-    return make_env(variant, attention=config, sensor_noise=noise, **(arena or PERCEPTION_ARENA), **env_kwargs)
+def _attended_env(mode: str, noise: float = 0.0, variant: str = VARIANT, arena=PERCEPTION_ARENA, **env_kwargs):
+    """The benchmark's attended ``variant`` with the model in kinematics ``mode`` at Gaussian
+    noise ``noise`` (relative σ, the sensors' and the model's), in ``arena``."""
+    return make_attentive_env(mode, noise, variant, sensor_noise=noise, **arena, **env_kwargs)
 
 
 @pytest.fixture
 def attended_env():
-    """``attended_env(mode, noise=0.0, variant="saliency", arena=None, **env_kwargs)``: an
+    """``attended_env(mode, noise=0.0, variant=VARIANT, arena=PERCEPTION_ARENA, **env_kwargs)``: an
     attended environment, closed after the test."""
     made = []
 

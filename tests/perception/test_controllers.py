@@ -10,7 +10,7 @@ import pytest
 from gymnasium import spaces
 
 from attentive_gym.attention import ORIGIN_BOTTOM_UP, ORIGIN_TOP_DOWN
-from attentive_gym.perception import controllers
+from attentive_gym.perception import CONTROL_ARENA, controllers
 from attentive_gym.perception.controllers import (
     SEARCH_SPIN,
     WANDER_ANGULAR,
@@ -96,19 +96,18 @@ def test_the_random_controller_is_seeded_and_stand_still_is_zero():
 def test_every_steering_controller_reaches_more_targets_than_random_actions(attended_env):
     """On seeds 0..3 of 10 s episodes, noise-free: the oracle reaches 2/4 targets, the focus
     controller 1/4 and the memory controller 2/4, random actions none."""
-    arena = {"arena_size_m": 8.0, "num_distractors": 2}
     seeds = range(4)
-    env = attended_env("window", arena=arena, time_limit_s=10.0)
+    env = attended_env("window", arena=CONTROL_ARENA, time_limit_s=10.0)
     random = controllers.control_success(env, lambda env, seed: RandomController(env.action_space, seed), seeds)
     focus = controllers.control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
     oracle = controllers.control_success(env, lambda env, seed: controllers.true_bearing_controller, seeds)
-    focus_env = attended_env("tracker", variant="focus", arena=arena, time_limit_s=10.0)
+    focus_env = attended_env("tracker", variant="focus", arena=CONTROL_ARENA, time_limit_s=10.0)
     memory = controllers.control_success(focus_env, lambda env, seed: controllers.memory_controller, seeds)
     assert oracle > random and focus > random and memory > random, (oracle, focus, memory, random)
 
 
 def test_the_oracle_reaches_targets_that_standing_still_does_not(attended_env):
-    env = attended_env("window", arena={"arena_size_m": 8.0, "num_distractors": 2})
+    env = attended_env("window", arena=CONTROL_ARENA)
     oracle = controllers.control_success(env, lambda env, seed: controllers.true_bearing_controller, [0, 1])
     still = controllers.control_success(env, lambda env, seed: controllers.stand_still, [0, 1])
     assert oracle > still
