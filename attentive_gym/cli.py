@@ -29,6 +29,7 @@ from pathlib import Path
 
 from attentive_gym._optional import MissingExtraError, require
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
+from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.experiments.cli import add_experiment_parser
 
@@ -156,15 +157,22 @@ _SUBCOMMANDS: dict[str, Callable] = {
 }
 
 
+def _quick_run() -> str:
+    """What ``compare --quick`` trains, in words, from ``QUICK``: "PPO on raw, focus and oracle
+    observations, 3 seeds each"."""
+    *others, last = QUICK["variants"]
+    variants = f"{', '.join(others)} and {last}" if others else last
+    return f"{RunSpec.algo.upper()} on {variants} observations, {len(QUICK['seeds'])} seeds each"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
         prog="attentive-gym",
         description="attentive_gym: a bio-inspired attentional model for multi-sensor robots, its Gymnasium "
         "rescue environment, and RL comparisons of attended against raw observations.",
-        epilog="start with: 'attentive-gym compare --quick' (PPO on raw, focus and oracle observations, "
-        "3 seeds each) or 'attentive-gym experiment all' (the paper's five experiments); "
-        "'attentive-gym COMMAND --help' lists a command's options.",
+        epilog=f"start with: 'attentive-gym compare --quick' ({_quick_run()}) or 'attentive-gym experiment all' "
+        "(the paper's five experiments); 'attentive-gym COMMAND --help' lists a command's options.",
     )
     subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for add in _SUBCOMMANDS.values():
