@@ -58,7 +58,7 @@ def _import_nodes(tree: ast.AST, *, into_functions: bool = True):
             yield node
         elif _is_type_checking_block(node):
             stack.extend(node.orelse)
-        elif into_functions or not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+        elif into_functions or not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             stack.extend(ast.iter_child_nodes(node))
 
 
