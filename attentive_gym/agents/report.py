@@ -18,7 +18,6 @@ Importing this module warns with a ``DeprecationWarning``.
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 import warnings
 from collections.abc import Mapping, Sequence
@@ -26,6 +25,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from attentive_gym._scripts import CHECKOUT_TOOLS, load_checkout_tool
 from attentive_gym.agents.merged import (
     CLUTTER_COLUMNS,
     COMPARISON_COLUMNS,
@@ -58,7 +58,7 @@ REPLACEMENT = (
     "(in a checkout of the repository) for the commands"
 )
 #: The repository's tools folder, where a checkout has it.
-TOOLS = Path(__file__).resolve().parents[2] / "tools"
+TOOLS = CHECKOUT_TOOLS
 
 warnings.warn(f"attentive_gym.agents.report is deprecated; use {REPLACEMENT}", DeprecationWarning, stacklevel=2)
 
@@ -69,24 +69,9 @@ def _tool(name: str) -> ModuleType:
     Raises:
         RuntimeError: the package is not installed from a checkout (no ``tools/`` beside it).
     """
-    path = TOOLS / f"{name}.py"
-    loaded = sys.modules.get(name)
-    if loaded is not None and getattr(loaded, "__file__", None) == str(path):
-        return loaded
-    if not path.is_file():
-        raise RuntimeError(
-            f"attentive_gym.agents.report's commands moved to the repository's tools/{name}.py, "
-            f"which is not installed; run it from a checkout ({REPLACEMENT})"
-        )
-    sys.path.insert(0, str(TOOLS))  # the tool imports its siblings
-    try:
-        spec = importlib.util.spec_from_file_location(name, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    finally:
-        sys.path.remove(str(TOOLS))
-    return module
+    return load_checkout_tool(
+        name, "attentive_gym.agents.report's commands", f"it from a checkout ({REPLACEMENT})", TOOLS
+    )
 
 
 def render_block(

@@ -18,18 +18,17 @@ attentive_gym.experiments.table`` runs that tool, in a checkout of the repositor
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import sys
 import warnings
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 from attentive_gym._checks import check_int
+from attentive_gym._scripts import CHECKOUT_TOOLS, load_checkout_tool
 from attentive_gym.experiments.checks import CHECKS, check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES
 from attentive_gym.experiments.runner import _check_config, _check_noise, run_experiment
@@ -229,7 +228,7 @@ def markdown(measured: Measured, n_seeds: int = 20, noise: float = 0.05) -> str:
 #: What replaces ``python -m attentive_gym.experiments.table``.
 _REPLACEMENT = "python tools/experiments_table.py (in a checkout of the repository; it also writes the CSV)"
 #: The repository's tools folder, where a checkout has it.
-_TOOLS = Path(__file__).resolve().parents[2] / "tools"
+_TOOLS = CHECKOUT_TOOLS
 #: The tool ``main`` forwards to.
 _TOOL = "experiments_table"
 
@@ -240,24 +239,7 @@ def _tool() -> ModuleType:
     Raises:
         RuntimeError: the package is not installed from a checkout (no ``tools/`` beside it).
     """
-    path = _TOOLS / f"{_TOOL}.py"
-    loaded = sys.modules.get(_TOOL)
-    if loaded is not None and getattr(loaded, "__file__", None) == str(path):
-        return loaded
-    if not path.is_file():
-        raise RuntimeError(
-            f"python -m attentive_gym.experiments.table moved to the repository's tools/{_TOOL}.py, "
-            f"which is not installed; run {_REPLACEMENT}"
-        )
-    sys.path.insert(0, str(_TOOLS))  # the tool imports its siblings
-    try:
-        spec = importlib.util.spec_from_file_location(_TOOL, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[_TOOL] = module
-        spec.loader.exec_module(module)
-    finally:
-        sys.path.remove(str(_TOOLS))
-    return module
+    return load_checkout_tool(_TOOL, "python -m attentive_gym.experiments.table", _REPLACEMENT, _TOOLS)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
