@@ -3,7 +3,10 @@
 - ``SceneGeometry``: immutable world-frame arrays of segments and circles, each tagged
   with the integer id of the body that owns it (the id the sensors report on a hit).
 - ``GeometryCache``: converts pymunk shapes into that form once, in each body's local
-  frame, and re-places only the moving bodies on every ``update()``.
+  frame, and re-places only the moving bodies on every ``update()``, at their pymunk
+  poses or at poses the caller gives.
+- ``place_moving``: the compiled placement of a cache's moving primitives (the kernel
+  ``update`` and the sensors' batched read share).
 
 Every pymunk shape becomes an *exact* set of boundary primitives, so that the analytic
 casters of ``raycast`` agree with pymunk's own queries:
@@ -161,9 +164,9 @@ def shape_primitives(shape: pymunk.Shape) -> tuple[np.ndarray, np.ndarray]:
 class GeometryCache:
     """World-frame ``SceneGeometry`` of a fixed set of pymunk bodies, refreshed cheaply.
 
-    Built once; ``update()`` then re-reads only the poses of the non-static bodies and
-    re-places their local primitives in a few vectorised numpy operations (rotation as a
-    complex multiplication). Static bodies (``body.body_type == pymunk.Body.STATIC``)
+    Built once; ``update()`` then re-reads only the poses of the non-static bodies (or
+    takes them from the caller) and re-places their local primitives in one compiled call
+    (``place_moving``). Static bodies (``body.body_type == pymunk.Body.STATIC``)
     are placed once, at construction: moving a static body later is not followed.
     Shapes added to a body after construction are not seen either.
 
@@ -237,56 +240,91 @@ class GeometryCache:
 
     @property
     def moving_bodies(self) -> tuple[pymunk.Body, ...]:
-        """The distinct non-static bodies whose poses ``update()`` reads."""
+        """The distinct non-static bodies whose poses ``update()`` reads, in the order of
+        their first appearance among the construction's triples: row ``b`` of the
+        ``poses`` that ``update`` takes is the pose of ``moving_bodies[b]``."""
         return tuple(self._bodies)
 
-    def update(self) -> SceneGeometry:
+    def update(self, poses=None) -> SceneGeometry:
         """The scene now: static primitives as built, moving ones at their bodies' poses.
+
+        Args:
+            poses: ``(B, 3)`` float64 ``x_m, y_m, angle_rad`` of ``moving_bodies`` (row ``b``
+                for body ``b``; B = ``len(moving_bodies)``), for a caller that already
+                holds them; None reads them from pymunk. Either way the same numbers come
+                out, bit for bit.
 
         Returns:
             A new ``SceneGeometry`` (static primitives first, then the moving ones, in the
             order given at construction); with no moving body, the same static object.
 
         Raises:
-            ValueError: if a moving body's position or angle is not finite.
+            ValueError: for ``poses`` of another shape than ``(B, 3)``, or a moving body's
+                position or angle that is not finite.
         """
+        if poses is not None:
+            poses = self.check_poses(poses)
         if not self._bodies:
             return self._static
-        poses = np.array(_pymunk_access.poses(self._bodies))  # (3 B,) x, y, angle per body
-        segments, circles, bad = _place_kernel(
-            poses,
-            self._local_points,
-            self._point_body,
-            self._num_moving_endpoints,
-            self._segment_template,
-            self._circle_template,
-        )
+        if poses is None:
+            poses = np.array(_pymunk_access.poses(self._bodies)).reshape(-1, 3)
+        segments = self._segment_template.copy()
+        circles = self._circle_template.copy()
+        bad = place_moving(poses, self._local_points, self._point_body, self._num_moving_endpoints, segments, circles)
         if bad >= 0:
             body = self._bodies[bad]
-            raise ValueError(f"body {body!r} has a non-finite pose: position {body.position}, angle {body.angle}")
+            raise ValueError(
+                f"body {bad} of the cache ({body!r}) has a non-finite pose: x, y, angle = {poses[bad].tolist()}"
+            )
         return SceneGeometry._unchecked(segments, self._segment_owner, circles, self._circle_owner)
+
+    def check_poses(self, poses) -> np.ndarray:
+        """``poses`` as a contiguous ``(B, 3)`` float64 array, or ``ValueError`` unless it is
+        numeric with one row ``x_m, y_m, angle_rad`` per moving body (finiteness is
+        checked where the poses are used)."""
+        try:
+            array = np.ascontiguousarray(poses, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError("poses must be a numeric (B, 3) array, one x_m, y_m, angle_rad per body") from None
+        if array.shape != (len(self._bodies), 3):
+            raise ValueError(
+                f"poses must have shape ({len(self._bodies)}, 3): x_m, y_m, angle_rad of each of the cache's "
+                f"{len(self._bodies)} moving bodies; got shape {array.shape}"
+            )
+        return array
 
 
 @njit(cache=True)
-def _place_kernel(poses, local_points, point_body, num_endpoints, segment_template, circle_template):
-    """``GeometryCache.update``'s arithmetic: copies of the templates with the moving
-    points (segment endpoints, then circle centres) placed at their bodies' poses
-    (``poses``: ``(3 B,)`` x, y, angle of each body).
+def place_moving(poses, local_points, point_body, num_endpoints, segments, circles):
+    """Place a cache's moving primitives at their bodies' poses, in place (one scene).
+
+    The moving primitives are the last rows of ``segments`` (``num_endpoints // 2`` of
+    them) and of ``circles`` (the points after the endpoints); the rows before them, the
+    static primitives, and the circles' radii are left as they are.
+
+    Args:
+        poses: ``(B, 3)`` float64 ``x, y, angle`` of each body (m, m, rad).
+        local_points: ``(P, 2)`` float64 moving points in their body's frame (m): the
+            segment endpoints (two per segment, start then end), then the circle centres.
+        point_body: ``(P,)`` int64 index into ``poses`` of each point's body.
+        num_endpoints: the number of segment endpoints among the points.
+        segments: ``(S, 4)`` float64, written: the last ``num_endpoints // 2`` rows.
+        circles: ``(C, 3)`` float64, written: columns 0-1 of the last ``P - num_endpoints`` rows.
+
+    Returns:
+        -1, or the index of the first body whose pose is not finite (then nothing is written).
 
     The rotation is the complex product ``(lx + i ly)(cos a + i sin a)`` written out, then
-    the translation is added. Returns ``(segments, circles, bad)``; ``bad`` is the index
-    of the first body with a non-finite pose (then the outputs are meaningless), or -1.
+    the translation is added.
     """
-    n_bodies = poses.shape[0] // 3
+    n_bodies = poses.shape[0]
     cos_a = np.empty(n_bodies)
     sin_a = np.empty(n_bodies)
     for b in range(n_bodies):
-        if not (math.isfinite(poses[3 * b]) and math.isfinite(poses[3 * b + 1]) and math.isfinite(poses[3 * b + 2])):
-            return segment_template.copy(), circle_template.copy(), b
-        cos_a[b] = math.cos(poses[3 * b + 2])
-        sin_a[b] = math.sin(poses[3 * b + 2])
-    segments = segment_template.copy()
-    circles = circle_template.copy()
+        if not (math.isfinite(poses[b, 0]) and math.isfinite(poses[b, 1]) and math.isfinite(poses[b, 2])):
+            return b
+        cos_a[b] = math.cos(poses[b, 2])
+        sin_a[b] = math.sin(poses[b, 2])
     first_segment = segments.shape[0] - num_endpoints // 2
     first_circle = circles.shape[0] - (local_points.shape[0] - num_endpoints)
     for k in range(local_points.shape[0]):
@@ -295,8 +333,8 @@ def _place_kernel(poses, local_points, point_body, num_endpoints, segment_templa
         ly = local_points[k, 1]
         c = cos_a[b]
         s = sin_a[b]
-        px = (lx * c - ly * s) + poses[3 * b]
-        py = (lx * s + ly * c) + poses[3 * b + 1]
+        px = (lx * c - ly * s) + poses[b, 0]
+        py = (lx * s + ly * c) + poses[b, 1]
         if k < num_endpoints:
             row = first_segment + k // 2
             col = 2 * (k % 2)
@@ -306,7 +344,7 @@ def _place_kernel(poses, local_points, point_body, num_endpoints, segment_templa
             row = first_circle + k - num_endpoints
             circles[row, 0] = px
             circles[row, 1] = py
-    return segments, circles, -1
+    return -1
 
 
 def _body_primitives(body: pymunk.Body, shapes: Sequence[pymunk.Shape]) -> tuple[np.ndarray, np.ndarray]:

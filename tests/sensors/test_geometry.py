@@ -172,6 +172,70 @@ def test_a_non_finite_pose_is_reported():
         cache.update()
 
 
+def _assert_same_geometry(a: SceneGeometry, b: SceneGeometry) -> None:
+    for field in ("segments", "segment_owner", "circles", "circle_owner"):
+        np.testing.assert_array_equal(getattr(a, field), getattr(b, field), strict=True)
+
+
+@pytest.mark.parametrize("angle_scale_rad", [math.pi, 1e3, 1e7])
+def test_update_at_given_poses_equals_update_after_moving_the_bodies(pm, angle_scale_rad):
+    rng = np.random.default_rng(int(angle_scale_rad))
+    for seed in range(4):
+        scene = pm.random_scene(seed)
+        cache = scene.cache()
+        bodies = cache.moving_bodies
+        for _ in range(5):
+            for body in bodies:  # the angle first: turning a body moves its origin about its centre of gravity
+                body.angle = rng.uniform(-angle_scale_rad, angle_scale_rad)
+                body.position = tuple(rng.uniform(-50.0, 50.0, 2))
+            poses = np.array([(*body.position, body.angle) for body in bodies])  # as pymunk holds them now
+            geometry = cache.update()
+            _assert_same_geometry(cache.update(poses), geometry)
+            _assert_same_geometry(cache.update(poses.tolist()), geometry)  # any real (B, 3) array-like
+            moved = cache.update(poses + [0.5, 0.0, 0.0])  # every moving body 0.5 m along x, nothing else
+            moving = np.isin(geometry.segment_owner, [owner for owner, body, _ in scene.entries if body in bodies])
+            np.testing.assert_allclose(
+                moved.segments[:, ::2] - geometry.segments[:, ::2],
+                np.where(moving, 0.5, 0.0)[:, None].repeat(2, 1),
+                atol=1e-9,
+            )
+
+
+def test_moving_bodies_are_listed_in_order_of_first_appearance():
+    space = pymunk.Space()
+    a, b = pymunk.Body(1.0, 1.0), pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    cache = GeometryCache(
+        [
+            (1, b, [pymunk.Circle(b, 0.2)]),
+            (2, space.static_body, [pymunk.Segment(space.static_body, (0.0, 0.0), (1.0, 0.0), 0.0)]),
+            (3, a, [pymunk.Poly.create_box(a, (0.4, 0.2))]),
+            (4, b, [pymunk.Circle(b, 0.1, (0.5, 0.0))]),
+        ]
+    )
+    assert cache.moving_bodies == (b, a)
+    geometry = cache.update(np.array([[1.0, 2.0, math.pi / 2], [-3.0, 0.0, 0.0]]))  # b at (1, 2) turned, a at (-3, 0)
+    np.testing.assert_allclose(geometry.circles[:, :2], [[1.0, 2.0], [1.0, 2.5]], atol=1e-15)
+    assert geometry.segments[geometry.segment_owner == 3][:, 0].max() == -2.8
+
+
+def test_bad_given_poses_are_refused():
+    body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    cache = GeometryCache([(1, body, [pymunk.Circle(body, 0.5)]), (2, pymunk.Body(1.0, 1.0), [])])
+    for poses in (np.zeros(3), np.zeros((1, 3)), np.zeros((2, 2)), np.zeros((3, 3))):
+        with pytest.raises(ValueError, match=r"poses must have shape \(2, 3\): x_m, y_m, angle_rad"):
+            cache.update(poses)
+    with pytest.raises(ValueError, match="poses must be a numeric"):
+        cache.update([["a", "b", "c"], [0.0, 0.0, 0.0]])
+    with pytest.raises(
+        ValueError, match=r"body 1 of the cache .* has a non-finite pose: x, y, angle = \[0.0, 0.0, inf\]"
+    ):
+        cache.update(np.array([[0.0, 0.0, 0.0], [0.0, 0.0, np.inf]]))
+    static = GeometryCache([(1, pymunk.Space().static_body, [])])
+    assert static.update(np.empty((0, 3))) is static.update()
+    with pytest.raises(ValueError, match=r"poses must have shape \(0, 3\)"):
+        static.update(np.zeros((1, 3)))
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
