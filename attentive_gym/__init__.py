@@ -3,10 +3,15 @@
 Layers, from the bottom up:
 
 - ``attentive_gym.attention``: the attentional model, pure numpy (no gymnasium, no pymunk).
-- ``attentive_gym.world``: the pymunk search-and-rescue world and its scenarios.
 - ``attentive_gym.sensors``: analytic sonar-ring and laser-scanner simulation.
+- ``attentive_gym.world``: the pymunk search-and-rescue world and its scenarios.
 - ``attentive_gym.envs``: the Gymnasium environments (``AttentiveRescue-v0``).
-- ``attentive_gym.wrappers``, ``attentive_gym.agents``, ``attentive_gym.experiments``.
+- ``attentive_gym.wrappers``: the observation variants (attention, stacks, the oracle).
+- ``attentive_gym.vector``: many environments stepped as one (Gymnasium's and SB3's vector envs).
+- ``attentive_gym.perception``, ``attentive_gym.viz``; ``attentive_gym.agents``,
+  ``attentive_gym.experiments``; the command line (``attentive_gym.cli``).
+
+A module imports only its own subpackage and the layers below it (``tests/test_layers.py``).
 
 Importing the package registers the environments with Gymnasium (idempotently, by
 string entry points: ``attentive_gym.registration``), so

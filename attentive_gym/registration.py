@@ -3,7 +3,7 @@
 ``AttentiveRescue-v0`` is the base environment; the other ids are its observation
 variants (``attentive_gym.wrappers.variants``). Every id has a vector entry point
 (``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``:
-``attentive_gym.envs.vector_env``). Entry points are strings, so that
+``attentive_gym.vector.vector_env``). Entry points are strings, so that
 registering (which ``import attentive_gym`` does) loads neither the simulator nor the
 wrappers: ``import attentive_gym.attention`` stays light.
 """
@@ -26,7 +26,7 @@ VARIANT_IDS: dict[str, str] = {
 
 _BASE_ENTRY_POINT = "attentive_gym.envs.rescue_env:AttentiveRescueEnv"
 _VARIANT_ENTRY_POINT = "attentive_gym.wrappers.variants:make_env"
-_VECTOR_ENTRY_POINT = "attentive_gym.envs.vector_env:make_vector_env"
+_VECTOR_ENTRY_POINT = "attentive_gym.vector.vector_env:make_vector_env"
 
 
 def register_environments() -> None:

@@ -86,7 +86,7 @@ def train_rate(make_one, steps: int, vec_env: str, seed: int = 0, clock=time.pro
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from attentive_gym.agents.config import RunSpec
-    from attentive_gym.agents.native_vec import NativeVecEnv
+    from attentive_gym.vector.sb3 import NativeVecEnv
 
     spec = RunSpec()
     torch.set_num_threads(spec.torch_threads)

@@ -272,3 +272,66 @@ def test_the_attention_library_imports_only_what_it_may(name):
         f"{', '.join(sorted(ATTENTION_ALLOWS_EXTERNAL))}, {', '.join(sorted(ATTENTION_ALLOWS_LAZY))} inside "
         f"functions only, its own modules and {PACKAGE}'s top-level private modules ({PACKAGE}._*)"
     )
+
+
+#: The package's layers from the bottom up (``attentive_gym/__init__.py``): a module may import
+#: its own subpackage and the layers below its own, never one beside or above it. The command
+#: line (``cli``) is the top; the other top-level modules (``registration``, ``progress``, the
+#: private ``_*`` helpers) stand outside the layers.
+LAYERS: tuple[frozenset[str], ...] = (
+    frozenset({"attention"}),
+    frozenset({"sensors"}),
+    frozenset({"world"}),
+    frozenset({"envs"}),
+    frozenset({"wrappers"}),
+    frozenset({"vector"}),
+    frozenset({"perception", "viz"}),
+    frozenset({"agents", "experiments"}),
+    frozenset({"cli"}),
+)
+RANK = {package: rank for rank, layer in enumerate(LAYERS) for package in layer}
+
+
+def layer_refusals(name: str, targets: set[str]) -> list[str]:
+    """The package modules among ``targets`` that module ``name`` may not import by ``LAYERS``."""
+    own = name.split(".")[1] if name.count(".") >= 1 else None
+    if own not in RANK:
+        return []
+    refused = []
+    for target in sorted(targets):
+        other = target.split(".")[1] if target.count(".") >= 1 else None
+        if other is None or other == own or other not in RANK:
+            continue
+        if RANK[other] >= RANK[own]:
+            refused.append(f"{target} ({other} is {'beside' if RANK[other] == RANK[own] else 'above'} {own})")
+    return refused
+
+
+def test_the_layer_rule_refuses_imports_beside_and_above():
+    assert layer_refusals(f"{PACKAGE}.envs.x", {f"{PACKAGE}.wrappers.variants", f"{PACKAGE}.world.world"}) == [
+        f"{PACKAGE}.wrappers.variants (wrappers is above envs)"
+    ]
+    assert layer_refusals(f"{PACKAGE}.agents.x", {f"{PACKAGE}.experiments.y", f"{PACKAGE}.vector.sb3"}) == [
+        f"{PACKAGE}.experiments.y (experiments is beside agents)"
+    ]
+    assert layer_refusals(f"{PACKAGE}.vector.fleet", {f"{PACKAGE}.registration", f"{PACKAGE}.vector.protocol"}) == []
+
+
+def test_every_subpackage_has_its_layer():
+    """Every subpackage is placed; every placed name is a subpackage or a top-level module (``cli``)."""
+    names = {name.split(".")[1] for name in package_modules() if name.count(".") >= 1}
+    packages = {name for name in names if (ROOT / name).is_dir()}
+    assert packages <= set(RANK), f"subpackages placed in no layer: {sorted(packages - set(RANK))}"
+    assert set(RANK) <= names, f"placed but gone: {sorted(set(RANK) - names)}"
+
+
+def test_no_import_runs_against_the_layers():
+    graph = import_graph(package_modules())
+    refused = {name: layer_refusals(name, targets) for name, targets in graph.items()}
+    refused = {name: found for name, found in refused.items() if found}
+    assert not refused, (
+        "imports against the layers (bottom up: "
+        + " < ".join("/".join(sorted(layer)) for layer in LAYERS)
+        + "):\n"
+        + "\n".join(f"{name} imports {', '.join(found)}" for name, found in refused.items())
+    )

@@ -15,8 +15,11 @@
   docs' results pages from them; ``report`` is its deprecated former home).
 
 Importing this package does not import torch or SB3 (the ``agents`` extra); the functions do.
+SB3's vector env over a fleet, ``NativeVecEnv``, moved to ``attentive_gym.vector.sb3``; its old
+path ``attentive_gym.agents.native_vec`` still imports, with a ``DeprecationWarning``.
 """
 
+from attentive_gym import _moved
 from attentive_gym.agents.config import ALGOS, RunSpec, parse_seeds, parse_variants
 from attentive_gym.agents.results import summarise
 from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
@@ -35,6 +38,8 @@ __all__ = [
     "load_model",
 ]
 
+_moved.install({f"{__name__}.native_vec": "attentive_gym.vector.sb3"})
+
 
 def __getattr__(name):
     if name in ("train", "load_model"):
@@ -45,4 +50,4 @@ def __getattr__(name):
         from attentive_gym.agents.evaluation import evaluate_policy
 
         return evaluate_policy
-    raise AttributeError(name)
+    return _moved.attribute(__name__, name)  # an old module path, or AttributeError

@@ -184,7 +184,7 @@ def _make_vec_env(spec: RunSpec):
 
     factory = env_factory(spec)
     if spec.vec_env == "native":
-        from attentive_gym.agents.native_vec import NativeVecEnv
+        from attentive_gym.vector.sb3 import NativeVecEnv
 
         return NativeVecEnv([factory() for _ in range(spec.n_envs)], info_keywords=_MONITOR_KEYWORDS)
     fns = [functools.partial(_monitored, factory) for _ in range(spec.n_envs)]

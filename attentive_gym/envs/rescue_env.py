@@ -326,48 +326,56 @@ class AttentiveRescueEnv(gym.Env):
         self._distance = self._target_distance()
         self._limit_s = self.time_limit_s or (scenario.task.time_limit_s if scenario.task else scenario.duration_s)
         self._scans.reset()
-        observation = self._observe(self._read_sensors())
+        observation = self._observe(self.sensors.read(*self.sensing_request()))
         info = self._info(collided=False, success=False)
         if self.render_mode == "human" and self.render_overlay is None:
             self.render()
         return observation, info
 
     def step(self, action):
-        collided = self._act(action)
-        return self._complete_step(collided, self._read_sensors())
+        touched = self.move(*self.command(action))
+        return self.complete_step(touched, self.sensors.read(*self.sensing_request()))
 
-    # --- the stages of a step (``AttentiveRescueVectorEnv`` runs them for many envs) --------
-    def _act(self, action) -> bool:
-        """Check ``action`` and advance the world by ``dt``; whether the robot touched anything."""
+    # --- the stages of a step (``attentive_gym.vector.protocol.StagedEnv``; a fleet runs them for many envs) --
+    def command(self, action) -> tuple[float, float]:
+        """``action`` checked and converted to the robot's command: (linear m/s, angular rad/s).
+
+        Nothing moves. Raises ``RuntimeError`` before the first ``reset``, and ``ValueError``
+        for an action of another shape, complex or non-numeric values, NaN or inf (values
+        outside [-1, 1] are clipped).
+        """
         if self.world is None:
             raise RuntimeError("call reset() before step()")
         linear, angular = self._check_action(action)
-        return self.world.step(
-            self.dt, linear * self.robot_config.max_linear_mps, angular * self.robot_config.max_angular_rps
-        )
+        return linear * self.robot_config.max_linear_mps, angular * self.robot_config.max_angular_rps
 
-    def _sensing_request(self) -> tuple:
-        """``(pose (3,), scene geometry, rng, own owner id)``: what a reading of the sensors now needs."""
+    def move(self, linear_mps: float, angular_rps: float) -> bool:
+        """Advance the world by ``dt`` with the robot commanded to ``(linear_mps, angular_rps)``
+        (``command``'s result); whether the robot touched anything during the step."""
+        if self.world is None:
+            raise RuntimeError("call reset() before step()")
+        return self.world.step(self.dt, linear_mps, angular_rps)
+
+    def sensing_request(self) -> tuple:
+        """``(pose (3,), scene geometry, rng, own owner id)``: the arguments of ``sensors.read``
+        (or one row of ``sensors.read_many``) for a reading of the sensors now."""
         return _pymunk_access.pose(self.world.robot.body), self.world.geometry(), self.np_random, ROBOT_ID
 
-    def _read_sensors(self) -> SensorReading:
-        """A fresh noisy reading of both sensors at the robot's pose (draws from ``np_random``)."""
-        return self.sensors.read(*self._sensing_request())
-
-    def _complete_step(self, collided: bool, fresh: SensorReading):
-        """The step's ``(observation, reward, terminated, truncated, info)`` after the world has
-        moved, from the fresh sensor reading ``fresh``."""
-        observation = self._observe(fresh)
+    def complete_step(self, touched: bool, reading: SensorReading):
+        """The step's ``(observation, reward, terminated, truncated, info)`` once the world has
+        moved (``touched``: ``move``'s result), from the fresh sensor reading ``reading`` (a
+        ``sensors.read`` of ``sensing_request()``'s arguments, taken after the move)."""
+        observation = self._observe(reading)
         distance = self._target_distance()
         if self._target_index is None:
             reward, success = 0.0, False
         else:
-            reward, success = rescue_reward(self.reward_config, self.dt, self._distance, distance, collided)
+            reward, success = rescue_reward(self.reward_config, self.dt, self._distance, distance, touched)
         self._distance = distance
         truncated = self.world.time_s >= self._limit_s - 1e-9 and not success
         if self.render_mode == "human" and self.render_overlay is None:
             self.render()
-        return observation, float(reward), bool(success), bool(truncated), self._info(collided, success)
+        return observation, float(reward), bool(success), bool(truncated), self._info(touched, success)
 
     # --- helpers ------------------------------------------------------------------
     def _goal_option(self, options: dict[str, Any] | None) -> Goal | None:

@@ -131,28 +131,32 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if not self._goal_chosen:
             task_goal = Goal.decode(raw["goal"])
             self.model.set_goals() if task_goal is None else self.model.set_goals(task_goal)
-        return self._observe_step(raw, info), info
+        return self.observe_step(raw, info), info
 
     def step(self, action):
         raw, reward, terminated, truncated, info = self.env.step(action)
-        return self._observe_step(raw, info), reward, terminated, truncated, info
+        return self.observe_step(raw, info), reward, terminated, truncated, info
 
-    def _observe_step(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        """The attended observation of a step's ``raw`` one."""
-        return self._observe_output(raw, info, self._step_model(raw, info))
+    # --- the stages of a step (``attentive_gym.vector.protocol.ModelStage``; a fleet batches the models) ---
+    def observe_step(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
+        """The attended observation of a step's ``raw`` one and its ``info`` (which gains
+        ``"attention"``): ``observe_output`` of the model's step on ``model_reading``."""
+        t, sonar, laser, odometry, sonar_time_s, laser_time_s = self.model_reading(raw, info)
+        output = self.model.step(t, sonar, laser, odometry, sonar_time_s=sonar_time_s, laser_time_s=laser_time_s)
+        return self.observe_output(raw, info, output)
 
-    def _observe_output(
+    def observe_output(
         self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput
     ) -> dict[str, np.ndarray]:
-        """The attended observation of a step's ``raw`` one, given the model's ``output`` on
-        it (``envs.fleet`` steps its members' models together, then calls this)."""
+        """The attended observation of a step's ``raw`` one, given the model's ``output`` on it
+        (a fleet steps its members' models together, then calls this)."""
         observation = self._use(raw, info, output)
         if self.render_mode == "human":
             self.env.render()  # the step's one frame (the base env leaves it to its overlay's owner)
         return observation
 
     @staticmethod
-    def _model_reading(raw: dict[str, np.ndarray], info: dict[str, Any]) -> tuple:
+    def model_reading(raw: dict[str, np.ndarray], info: dict[str, Any]) -> tuple:
         """``AttentionModel.step``'s arguments for a raw observation and its ``info``:
         ``(t, sonar, laser, odometry, sonar_time_s, laser_time_s)``."""
         return (
@@ -163,10 +167,6 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             info.get("sonar_time_s"),
             info.get("laser_time_s"),
         )
-
-    def _step_model(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> AttentionOutput:
-        t, sonar, laser, odometry, sonar_time_s, laser_time_s = self._model_reading(raw, info)
-        return self.model.step(t, sonar, laser, odometry, sonar_time_s=sonar_time_s, laser_time_s=laser_time_s)
 
     def _use(self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput) -> dict[str, np.ndarray]:
         """Keep ``output`` (``last_output``, ``info["attention"]``) and encode the observation."""

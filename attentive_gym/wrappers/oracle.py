@@ -62,14 +62,15 @@ class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         raw, info = self.env.reset(seed=seed, options=options)
-        return self._observe_step(raw, info), info
+        return self.observe_step(raw, info), info
 
     def step(self, action):
         raw, reward, terminated, truncated, info = self.env.step(action)
-        return self._observe_step(raw, info), reward, terminated, truncated, info
+        return self.observe_step(raw, info), reward, terminated, truncated, info
 
-    def _observe_step(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
-        """The oracle's observation of a step's ``raw`` one (``envs.fleet`` calls it for batched steps)."""
+    def observe_step(self, raw: dict[str, np.ndarray], info: dict[str, Any]) -> dict[str, np.ndarray]:
+        """The oracle's observation of a step's ``raw`` one and its ``info``
+        (``attentive_gym.vector.protocol.ObservationStage``: a fleet calls it for batched steps)."""
         target = int(info["target_index"])
         if target < 0:
             return self._encoder.encode(raw, None, NO_EVENT)

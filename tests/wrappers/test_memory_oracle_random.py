@@ -208,10 +208,10 @@ def test_oracle_observation_follows_the_target_not_the_sensors():
     base = AttentiveRescueEnv(sensor_noise=0.0)
     oracle = OracleFocus(base)
     raw, info = base.reset(seed=2)
-    obs = oracle._observe_step(raw, info)
+    obs = oracle.observe_step(raw, info)
     moved = dict(info, mover_positions=info["mover_positions"].copy())
     moved["mover_positions"][info["target_index"]] += (1.0, 0.0)
-    again = oracle._observe_step(raw, moved)
+    again = oracle.observe_step(raw, moved)
     assert not np.array_equal(again["memory"][:3], obs["memory"][:3])
     np.testing.assert_array_equal(again["odometry"], obs["odometry"])
 

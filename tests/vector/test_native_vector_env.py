@@ -12,8 +12,7 @@ import pytest
 from gymnasium.vector import AutoresetMode, SyncVectorEnv
 
 import attentive_gym  # noqa: F401  (registers the ids)
-from attentive_gym.envs.fleet import Fleet
-from attentive_gym.envs.vector_env import AttentiveRescueVectorEnv, batch_infos, make_vector_env
+from attentive_gym.vector import AttentiveRescueVectorEnv, Fleet, batch_infos, make_vector_env
 from attentive_gym.wrappers import VARIANT_IDS, VARIANTS, make_env
 
 SHORT = {"time_limit_s": 1.0, "arena_size_m": 8.0, "num_distractors": 2}  # 20-step episodes: many autoresets
@@ -202,7 +201,7 @@ def test_bad_input_raises_a_clear_value_error_and_moves_nothing():
 def test_fleet_refuses_wrappers_it_cannot_step_and_other_envs():
     with pytest.raises(ValueError, match="TransformReward cannot be stepped in a fleet"):
         Fleet([gym.wrappers.TransformReward(make_env("raw"), lambda r: 2 * r)])
-    with pytest.raises(ValueError, match="not an AttentiveRescueEnv"):
+    with pytest.raises(ValueError, match="PendulumEnv, which lacks the stages a fleet steps"):
         Fleet([gym.make("Pendulum-v1").unwrapped])
     with pytest.raises(ValueError, match="other sensors"):
         Fleet([make_env("raw"), make_env("raw", sensor_noise=0.0)])
@@ -270,7 +269,7 @@ def test_native_vec_env_equals_dummy_vec_env_over_monitor():
     from stable_baselines3.common.monitor import Monitor
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from attentive_gym.agents.native_vec import NativeVecEnv
+    from attentive_gym.vector.sb3 import NativeVecEnv
 
     dummy = DummyVecEnv([lambda: Monitor(make_env("focus", **SHORT), info_keywords=("success",)) for _ in range(2)])
     native = NativeVecEnv([make_env("focus", **SHORT) for _ in range(2)], info_keywords=("success",))
@@ -306,7 +305,7 @@ def test_ppo_learns_the_same_policy_on_native_and_dummy_vec_envs():
     from stable_baselines3.common.monitor import Monitor
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from attentive_gym.agents.native_vec import NativeVecEnv
+    from attentive_gym.vector.sb3 import NativeVecEnv
 
     torch.set_num_threads(1)
     kwargs = dict(n_steps=32, batch_size=32, n_epochs=1, seed=0, device="cpu")

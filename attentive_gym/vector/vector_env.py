@@ -2,9 +2,10 @@
 
 ``gym.make_vec(ID, num_envs=N, vectorization_mode="vector_entry_point")`` builds it for
 every registered id (``make_vector_env`` is the entry point). Its members are the same
-environments ``make_env`` builds, stepped together by ``envs.fleet.Fleet`` (all robots'
-sensors in one compiled, parallel call), so its numbers equal those of
-``SyncVectorEnv`` over single environments with the same seeds, bit for bit.
+environments ``make_env`` builds, stepped together by ``attentive_gym.vector.fleet.Fleet``
+(all robots' sensors in one compiled, parallel call; the attentional models in another), so
+its numbers equal those of ``SyncVectorEnv`` over single environments with the same seeds,
+bit for bit.
 
 Gymnasium 1.x semantics: autoreset ``NEXT_STEP`` (default), ``SAME_STEP`` (the final
 observation and info under ``info["final_obs"]`` / ``info["final_info"]``) or
@@ -23,9 +24,11 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array
 
-from attentive_gym.envs.fleet import Fleet, stack_observations
+from attentive_gym.vector.batching import batch_infos, stack_observations
+from attentive_gym.vector.fleet import Fleet
+from attentive_gym.wrappers.variants import make_env
 
-__all__ = ["AttentiveRescueVectorEnv", "make_vector_env", "batch_infos", "AUTORESET_MODES"]
+__all__ = ["AttentiveRescueVectorEnv", "make_vector_env", "AUTORESET_MODES"]
 
 #: Autoreset modes by name, as ``autoreset_mode=`` takes them (or the ``AutoresetMode``).
 AUTORESET_MODES = {mode.value: mode for mode in AutoresetMode}
@@ -39,22 +42,24 @@ def make_vector_env(
     render_mode: str | None = None,
     copy: bool = True,
     max_episode_steps: int | None = None,
+    threads: int | None = None,
     **kwargs: Any,
 ) -> AttentiveRescueVectorEnv:
     """``num_envs`` environments of ``variant`` (``wrappers.make_env``'s keywords in ``kwargs``).
 
     Only member 0 gets ``render_mode``: it is the one ``render()`` draws.
-    ``max_episode_steps`` truncates every member's episodes as ``gym.make``'s does.
+    ``max_episode_steps`` truncates every member's episodes as ``gym.make``'s does;
+    ``threads``: numba threads of the compiled stages (``Fleet``'s).
     """
-    from attentive_gym.wrappers.variants import make_env
-
     count = _check_num_envs(num_envs)
     limit = _check_max_episode_steps(max_episode_steps)
     envs = [
         make_env(variant, **kwargs, **({"render_mode": render_mode} if i == 0 and render_mode else {}))
         for i in range(count)
     ]
-    return AttentiveRescueVectorEnv(envs, autoreset_mode=autoreset_mode, copy=copy, max_episode_steps=limit)
+    return AttentiveRescueVectorEnv(
+        envs, autoreset_mode=autoreset_mode, copy=copy, max_episode_steps=limit, threads=threads
+    )
 
 
 def _check_num_envs(num_envs: Any) -> int:
@@ -76,13 +81,14 @@ class AttentiveRescueVectorEnv(VectorEnv):
     """Rescue environments stepped together in one process.
 
     Args:
-        envs: the members (``make_env`` environments of one variant; see ``envs.fleet``).
+        envs: the members (``make_env`` environments of one variant; see ``attentive_gym.vector.fleet``).
         autoreset_mode: ``"NextStep"`` (default), ``"SameStep"``, ``"Disabled"``, or an
             ``AutoresetMode``.
         copy: return copies of the batched observation (as ``SyncVectorEnv`` does by
             default); False hands out the env's own buffer, overwritten by the next step.
         max_episode_steps: truncate a member's episode after this many steps, as gymnasium's
             ``TimeLimit`` (which ``gym.make(..., max_episode_steps=n)`` adds) does; None: no limit.
+        threads: numba threads of the compiled stages; None: ``vector.threads.default_threads(N)``.
 
     Spaces: ``single_observation_space`` / ``single_action_space`` are a member's;
     ``observation_space`` / ``action_space`` are batched with a leading ``num_envs`` axis.
@@ -96,8 +102,9 @@ class AttentiveRescueVectorEnv(VectorEnv):
         autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
         copy: bool = True,
         max_episode_steps: int | None = None,
+        threads: int | None = None,
     ) -> None:
-        self._fleet = Fleet(envs)
+        self._fleet = Fleet(envs, threads)
         self.envs = self._fleet.envs
         self.num_envs = len(self.envs)
         if isinstance(autoreset_mode, str):
@@ -227,72 +234,6 @@ class AttentiveRescueVectorEnv(VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         self._fleet.close()
-
-
-def batch_infos(infos: Sequence[tuple[int, dict[str, Any]]], num_envs: int) -> dict[str, Any]:
-    """The members' ``(index, info)`` pairs as one batched info, by Gymnasium's conventions.
-
-    The same dict as ``VectorEnv._add_info`` applied to each pair in turn builds: each key
-    maps to an array over the ``num_envs`` members (numbers → a 1-D array of the first
-    value's type, arrays → stacked with a leading axis, anything else → an object array;
-    a dict → batched recursively; ``"final_obs"`` → an object array), and ``"_key"`` is
-    the bool mask of the members that had it (read-only). One pass per key, not per member
-    and key; when every member comes once, in order, with the same keys (a step without
-    resets), the keys' values are gathered without sorting them by key first.
-    """
-    everyone = np.ones(num_envs, np.bool_)  # the mask of the keys every member has, shared read-only
-    everyone.flags.writeable = False
-    every = list(range(num_envs))
-    by_key: dict[str, tuple[list[int], list[Any]]] = {}  # key → (members, values)
-    if [i for i, _ in infos] == every and all(info.keys() == infos[0][1].keys() for _, info in infos):
-        by_key = {key: (every, [info[key] for _, info in infos]) for key in infos[0][1]}
-    else:
-        for i, info in infos:
-            for key, value in info.items():
-                indices, values = by_key.setdefault(key, ([], []))
-                indices.append(i)
-                values.append(value)
-    batched: dict[str, Any] = {}
-    for key, (indices, values) in by_key.items():
-        full = indices == every  # every member has it, in order: build each array in one go
-        batched[key] = _batch_values(key, values, indices, num_envs, full)
-        if full:
-            batched[f"_{key}"] = everyone
-        else:
-            mask = np.zeros(num_envs, np.bool_)
-            mask[indices] = True
-            batched[f"_{key}"] = mask
-    return batched
-
-
-def _batch_values(key: str, values: list[Any], indices: list[int], num_envs: int, full: bool) -> Any:
-    """One key's values (of the members ``indices``; ``full``: of every member, in order) as
-    ``batch_infos`` batches them."""
-    first = values[0]
-    if key != "final_obs" and isinstance(first, dict):
-        return batch_infos(list(zip(indices, values)), num_envs)
-    if key != "final_obs" and (type(first) in (int, float, bool) or isinstance(first, np.number)):
-        if full:
-            return np.array(values, dtype=type(first))
-        array = np.zeros(num_envs, dtype=type(first))
-        array[indices] = values
-        return array
-    if key != "final_obs" and isinstance(first, np.ndarray):
-        if (
-            full and first.dtype != object
-        ):  # np.stack's result at 3x its speed; numpy refuses values of different shapes
-            try:
-                return np.array(values).astype(first.dtype, copy=False)
-            except ValueError:
-                pass
-        array = np.zeros((num_envs, *first.shape), dtype=first.dtype)
-        for i, value in zip(indices, values):
-            array[i] = value
-        return array
-    array = np.full(num_envs, None, dtype=object)
-    for i, value in zip(indices, values):
-        array[i] = value
-    return array
 
 
 def _seeds(seed, num_envs: int) -> list[int | None]:

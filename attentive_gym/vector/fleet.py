@@ -1,0 +1,235 @@
+"""``Fleet``: many rescue environments stepped together, each stage one call over the members.
+
+The core that both batched shells share: ``AttentiveRescueVectorEnv`` (Gymnasium's
+``VectorEnv``, ``attentive_gym.vector.vector_env``) and ``NativeVecEnv`` (SB3's ``VecEnv``,
+``attentive_gym.vector.sb3``). Each member is a whole single environment (an
+``AttentiveRescueEnv`` under the project's observation wrappers, as ``make_env`` builds it),
+and the fleet steps it only through the public names of the batching protocol
+(``attentive_gym.vector.protocol``), in the order its own ``step`` runs them, so a fleet's
+numbers are those of its members stepped one by one, bit for bit:
+
+1. **actions**: every member's action goes down its wrappers' ``action`` hooks and becomes
+   its robot's command (``StagedEnv.command``); all are checked before any world moves;
+2. **world**: every member's world advances under its command (``StagedEnv.move``);
+3. **perceive**: every member's sensors are read in one compiled, parallel call
+   (``SensorSuite.read_many`` of the members' ``StagedEnv.sensing_request``; each member
+   draws its noise from its own generator);
+4. **complete**: each member's reward, termination, info and raw observation
+   (``StagedEnv.complete_step``);
+5. **attend**: when every member's innermost observation wrapper is a ``ModelStage``
+   (``AttentionWrapper``) and their models can form a ``ModelBatch`` (one configuration, the
+   sonar grid: ``attention.compiled.batch.batching_problem``), the models of the stepped
+   members run in one compiled, parallel call (``ModelStage.model_reading`` in,
+   ``ModelStage.observe_output`` out: the wrapper encodes its model's output);
+6. **observe**: the observation goes up the remaining wrappers (``ObservationStage.observe_step``,
+   or a ``gymnasium.ObservationWrapper``'s ``observation``).
+
+A wrapper is allowed when it is a ``gymnasium.ActionWrapper`` or ``gymnasium.ObservationWrapper``
+that keeps their ``step``, or an ``ObservationStage`` whose ``step`` is
+``observe_step(*env.step(action)[::4])`` on the observation; any other raises ``ValueError``.
+The compiled stages run on ``threads`` numba threads (``attentive_gym.vector.threads``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import gymnasium as gym
+import numba
+import numpy as np
+
+from attentive_gym.attention.compiled.batch import ModelBatch, batching_problem
+from attentive_gym.vector.protocol import ModelStage, ObservationStage, StagedEnv, StepResult
+from attentive_gym.vector.threads import default_threads, numba_threads
+
+__all__ = ["Fleet"]
+
+
+class Fleet:
+    """N environments (each possibly wrapped), stepped as one.
+
+    Args:
+        envs: the members; every one has a ``StagedEnv`` (an ``AttentiveRescueEnv``) at its
+            core, sensors equal to the first's, and the first's action and observation spaces.
+        threads: numba threads of the compiled stages (between 1 and
+            ``numba.config.NUMBA_NUM_THREADS``); None: ``threads.default_threads(len(envs))``,
+            chosen now.
+
+    Raises:
+        ValueError: for an empty list, a member whose core lacks the stages, a wrapper the
+            fleet cannot step, members with different sensors, actions or observations, or
+            a thread count out of range.
+    """
+
+    def __init__(self, envs: Sequence[gym.Env], threads: int | None = None) -> None:
+        if len(envs) < 1:
+            raise ValueError("a fleet needs at least one environment")
+        self.envs = list(envs)
+        self.bases: list[StagedEnv] = []
+        self._action_hooks: list[list] = []
+        self._observation_hooks: list[list] = []
+        self._stages: list[list] = []
+        for i, env in enumerate(self.envs):
+            base = env.unwrapped
+            if not isinstance(base, StagedEnv):
+                raise ValueError(
+                    f"env {i} is a {type(base).__name__}, which lacks the stages a fleet steps "
+                    "(attentive_gym.vector.protocol.StagedEnv: command, move, sensing_request, complete_step, sensors)"
+                )
+            actions, stages = _hooks(env, i)
+            self.bases.append(base)
+            self._action_hooks.append(actions)
+            self._stages.append(stages)
+            self._observation_hooks.append([_observation_hook(stage) for stage in stages])
+        first = self.bases[0]
+        for i, base in enumerate(self.bases[1:], start=1):
+            if _sensor_settings(base.sensors) != _sensor_settings(first.sensors):
+                raise ValueError(f"env {i} has other sensors than env 0; a fleet's members share one sensor suite")
+            if self.envs[i].action_space != self.envs[0].action_space:
+                raise ValueError(
+                    f"env {i}'s action space {self.envs[i].action_space} differs from env 0's "
+                    f"{self.envs[0].action_space}"
+                )
+            if self.envs[i].observation_space != self.envs[0].observation_space:
+                raise ValueError(
+                    f"env {i}'s observation space differs from env 0's; a fleet's members are one "
+                    "variant with the same settings"
+                )
+        self._model_stages = _model_stages(self._stages)
+        self._models = None if self._model_stages is None else ModelBatch([w.model for w in self._model_stages])
+        self.action_space: gym.spaces.Box = self.envs[0].action_space
+        self.observation_space: gym.Space = self.envs[0].observation_space
+        self.threads = default_threads(len(self.envs)) if threads is None else _check_threads(threads)
+
+    def __len__(self) -> int:
+        return len(self.envs)
+
+    @property
+    def batches_models(self) -> bool:
+        """Whether the members' attentional models step in one ``ModelBatch`` call."""
+        return self._models is not None
+
+    def check_actions(self, actions) -> np.ndarray:
+        """``actions`` as an ``(N, *action shape)`` array, or ``ValueError`` naming what is wrong.
+
+        The whole batch is checked before any member moves: a NaN in one member's action
+        leaves every member as it was.
+        """
+        shape = (len(self.envs), *self.action_space.shape)
+        if np.iscomplexobj(actions):
+            raise ValueError(f"actions must be real numbers with shape {shape}, got complex values")
+        try:  # float64, as each member's own check takes an action: float32 rows convert exactly
+            batch = np.asarray(actions, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"actions must be numeric with shape {shape} (num_envs, *action shape)") from None
+        if batch.shape != shape:
+            raise ValueError(f"actions must have shape {shape} (num_envs, *action shape), got shape {batch.shape}")
+        finite = np.isfinite(batch).reshape(len(self.envs), -1).all(axis=1)
+        if not finite.all():
+            bad = np.flatnonzero(~finite)
+            raise ValueError(f"actions must be finite; env(s) {bad[:10].tolist()} got {batch[bad[0]].tolist()}")
+        return batch
+
+    def step(self, indices: Sequence[int], actions: np.ndarray) -> list[StepResult]:
+        """Step the members ``indices`` with their rows of ``actions`` (checked by ``check_actions``).
+
+        Returns:
+            One ``(observation, reward, terminated, truncated, info)`` per index, as each
+            member's ``step`` would return it.
+        """
+        with numba_threads(self.threads):
+            commands = self._commands(indices, actions)
+            touched = [self.bases[i].move(linear, angular) for i, (linear, angular) in zip(indices, commands)]
+            readings = self.bases[0].sensors.read_many([self.bases[i].sensing_request() for i in indices])
+            steps = [self.bases[i].complete_step(hit, reading) for i, hit, reading in zip(indices, touched, readings)]
+            return self._observe(indices, steps)
+
+    def _commands(self, indices: Sequence[int], actions: np.ndarray) -> list[tuple[float, float]]:
+        """The robots' commands (linear m/s, angular rad/s) of the members ``indices``: each
+        action down its wrappers' hooks, then checked and converted by its env."""
+        commands = []
+        for i in indices:
+            action = actions[i]
+            for hook in self._action_hooks[i]:
+                action = hook(action)
+            commands.append(self.bases[i].command(action))
+        return commands
+
+    def _observe(self, indices: Sequence[int], steps: list[StepResult]) -> list[StepResult]:
+        """The completed ``steps`` of the members ``indices`` with their observations taken up
+        the members' wrappers (the models in one batch when they form one)."""
+        hooks = [self._observation_hooks[i] for i in indices]
+        if self._models is not None:  # every member's innermost stage: its attention wrapper, models batched
+            stages = [self._model_stages[i] for i in indices]
+            model_readings = [
+                stage.model_reading(observation, info) for stage, (observation, _, _, _, info) in zip(stages, steps)
+            ]
+            outputs = self._models.step(model_readings, list(indices))
+            steps = [
+                (stage.observe_output(raw, info, output), reward, terminated, truncated, info)
+                for stage, output, (raw, reward, terminated, truncated, info) in zip(stages, outputs, steps)
+            ]
+            hooks = [member_hooks[1:] for member_hooks in hooks]
+        results = []
+        for member_hooks, (observation, reward, terminated, truncated, info) in zip(hooks, steps):
+            for hook in member_hooks:
+                observation = hook(observation, info)
+            results.append((observation, reward, terminated, truncated, info))
+        return results
+
+    def close(self) -> None:
+        for env in self.envs:
+            env.close()
+
+
+def _check_threads(threads) -> int:
+    limit = numba.config.NUMBA_NUM_THREADS
+    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= limit:
+        raise ValueError(f"threads must be an integer in [1, {limit}] (NUMBA_NUM_THREADS), got {threads!r}")
+    return int(threads)
+
+
+def _sensor_settings(sensors) -> tuple:
+    """What must be equal for two members' sensors to be read in one ``read_many`` call."""
+    return (sensors.sonar_ring.config, sensors.laser_scanner.config, sensors.noise_model, sensors.noise_std)
+
+
+def _model_stages(stages: list[list]) -> list[ModelStage] | None:
+    """The members' innermost observation stages when every one is a ``ModelStage`` and their
+    models can form a ``ModelBatch``; else None."""
+    innermost = [member[0] if member else None for member in stages]
+    if not all(isinstance(stage, ModelStage) for stage in innermost):
+        return None
+    return innermost if batching_problem([stage.model for stage in innermost]) is None else None
+
+
+def _observation_hook(stage):
+    """``hook(observation, info) -> observation`` of an observation stage or a Gymnasium
+    ``ObservationWrapper``."""
+    if isinstance(stage, gym.ObservationWrapper) and type(stage).step is gym.ObservationWrapper.step:
+        return lambda observation, info, observe=stage.observation: observe(observation)
+    return stage.observe_step
+
+
+def _hooks(env: gym.Env, index: int) -> tuple[list, list]:
+    """The action hooks of ``env``'s wrappers, outermost first, and its observation stages
+    (``ObservationStage`` or Gymnasium ``ObservationWrapper`` layers), innermost first."""
+    actions, observations = [], []
+    layer = env
+    while isinstance(layer, gym.Wrapper):
+        cls = type(layer)
+        if isinstance(layer, gym.ActionWrapper) and cls.step is gym.ActionWrapper.step:
+            actions.append(layer.action)
+        elif isinstance(layer, gym.ObservationWrapper) and cls.step is gym.ObservationWrapper.step:
+            observations.append(layer)
+        elif isinstance(layer, ObservationStage):
+            observations.append(layer)
+        else:
+            raise ValueError(
+                f"env {index}: the wrapper {cls.__name__} cannot be stepped in a fleet; allowed: gymnasium "
+                "ActionWrapper/ObservationWrapper subclasses that keep their step(), and observation stages "
+                "(attentive_gym.vector.protocol.ObservationStage)"
+            )
+        layer = layer.env
+    observations.reverse()
+    return actions, observations
