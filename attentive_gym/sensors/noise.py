@@ -3,6 +3,7 @@
 - ``NOISE_MODELS``: the model names, ``("gaussian", "uniform")``.
 - ``check_noise_model``: a model name, or ``ValueError`` naming the allowed ones.
 - ``unit_noise``: the unit draws of a model (``N(0, 1)`` or ``U[-1, 1)``), a fixed number per reading.
+- ``unit_noise_rows``: the same for N robots at once, row i from robot i's own generator.
 - ``apply_range_noise``: ``r (1 + level d)`` on every reading below the maximum range, with
   ``d`` a unit draw, clipped to the sensor's limits; "no echo" readings stay exactly at the maximum.
 
@@ -19,7 +20,7 @@ import numpy as np
 
 from attentive_gym.sensors._checks import check_relative_std
 
-__all__ = ["NOISE_MODELS", "apply_range_noise", "check_noise_model", "unit_noise"]
+__all__ = ["NOISE_MODELS", "apply_range_noise", "check_noise_model", "unit_noise", "unit_noise_rows"]
 
 #: ``"gaussian"``: level = sigma of ``N(0, 1)`` draws; ``"uniform"``: level = half-width of ``U[-1, 1)`` draws.
 NOISE_MODELS = ("gaussian", "uniform")
@@ -59,6 +60,37 @@ def unit_noise(model: str, shape, rng: np.random.Generator, out: np.ndarray | No
         draws *= 2.0
         draws -= 1.0
         return draws
+    raise ValueError(f"noise model must be one of {list(NOISE_MODELS)}, got {model!r}")
+
+
+def unit_noise_rows(model: str, rngs, out: np.ndarray) -> np.ndarray:
+    """Unit draws of noise model ``model`` into the rows of ``out``, row i from ``rngs[i]``.
+
+    Row i gets the numbers ``unit_noise(model, K, rngs[i])`` would give, drawn in row order
+    (a generator listed twice draws its rows in turn), with one call into each generator
+    and, for ``"uniform"``, the scaling to ``[-1, 1)`` done once for the whole block.
+
+    Args:
+        model: one of ``NOISE_MODELS``.
+        rngs: N generators (not checked: the caller checks them before drawing any).
+        out: ``(N, K)`` C-contiguous float64 array, written.
+
+    Returns:
+        ``out``.
+
+    Raises:
+        ValueError: for an unknown ``model``.
+    """
+    if model == "gaussian":
+        for rng, row in zip(rngs, out):
+            rng.standard_normal(out=row)
+        return out
+    if model == "uniform":
+        for rng, row in zip(rngs, out):
+            rng.random(out=row)
+        out *= 2.0
+        out -= 1.0
+        return out
     raise ValueError(f"noise model must be one of {list(NOISE_MODELS)}, got {model!r}")
 
 

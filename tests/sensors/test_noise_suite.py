@@ -142,7 +142,7 @@ def test_suite_configs_drawing_and_pickling(room):
         suite.read(pose, room, np.random.default_rng(0), exclude_owner="robot")
 
 
-@pytest.mark.parametrize("module", ["geometry", "raycast", "sonar", "laser", "noise", "suite"])
+@pytest.mark.parametrize("module", ["geometry", "raycast", "sonar", "laser", "noise", "stack", "suite"])
 def test_docstring_examples_run(module):
     result = doctest.testmod(importlib.import_module(f"attentive_gym.sensors.{module}"))
     assert result.attempted > 0 and result.failed == 0
@@ -150,12 +150,16 @@ def test_docstring_examples_run(module):
 
 @pytest.mark.parametrize("noise_model", ["gaussian", "uniform"])
 def test_read_many_equals_read_of_each_robot_in_turn(noise_model):
-    from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+    from attentive_gym.envs.rescue_env import ROBOT_ID, AttentiveRescueEnv
 
     envs = [AttentiveRescueEnv(noise_model=noise_model) for _ in range(5)]
     for seed, env in enumerate(envs):
         env.reset(seed=seed)
-    requests = [env._sensing_request() for env in envs]
+    robots = [env.world.robot.body for env in envs]
+    requests = [
+        ((*robot.position, robot.angle), env.world.geometry(), env.np_random, ROBOT_ID)
+        for robot, env in zip(robots, envs)
+    ]
     requests[4] = (requests[4][0], SceneGeometry.empty(), requests[4][2], -1)  # an empty scene, no owner left out
     states = [env.np_random.bit_generator.state for env in envs]
     many = envs[0].sensors.read_many(requests)
