@@ -9,8 +9,13 @@ should be after ``h`` seconds. ``follows_clock`` tells whether the law is a sche
 path, which a mover blocked by the robot resumes where it stopped) or a reaction to the
 robot (pursue, evade). Path positions are exact functions of time, and the
 velocity is computed from the body's *current* position, so rounding never accumulates
-and the positions at step boundaries do not depend on the step size. Laws run once per
-environment step, in plain Python floats (they are on the hot path).
+and the positions at step boundaries do not depend on the step size.
+
+These classes are the laws' reference: the pure-Python world step runs them once per
+environment step, and the compiled world step (``world.compiled``) does the same
+arithmetic on the numbers ``world.state`` copies from them, bit for bit. Distances are
+``sqrt(dx*dx + dy*dy)`` on both sides (CPython's ``math.hypot`` rounds differently from
+C's ``hypot``).
 """
 
 from __future__ import annotations
@@ -45,23 +50,23 @@ class PathMotion:
             if leg.pause_s > 0.0:
                 times.append(times[-1] + leg.pause_s)
                 points.append(leg.to)
-        self._knot_t = times  # (K,) s
-        self._knot_xy = points  # (K,) (x m, y m)
-        self._start_delay_s = behaviour.start_delay_s
-        self._period_s = times[-1] - behaviour.start_delay_s if behaviour.loop else None
+        self.knot_t = times  # (K,) s, non-decreasing
+        self.knot_xy = points  # (K,) (x m, y m)
+        self.start_delay_s = behaviour.start_delay_s
+        self.period_s = times[-1] - behaviour.start_delay_s if behaviour.loop else None  # s
         self.face_motion = behaviour.face_motion
 
     def position(self, t_s: float) -> tuple[float, float]:
         """Where the body is at time ``t_s`` (s): (x m, y m)."""
-        if self._period_s is not None and self._period_s > 0.0 and t_s > self._start_delay_s:
-            t_s = self._start_delay_s + math.fmod(t_s - self._start_delay_s, self._period_s)
-        knots = self._knot_t
+        if self.period_s is not None and self.period_s > 0.0 and t_s > self.start_delay_s:
+            t_s = self.start_delay_s + math.fmod(t_s - self.start_delay_s, self.period_s)
+        knots = self.knot_t
         i = bisect.bisect_right(knots, t_s)
         if i == 0:
-            return self._knot_xy[0]
+            return self.knot_xy[0]
         if i == len(knots):
-            return self._knot_xy[-1]
-        (x0, y0), (x1, y1) = self._knot_xy[i - 1], self._knot_xy[i]
+            return self.knot_xy[-1]
+        (x0, y0), (x1, y1) = self.knot_xy[i - 1], self.knot_xy[i]
         u = (t_s - knots[i - 1]) / (knots[i] - knots[i - 1])
         return (x0 + u * (x1 - x0), y0 + u * (y1 - y0))
 
@@ -78,12 +83,12 @@ class PursueMotion:
     follows_clock = False
 
     def __init__(self, behaviour: PursueBehaviour) -> None:
-        self._behaviour = behaviour
+        self.behaviour = behaviour
 
     def velocity(self, t_s: float, h_s: float, position, robot_xy) -> tuple[float, float]:
-        b = self._behaviour
+        b = self.behaviour
         dx, dy = robot_xy[0] - position[0], robot_xy[1] - position[1]
-        distance = math.hypot(dx, dy)
+        distance = math.sqrt(dx * dx + dy * dy)
         if t_s < b.start_delay_s or distance <= b.stop_distance_m:
             return (0.0, 0.0)
         gain = min(b.speed_mps, (distance - b.stop_distance_m) / h_s) / distance
@@ -103,20 +108,20 @@ class EvadeMotion:
     follows_clock = False
 
     def __init__(self, behaviour: EvadeBehaviour, bounds: tuple[float, float, float, float], extent_m: float) -> None:
-        self._behaviour = behaviour
-        self._low = (bounds[0] + extent_m, bounds[1] + extent_m)
-        self._high = (bounds[2] - extent_m, bounds[3] - extent_m)
+        self.behaviour = behaviour
+        self.low = (bounds[0] + extent_m, bounds[1] + extent_m)  # lowest x, y (m) of the centre
+        self.high = (bounds[2] - extent_m, bounds[3] - extent_m)  # highest x, y (m) of the centre
 
     def velocity(self, t_s: float, h_s: float, position, robot_xy) -> tuple[float, float]:
-        b = self._behaviour
+        b = self.behaviour
         dx, dy = position[0] - robot_xy[0], position[1] - robot_xy[1]
-        distance = math.hypot(dx, dy)
+        distance = math.sqrt(dx * dx + dy * dy)
         if t_s < b.start_delay_s or distance == 0.0:
             return (0.0, 0.0)
         gain = b.speed_mps * h_s / distance
         wanted = (
-            min(max(position[0] + dx * gain, self._low[0]), self._high[0]),
-            min(max(position[1] + dy * gain, self._low[1]), self._high[1]),
+            min(max(position[0] + dx * gain, self.low[0]), self.high[0]),
+            min(max(position[1] + dy * gain, self.low[1]), self.high[1]),
         )
         return ((wanted[0] - position[0]) / h_s, (wanted[1] - position[1]) / h_s)
 

@@ -8,7 +8,9 @@
 
 Commands are linear (m/s, along the heading) and angular (rad/s, counter-clockwise)
 velocities; each physics sub-step moves the commanded velocity towards the target by at
-most the acceleration limits.
+most the acceleration limits. The command, its ramp and the pose read back after each
+step live in the world's record (``world.state``), which the compiled world step reads
+and writes; ``Robot.command`` and ``Robot.drive`` are the pure-Python step's versions.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 import pymunk
 
 from attentive_gym import _pymunk_access
+from attentive_gym.world.state import robot_record
 
 __all__ = ["RobotConfig", "Robot", "ROBOT_COLLISION_TYPE"]
 
@@ -65,10 +68,19 @@ class Robot:
         space: the world's space; the body, its control body and joints are added to it.
         config: physical parameters.
         pose: start ``(x_m, y_m, heading_rad)``.
+        state: the ``(1,)`` ``world.state.WORLD_DTYPE`` record that holds the robot's
+            command and read-back pose (its world's); a new one when omitted.
     """
 
-    def __init__(self, space: pymunk.Space, config: RobotConfig, pose: tuple[float, float, float]) -> None:
+    def __init__(
+        self,
+        space: pymunk.Space,
+        config: RobotConfig,
+        pose: tuple[float, float, float],
+        state: np.ndarray | None = None,
+    ) -> None:
         self.config = config
+        self.state = robot_record(config) if state is None else state
         size = (config.length_m, config.width_m)
         self.body = pymunk.Body(config.mass_kg, pymunk.moment_for_box(config.mass_kg, size))
         self.body.position = pose[:2]
@@ -86,8 +98,7 @@ class Robot:
         gear.max_bias = 0.0
         gear.max_force = config.drive_torque_nm
         space.add(self.body, self.shape, self.control, pivot, gear)
-        self._target = (0.0, 0.0)  # commanded (linear m/s, angular rad/s)
-        self._current = (0.0, 0.0)  # ramped command actually sent to the drive
+        self.read_back()
 
     def command(self, linear_mps: float, angular_rps: float) -> None:
         """Set the target velocities; values beyond the limits are clipped to them.
@@ -101,7 +112,7 @@ class Robot:
             raise ValueError(
                 f"robot commands must be finite numbers, got linear {linear_mps!r} m/s, angular {angular_rps!r} rad/s"
             )
-        self._target = (
+        self.state["target"][0] = (
             min(max(linear, -c.max_linear_mps), c.max_linear_mps),
             min(max(angular, -c.max_angular_rps), c.max_angular_rps),
         )
@@ -109,9 +120,11 @@ class Robot:
     def drive(self, h_s: float) -> None:
         """Ramp the command towards the target for a sub-step of ``h_s`` and apply it."""
         c = self.config
-        linear = _approach(self._current[0], self._target[0], c.linear_accel_mps2 * h_s)
-        angular = _approach(self._current[1], self._target[1], c.angular_accel_rps2 * h_s)
-        self._current = (linear, angular)
+        state = self.state[0]
+        (target_linear, target_angular), (linear, angular) = state["target"].tolist(), state["command"].tolist()
+        linear = _approach(linear, target_linear, c.linear_accel_mps2 * h_s)
+        angular = _approach(angular, target_angular, c.angular_accel_rps2 * h_s)
+        state["command"] = (linear, angular)
         # Drive along the chord of the arc turned during this sub-step (the heading at its
         # middle), so the body's velocity stays aligned with its heading while turning.
         heading = self.body.angle + 0.5 * angular * h_s
@@ -120,18 +133,42 @@ class Robot:
         _pymunk_access.set_angular_velocity(control, angular)
 
     @property
+    def target(self) -> tuple[float, float]:
+        """The commanded ``(linear m/s, angular rad/s)``, clipped to the limits."""
+        linear, angular = self.state["target"][0].tolist()
+        return linear, angular
+
+    @property
+    def drive_command(self) -> tuple[float, float]:
+        """The ramped ``(linear m/s, angular rad/s)`` the drive was last given."""
+        linear, angular = self.state["command"][0].tolist()
+        return linear, angular
+
+    def read_back(self) -> None:
+        """Copy the body's pose and velocity into ``state`` (``robot_pose``,
+        ``robot_velocity``), as the compiled step does after every step."""
+        body = self.body
+        vx, vy = _pymunk_access.velocity(body)
+        state = self.state[0]
+        state["robot_pose"] = _pymunk_access.pose(body)
+        state["robot_velocity"] = (vx, vy, body.angular_velocity)
+
+    @property
     def pose(self) -> np.ndarray:
-        """``(x_m, y_m, heading_rad)`` of the body's centre; the heading is not wrapped: it
-        is the angle turned since the start (counter-clockwise positive), as pymunk keeps it."""
-        return np.array(_pymunk_access.pose(self.body))
+        """``(x_m, y_m, heading_rad)`` of the body's centre after the last step; the heading
+        is not wrapped: it is the angle turned since the start (counter-clockwise positive),
+        as pymunk keeps it. A body moved by hand through pymunk shows here after the next
+        step (or ``read_back``)."""
+        return self.state["robot_pose"][0].copy()
 
     @property
     def odometry(self) -> np.ndarray:
-        """Measured ``(linear m/s along the heading, angular rad/s)`` of the body."""
-        body = self.body
-        vx, vy = _pymunk_access.velocity(body)
-        heading = body.angle
-        return np.array([vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity])
+        """Measured ``(linear m/s along the heading, angular rad/s)`` of the body after the
+        last step."""
+        state = self.state[0]
+        heading = float(state["robot_pose"][2])
+        vx, vy, angular = state["robot_velocity"].tolist()
+        return np.array([vx * math.cos(heading) + vy * math.sin(heading), angular])
 
     def in_contact(self) -> bool:
         """Whether the body touches any other shape after the last physics step."""

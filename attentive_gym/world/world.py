@@ -12,6 +12,13 @@ Scripted movers are kinematic: they follow their scripts exactly and are not pus
 walls and rubble are static. A mover never pushes the attentive robot: one that touches it
 stops unless it is moving away (a path mover's schedule pauses, so it resumes where it
 stopped), as a real robot or person would, instead of crushing it against rubble.
+
+The world's control state (the robot's command and ramp, the clock, the movers' laws and
+stops, the poses read back after each step) lives in numpy records, ``world.state``
+(``world.state`` module); ``Robot`` and ``Mover`` read their attributes from them.
+``World.step`` runs ``world.compiled.step_worlds`` for this one world: a compiled step, or
+the pure-Python one (``World._step_python``) where pymunk's internals are not the tested
+ones.
 """
 
 from __future__ import annotations
@@ -24,11 +31,21 @@ import pymunk
 
 from attentive_gym import _pymunk_access
 from attentive_gym.sensors.geometry import GeometryCache, SceneGeometry
-from attentive_gym.world.behaviours import make_motion
+from attentive_gym.world import compiled
+from attentive_gym.world.behaviours import EvadeMotion, PathMotion, PursueMotion, make_motion
 from attentive_gym.world.robot import ROBOT_COLLISION_TYPE, Robot, RobotConfig
 from attentive_gym.world.scenario import BoxRubble, CircleRubble, MoverSpec, Scenario, SegmentRubble, WallSpec
+from attentive_gym.world.state import mover_records, robot_record
 
-__all__ = ["Entity", "Mover", "World", "ROBOT_ID", "MOVER_COLLISION_TYPE", "STATIC_COLLISION_TYPE"]
+__all__ = [
+    "Entity",
+    "Mover",
+    "World",
+    "WorldState",
+    "ROBOT_ID",
+    "MOVER_COLLISION_TYPE",
+    "STATIC_COLLISION_TYPE",
+]
 
 ROBOT_ID = 0
 MOVER_COLLISION_TYPE = 2
@@ -45,12 +62,47 @@ class Entity:
     name: str
 
 
-class Mover:
-    """A scripted moving body (victim or robot) with its motion law."""
+@dataclass(frozen=True, eq=False)
+class WorldState:
+    """A world's control state as numpy records (``world.state`` module), the arrays the
+    compiled step reads and writes; kept for the world's life (never replaced).
 
-    def __init__(self, entity: Entity, spec: MoverSpec, bounds: tuple[float, float, float, float]) -> None:
+    Attributes:
+        world: ``(1,)`` ``WORLD_DTYPE``: the robot's command, ramp and limits, the clock,
+            the touch flag, the robot's pose and velocity after the last step.
+        movers: ``(M,)`` ``MOVER_DTYPE``, in scenario order: laws, stops, poses and
+            velocities after the last step.
+        knots: ``(K, 3)`` float64 path knots (t s, x m, y m).
+    """
+
+    world: np.ndarray
+    movers: np.ndarray
+    knots: np.ndarray
+
+
+class Mover:
+    """A scripted moving body (victim or robot) with its motion law.
+
+    Args:
+        entity: its id, kind and name.
+        spec: what to build.
+        motion: its law (``behaviours.make_motion``), ``None`` for a body that stays still.
+        records: the world's ``(M,)`` ``MOVER_DTYPE`` records; ``index``: this mover's row.
+    """
+
+    def __init__(
+        self,
+        entity: Entity,
+        spec: MoverSpec,
+        motion: PathMotion | PursueMotion | EvadeMotion | None,
+        records: np.ndarray,
+        index: int,
+    ) -> None:
         self.entity = entity
         self.spec = spec
+        self.motion = motion
+        self._records = records
+        self._index = index
         self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.body.position = (spec.start.x_m, spec.start.y_m)
         self.body.angle = math.radians(spec.start.heading_deg)
@@ -60,14 +112,30 @@ class Mover:
             self.shape = pymunk.Poly.create_box(self.body, (spec.length_m, spec.width_m))
         self.shape.collision_type = MOVER_COLLISION_TYPE
         self.shape.friction = _STATIC_FRICTION
-        start = (spec.start.x_m, spec.start.y_m)
-        self.motion = None if spec.behaviour is None else make_motion(spec.behaviour, start, bounds, spec.extent_m)
-        self.script_delay_s = 0.0  # how long a path's schedule has been paused by the robot (s)
-        self.touching_robot: tuple[float, float] | None = None  # unit vector towards the robot, while touching
-        self.blocked = False  # stopped by the robot during the last step
+
+    @property
+    def script_delay_s(self) -> float:
+        """How long the robot has paused a path's schedule (s)."""
+        return float(self._records["script_delay_s"][self._index])
+
+    @property
+    def touching_robot(self) -> tuple[float, float] | None:
+        """The unit vector towards the robot while touching it (until the next step drives
+        the mover), else ``None``."""
+        row = self._records[self._index]
+        if not row["touching"]:
+            return None
+        x, y = row["towards_robot"].tolist()
+        return x, y
+
+    @property
+    def blocked(self) -> bool:
+        """Whether the robot stopped the mover during the last step."""
+        return bool(self._records["blocked"][self._index])
 
     def drive(self, t_s: float, h_s: float, robot_xy) -> None:
-        """Set the velocity that follows the script over ``[t_s, t_s + h_s]``.
+        """Set the velocity that follows the script over ``[t_s, t_s + h_s]`` (the
+        pure-Python step's version of the compiled ``_drive_mover``).
 
         Called once per environment step: an unblocked body is exactly on its path at every
         step boundary and moves in a straight line in between. A body that touches the robot
@@ -78,20 +146,29 @@ class Mover:
         if motion is None:
             return
         body = self.body
-        if self.blocked and motion.follows_clock:
-            self.script_delay_s += h_s  # stopped part-way through the last step: redo it
-        self.blocked = False
-        vx, vy = motion.velocity(t_s - self.script_delay_s, h_s, _pymunk_access.position(body), robot_xy)
-        towards_robot = self.touching_robot
-        if towards_robot is not None:
-            self.touching_robot = None
-            if _not_leaving(vx, vy, towards_robot):
+        row = self._records[self._index]  # a view of this mover's record
+        script_delay_s = float(row["script_delay_s"])
+        if row["blocked"] and motion.follows_clock:
+            script_delay_s += h_s  # stopped part-way through the last step: redo it
+        row["blocked"] = 0
+        vx, vy = motion.velocity(t_s - script_delay_s, h_s, _pymunk_access.position(body), robot_xy)
+        if row["touching"]:
+            row["touching"] = 0
+            if _not_leaving(vx, vy, row["towards_robot"].tolist()):
                 vx = vy = 0.0
                 if motion.follows_clock:
-                    self.script_delay_s += h_s
+                    script_delay_s += h_s
+        row["script_delay_s"] = script_delay_s
         _pymunk_access.set_velocity(body, vx, vy)
         if motion.face_motion and (vx or vy):
             _pymunk_access.set_angle(body, math.atan2(vy, vx))
+
+    def read_back(self) -> None:
+        """Copy the body's pose and velocity into its record (``pose``, ``velocity``), as
+        the compiled step does after every step."""
+        row = self._records[self._index]
+        row["pose"] = _pymunk_access.pose(self.body)
+        row["velocity"] = _pymunk_access.velocity(self.body)
 
 
 def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bool:
@@ -100,30 +177,35 @@ def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bo
     return (vx != 0.0 or vy != 0.0) and vx * towards_robot[0] + vy * towards_robot[1] >= 0.0
 
 
-def _note_robot_contact(arbiter: pymunk.Arbiter, space: pymunk.Space, touched: list[bool]) -> None:
+def _note_robot_contact(arbiter: pymunk.Arbiter, space: pymunk.Space, world: np.ndarray) -> None:
     """pre_solve of every contact of the robot: Chipmunk calls it in each physics sub-step in
     which the robot touches a shape (an arbiter with contact points), the same contacts
-    ``Robot.in_contact`` counts after the sub-step; an untouched robot pays nothing."""
-    touched[0] = True
+    ``Robot.in_contact`` counts after the sub-step; an untouched robot pays nothing.
+    ``world`` is the world's ``(1,)`` record; it sets ``touched``."""
+    world["touched"] = 1
 
 
-def _stop_mover_at_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, movers: dict) -> None:
+def _stop_mover_at_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, movers: tuple[np.ndarray, dict]) -> None:
     """pre_solve of robot-mover contacts: a mover not moving away from the robot stops at once.
 
     A stopped mover is then an obstacle like a wall; the contact with one moving away is
     frictionless, so it cannot drag the robot along. Runs in every physics sub-step in
     which the two touch (pymunk calls it only then), so an untouched world pays nothing.
-    ``movers`` maps a mover's shape to its ``Mover``.
+    ``movers`` is the world's ``(M,)`` mover records and a map from a mover's shape to its
+    row; it sets the row's ``touching``, ``towards_robot`` and ``blocked``.
     """
+    records, index = movers
     robot_shape, mover_shape = arbiter.shapes
-    mover = movers[mover_shape]
+    row = records[index[mover_shape]]  # a view of the mover's record
     normal = arbiter.normal  # from the robot (shape a) to the mover (shape b)
     towards_robot = (-normal.x, -normal.y)
-    mover.touching_robot = towards_robot
-    vx, vy = _pymunk_access.velocity(mover.body)
+    row["touching"] = 1
+    row["towards_robot"] = towards_robot
+    body = mover_shape.body
+    vx, vy = _pymunk_access.velocity(body)
     if _not_leaving(vx, vy, towards_robot):
-        _pymunk_access.set_velocity(mover.body, 0.0, 0.0)
-        mover.blocked = True
+        _pymunk_access.set_velocity(body, 0.0, 0.0)
+        row["blocked"] = 1
     elif vx or vy:
         arbiter.friction = 0.0
 
@@ -150,24 +232,35 @@ class World:
         self.physics_dt_s = physics_dt_s
         self.space = pymunk.Space()
         self.space.gravity = (0.0, 0.0)
+        bounds = self._free_bounds()
+        motions = [
+            None
+            if spec.behaviour is None
+            else make_motion(spec.behaviour, (spec.start.x_m, spec.start.y_m), bounds, spec.extent_m)
+            for spec in scenario.movers
+        ]
+        self.state = WorldState(robot_record(robot_config, physics_dt_s), *mover_records(motions))
         self.robot = Robot(
-            self.space, robot_config, (scenario.robot.x_m, scenario.robot.y_m, math.radians(scenario.robot.heading_deg))
+            self.space,
+            robot_config,
+            (scenario.robot.x_m, scenario.robot.y_m, math.radians(scenario.robot.heading_deg)),
+            self.state.world,
         )
         self.entities: list[Entity] = [Entity(ROBOT_ID, "robot", "attentive robot")]
         self.movers: list[Mover] = []
-        for spec in scenario.movers:
-            mover = Mover(self._new_entity(spec.kind, spec.name), spec, self._free_bounds())
+        for i, (spec, motion) in enumerate(zip(scenario.movers, motions)):
+            mover = Mover(self._new_entity(spec.kind, spec.name), spec, motion, self.state.movers, i)
             self.space.add(mover.body, mover.shape)
+            mover.read_back()
             self.movers.append(mover)
         if self.movers:
             self.space.on_collision(
                 ROBOT_COLLISION_TYPE,
                 MOVER_COLLISION_TYPE,
                 pre_solve=_stop_mover_at_robot,
-                data={m.shape: m for m in self.movers},
+                data=(self.state.movers, {m.shape: i for i, m in enumerate(self.movers)}),
             )
-        self._robot_touched = [False]  # set by _note_robot_contact while the robot touches anything
-        self.space.on_collision(ROBOT_COLLISION_TYPE, None, pre_solve=_note_robot_contact, data=self._robot_touched)
+        self.space.on_collision(ROBOT_COLLISION_TYPE, None, pre_solve=_note_robot_contact, data=self.state.world)
         self.static: list[tuple[Entity, pymunk.Shape]] = []  # walls and rubble
         for i, wall in enumerate(self._enclosure() + list(scenario.walls)):
             self._add_static(self._new_entity("wall", f"wall {i}"), _wall_shape(self.space.static_body, wall))
@@ -179,12 +272,43 @@ class World:
             + [(m.entity.id, m.body, [m.shape]) for m in self.movers]
             + [(entity.id, self.space.static_body, [shape]) for entity, shape in self.static]
         )
-        self.time_s = 0.0
-        # the clock: time_s = _clock_start_s + _steps_taken · _clock_dt_s, restarted when the
-        # step length changes (a product, not a running sum, so that it does not drift)
-        self._clock_start_s = 0.0
-        self._clock_dt_s = math.nan
-        self._steps_taken = 0
+        self._kernel_row: np.ndarray | None = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_kernel_row"] = None  # addresses: a copy has its own
+        state.pop("_mover_names", None)
+        state.pop("_mover_handles", None)
+        return state
+
+    @property
+    def time_s(self) -> float:
+        """The world's clock (s): ``clock_start_s + steps_taken · clock_dt_s`` of
+        ``state.world``, restarted when the step length changes (a product, not a running
+        sum, so that it does not drift)."""
+        return float(self.state.world["time_s"][0])
+
+    def kernel_row(self) -> np.ndarray:
+        """``(compiled.ROW_SIZE,)`` int64: the addresses of this world's records and of its
+        Chipmunk space and bodies, and the record counts, as the compiled step reads them.
+        Valid while the world lives; a copy or an unpickled world computes its own."""
+        row = self._kernel_row
+        if row is None:
+            handles = np.array([_pymunk_access.handle(m.body) for m in self.movers], dtype=np.int64)
+            self._mover_handles = handles  # kept alive with the row that points at it
+            state = self.state
+            row = np.zeros(compiled.ROW_SIZE, dtype=np.int64)
+            row[compiled.ROW_WORLD] = state.world.ctypes.data
+            row[compiled.ROW_MOVERS] = state.movers.ctypes.data
+            row[compiled.ROW_NUM_MOVERS] = len(state.movers)
+            row[compiled.ROW_KNOTS] = state.knots.ctypes.data
+            row[compiled.ROW_NUM_KNOTS] = len(state.knots)
+            row[compiled.ROW_SPACE] = _pymunk_access.handle(self.space)
+            row[compiled.ROW_ROBOT] = _pymunk_access.handle(self.robot.body)
+            row[compiled.ROW_CONTROL] = _pymunk_access.handle(self.robot.control)
+            row[compiled.ROW_MOVER_BODIES] = handles.ctypes.data
+            self._kernel_row = row
+        return row
 
     def _new_entity(self, kind: str, name: str) -> Entity:
         entity = Entity(len(self.entities), kind, name)
@@ -227,34 +351,46 @@ class World:
     def step(self, dt_s: float, linear_mps: float, angular_rps: float) -> bool:
         """Advance the world by ``dt_s`` seconds with the robot commanded to the given velocities.
 
+        The same call as ``compiled.step_worlds`` with this one world.
+
         Returns:
             Whether the robot touched another body during the step.
 
         Raises:
             ValueError: ``dt_s`` is not a finite number > 0, or a command is not finite.
         """
-        if not (isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0.0):
-            raise ValueError(f"dt_s must be a finite number of seconds > 0, got {dt_s!r}")
-        if dt_s != self._clock_dt_s:
-            self._clock_start_s, self._clock_dt_s, self._steps_taken = self.time_s, dt_s, 0
+        return bool(compiled.step_worlds((self,), dt_s, ((linear_mps, angular_rps),))[0])
+
+    def _step_python(self, dt_s: float, linear_mps: float, angular_rps: float) -> bool:
+        """The pure-Python step (checked arguments): what the compiled step does, in Python."""
+        world = self.state.world[0]  # a view of the record
+        if dt_s != world["clock_dt_s"]:
+            world["clock_start_s"], world["clock_dt_s"], world["steps_taken"] = world["time_s"], dt_s, 0
         substeps = self.substeps(dt_s)
         h = dt_s / substeps
         robot = self.robot
         robot.command(linear_mps, angular_rps)
         if self.movers:
             robot_xy = _pymunk_access.position(robot.body)
-            t_s = self.time_s
+            t_s = float(world["time_s"])
             for mover in self.movers:
                 mover.drive(t_s, dt_s, robot_xy)
-        touched = self._robot_touched
-        touched[0] = False
+        world["touched"] = 0
         space = self.space
         for _ in range(substeps):
             robot.drive(h)
             space.step(h)
-        self._steps_taken += 1
-        self.time_s = self._clock_start_s + self._steps_taken * dt_s
-        return touched[0]
+        world["steps_taken"] += 1
+        world["time_s"] = float(world["clock_start_s"]) + int(world["steps_taken"]) * dt_s
+        self.read_back()
+        return bool(world["touched"])
+
+    def read_back(self) -> None:
+        """Copy the robot's and the movers' poses and velocities from pymunk into
+        ``state`` (the compiled step does it after every step)."""
+        self.robot.read_back()
+        for mover in self.movers:
+            mover.read_back()
 
     def substeps(self, dt_s: float) -> int:
         """How many equal physics sub-steps, none longer than ``physics_dt_s``, a ``step`` of
@@ -262,8 +398,18 @@ class World:
         return max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
 
     def geometry(self) -> SceneGeometry:
-        """The scene's world-frame geometry now, with owners = entity ids."""
-        return self._geometry.update()
+        """The scene's world-frame geometry after the last step, with owners = entity ids
+        (its moving bodies at ``moving_poses()``)."""
+        return self._geometry.update(self.moving_poses())
+
+    def moving_poses(self) -> np.ndarray:
+        """``(1 + M, 3)`` float64 (x m, y m, angle rad) of the robot and the movers after the
+        last step, in the order of ``GeometryCache.moving_bodies`` of ``geometry()``'s cache
+        (robot, then movers in scenario order); a new array."""
+        poses = np.empty((1 + len(self.movers), 3))
+        poses[0] = self.state.world["robot_pose"][0]
+        poses[1:] = self.state.movers["pose"]
+        return poses
 
     @property
     def mover_names(self) -> tuple[str, ...]:
@@ -274,18 +420,12 @@ class World:
         return names
 
     def mover_positions(self) -> np.ndarray:
-        """``(M, 2)`` mover centres (m)."""
-        xy: list[float] = []
-        for m in self.movers:
-            xy += _pymunk_access.position(m.body)
-        return np.array(xy, dtype=float).reshape(-1, 2)
+        """``(M, 2)`` mover centres (m) after the last step (a new array)."""
+        return self.state.movers["pose"][:, :2].copy()
 
     def mover_velocities(self) -> np.ndarray:
-        """``(M, 2)`` mover velocities (m/s)."""
-        v: list[float] = []
-        for m in self.movers:
-            v += _pymunk_access.velocity(m.body)
-        return np.array(v, dtype=float).reshape(-1, 2)
+        """``(M, 2)`` mover velocities (m/s) after the last step (a new array)."""
+        return self.state.movers["velocity"].copy()
 
 
 def _wall_shape(body: pymunk.Body, wall: WallSpec) -> pymunk.Poly:
