@@ -280,6 +280,7 @@ class AttentiveRescueEnv(gym.Env):
         self._goal_cache: tuple = (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none")  # goal, encoding, text
         self._renderer = None
         self._reading = None
+        self._odometry = (0.0, 0.0)  # the robot's (linear m/s, angular rad/s) at the last observation
         #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
         #: ``AttentionWrapper`` to show the focus); None draws nothing more. In human mode an
         #: env with an overlay leaves each step's frame to the overlay's owner, who draws it
@@ -406,10 +407,11 @@ class AttentiveRescueEnv(gym.Env):
         world = self.world
         body = world.robot.body
         self._reading = reading = self._scans.update(fresh, world.time_s)
-        # world.robot.odometry, clipped to the observation space's bounds, in plain floats
+        # world.robot.odometry in plain floats (kept for the info), clipped to the observation space's bounds
         vx, vy = _pymunk_access.velocity(body)
         heading = body.angle
         linear, angular = vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity
+        self._odometry = (linear, angular)
         linear_limit, angular_limit = self._odometry_limit
         odometry = (min(max(linear, -linear_limit), linear_limit), min(max(angular, -angular_limit), angular_limit))
         return {
@@ -442,7 +444,7 @@ class AttentiveRescueEnv(gym.Env):
         return {
             "time_s": world.time_s,
             "robot_pose": world.robot.pose,
-            "robot_velocity": world.robot.odometry,
+            "robot_velocity": np.array(self._odometry),  # world.robot.odometry, read by _observe
             "mover_positions": world.mover_positions(),
             "mover_velocities": world.mover_velocities(),
             "mover_names": world.mover_names,

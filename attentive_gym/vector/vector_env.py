@@ -203,7 +203,8 @@ class AttentiveRescueVectorEnv(VectorEnv):
                 if stacked is not None
                 else concatenate(space, members, create_empty_array(space, self.num_envs))
             )
-        self._observations = concatenate(space, members, self._observations)
+        stacked = stack_observations(space, members, self._observations)
+        self._observations = stacked if stacked is not None else concatenate(space, members, self._observations)
         return self._observations
 
     # --- members --------------------------------------------------------------------------

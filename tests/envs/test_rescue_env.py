@@ -231,3 +231,35 @@ def test_render_human_is_headless_safe():
     assert env.render() is None
     assert env.metadata["render_fps"] == pytest.approx(10.0)
     env.close()
+
+
+def test_info_reports_the_worlds_state_bit_for_bit_with_its_types():
+    """The info's robot and mover entries are what the world's public reads give, exactly, with
+    the types and dtypes of the documented info (a crowded arena: contacts on the way)."""
+    env = AttentiveRescueEnv(arena_size_m=7.0, num_distractors=4, rubble_per_100m2=15.0)
+    _, info = env.reset(seed=3)
+    rng = np.random.default_rng(3)
+    touched = 0
+    for _ in range(120):
+        world = env.world
+        np.testing.assert_array_equal(info["robot_pose"], world.robot.pose)
+        np.testing.assert_array_equal(info["robot_velocity"], world.robot.odometry)
+        np.testing.assert_array_equal(info["mover_positions"], world.mover_positions())
+        np.testing.assert_array_equal(info["mover_velocities"], world.mover_velocities())
+        assert info["time_s"] == world.time_s and info["mover_names"] == world.mover_names
+        assert {key: type(value) for key, value in info.items()} == {
+            **dict.fromkeys(("robot_pose", "robot_velocity", "mover_positions", "mover_velocities"), np.ndarray),
+            **dict.fromkeys(("sonar_hits", "laser_hits"), np.ndarray),
+            **dict.fromkeys(("time_s", "target_distance_m", "sonar_time_s", "laser_time_s"), float),
+            "mover_names": tuple,
+            "target_index": int,
+            "collision": bool,
+            "success": bool,
+            "goal": str,
+        }
+        assert info["robot_pose"].dtype == info["robot_velocity"].dtype == np.float64
+        _, _, terminated, truncated, info = env.step(np.array([rng.uniform(0.6, 1.0), rng.uniform(-0.3, 0.3)]))
+        touched += info["collision"]
+        if terminated or truncated:
+            _, info = env.reset()
+    assert touched >= 10

@@ -217,6 +217,20 @@ def test_flattened_members_step_in_a_fleet():
     _run_both(native, sync, steps=25)
 
 
+@pytest.mark.parametrize("flatten", [False, True])
+def test_without_copy_the_batch_is_the_envs_own_buffer_with_syncs_numbers(flatten):
+    native = AttentiveRescueVectorEnv([make_env("focus", flatten=flatten, **SHORT) for _ in range(2)], copy=False)
+    sync = SyncVectorEnv([lambda: make_env("focus", flatten=flatten, **SHORT) for _ in range(2)])
+    first, _ = native.reset(seed=2)
+    _assert_same_tree(first, sync.reset(seed=2)[0])
+    rng = np.random.default_rng(2)
+    for _ in range(25):  # over an autoreset
+        actions = rng.uniform(-1, 1, native.action_space.shape).astype(np.float32)
+        observation = native.step(actions)[0]
+        assert observation is first  # the same buffer, overwritten
+        _assert_same_tree(observation, sync.step(actions)[0])
+
+
 def test_render_draws_env_0_and_info_keeps_every_single_env_key():
     env = make_vector_env(2, "focus", render_mode="rgb_array", **SHORT)
     _, info = env.reset(seed=0)
@@ -262,6 +276,14 @@ def test_batch_infos_equals_gymnasium_add_info():
         expected = reference._add_info(expected, info, i)
     _assert_same_tree(batch_infos(full, 3), expected)
     assert batch_infos(full, 3)["v"].dtype == np.float64 and batch_infos(full, 3)["d"]["inner"].shape == (3, 3)
+    assert batch_infos(full, 3)["obj"].tolist() == [(), ("x",), ("x", "x")]  # each tuple one element
+    # the same keys in another order in one member: batched as Gymnasium does too
+    shuffled = [(i, dict(reversed(info.items())) if i == 1 else info) for i, info in full]
+    expected = {}
+    for i, info in shuffled:
+        expected = reference._add_info(expected, info, i)
+    _assert_same_tree(batch_infos(shuffled, 3), expected)
+    assert batch_infos(shuffled, 3)["obj"].tolist() == [(), ("x",), ("x", "x")]
 
 
 # --- SB3 ----------------------------------------------------------------------------------
