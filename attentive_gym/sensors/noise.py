@@ -63,7 +63,7 @@ def unit_noise(model: str, shape, rng: np.random.Generator, out: np.ndarray | No
     raise ValueError(f"noise model must be one of {list(NOISE_MODELS)}, got {model!r}")
 
 
-def unit_noise_rows(model: str, rngs, out: np.ndarray) -> np.ndarray:
+def unit_noise_rows(model: str, rngs, out: np.ndarray, rows=None) -> np.ndarray:
     """Unit draws of noise model ``model`` into the rows of ``out``, row i from ``rngs[i]``.
 
     Row i gets the numbers ``unit_noise(model, K, rngs[i])`` would give, drawn in row order
@@ -74,6 +74,8 @@ def unit_noise_rows(model: str, rngs, out: np.ndarray) -> np.ndarray:
         model: one of ``NOISE_MODELS``.
         rngs: N generators (not checked: the caller checks them before drawing any).
         out: ``(N, K)`` C-contiguous float64 array, written.
+        rows: the indices of the rows to draw, increasing (the other rows and their
+            generators are left alone), or None for every row.
 
     Returns:
         ``out``.
@@ -81,17 +83,21 @@ def unit_noise_rows(model: str, rngs, out: np.ndarray) -> np.ndarray:
     Raises:
         ValueError: for an unknown ``model``.
     """
+    if model not in NOISE_MODELS:
+        raise ValueError(f"noise model must be one of {list(NOISE_MODELS)}, got {model!r}")
+    pairs = zip(rngs, out) if rows is None else ((rngs[i], out[i]) for i in rows)
     if model == "gaussian":
-        for rng, row in zip(rngs, out):
+        for rng, row in pairs:
             rng.standard_normal(out=row)
         return out
-    if model == "uniform":
-        for rng, row in zip(rngs, out):
-            rng.random(out=row)
-        out *= 2.0
-        out -= 1.0
-        return out
-    raise ValueError(f"noise model must be one of {list(NOISE_MODELS)}, got {model!r}")
+    for rng, row in pairs:
+        rng.random(out=row)
+    block = out if rows is None else out[rows]
+    block *= 2.0
+    block -= 1.0
+    if rows is not None:
+        out[rows] = block
+    return out
 
 
 def apply_range_noise(

@@ -116,9 +116,10 @@ class SceneStack:
         from pymunk now (not checked: ``check_body_poses`` does that)."""
         return np.array(_pymunk_access.poses(self._bodies), np.float64).reshape(-1, 3)
 
-    def check_body_poses(self, body_poses) -> np.ndarray:
+    def check_body_poses(self, body_poses, active=None) -> np.ndarray:
         """``body_poses`` as a contiguous ``(B, 3)`` float64 array, or ``ValueError`` unless it
-        is numeric, of that shape and finite (naming the first member whose pose is not)."""
+        is numeric, of that shape and finite in the rows of the members ``active`` marks
+        (``(N,)`` bool; None: every member), naming the first body whose pose is not."""
         try:
             array = np.ascontiguousarray(body_poses, dtype=np.float64)
         except (TypeError, ValueError):
@@ -130,8 +131,14 @@ class SceneStack:
                 f"body_poses must have shape ({self.num_bodies}, 3): x_m, y_m, angle_rad of each of the "
                 f"{self.num_bodies} moving bodies of the stack's scenes, member by member; got shape {array.shape}"
             )
-        if not np.isfinite(array).all():
-            row = int(np.argmin(np.isfinite(array).all(axis=1)))
+        finite = np.isfinite(array)
+        if finite.all():
+            return array
+        finite = finite.all(axis=1)
+        if active is not None:
+            finite |= ~np.repeat(active, np.diff(self.body_start))
+        if not finite.all():
+            row = int(np.argmin(finite))
             member = int(np.searchsorted(self.body_start, row, side="right")) - 1
             raise ValueError(
                 f"body_poses row {row} (body {row - self.body_start[member]} of member {member}, "

@@ -250,6 +250,7 @@ class SensorSuite:
         *,
         body_poses=None,
         out: BatchReading | None = None,
+        active=None,
     ) -> BatchReading:
         """Read the sensors of N robots, all with these sensors, in one compiled call.
 
@@ -268,6 +269,10 @@ class SensorSuite:
                 from pymunk.
             out: a ``BatchReading`` of N rows with these sensors' widths to fill in place
                 (reused from call to call), or None for a new one.
+            active: ``(N,)`` bool, the robots to read (e.g. the members that step while
+                others reset), or None for all. An inactive robot's row of ``out`` is left
+                as it was, its generator is not drawn from, and its pose, body poses and
+                ``rngs`` entry are not used (only their shapes are checked).
 
         Returns:
             ``out`` (or the new block): row i equals, bit for bit, ``read(poses[i], scene,
@@ -275,8 +280,9 @@ class SensorSuite:
             (``GeometryCache.update(body_poses[body_start[i]:body_start[i + 1]])``).
 
         Raises:
-            ValueError: for poses, body poses, owners or ``out`` of the wrong shape, a
-                non-finite pose, or not N generators; before any generator is advanced.
+            ValueError: for poses, body poses, owners, ``active`` or ``out`` of the wrong
+                shape, a non-finite pose of an active robot, or not N generators; before
+                any generator is advanced.
             TypeError: for ``scenes`` that is not a ``SceneStack`` or an rng that is not a Generator.
 
         Example:
@@ -289,12 +295,13 @@ class SensorSuite:
         if not isinstance(scenes, SceneStack):
             raise TypeError(f"scenes must be a SceneStack, got {type(scenes).__name__}")
         n = len(scenes)
-        poses = _check_poses(poses, n)
+        flags, rows = _check_active(active, n)
+        poses = _check_poses(poses, n, rows)
         excludes = _check_owners(exclude_owner, n)
         if len(rngs) != n:
             raise ValueError(f"rngs must hold one numpy.random.Generator per robot: {n}, got {len(rngs)}")
-        _check_rngs(rngs)
-        body_poses = scenes.check_body_poses(scenes.body_poses() if body_poses is None else body_poses)
+        _check_rngs(rngs, rows=rows)
+        body_poses = scenes.check_body_poses(scenes.body_poses() if body_poses is None else body_poses, active)
         if out is None:
             out = self.empty_batch(n)
         elif not isinstance(out, BatchReading):
@@ -304,7 +311,7 @@ class SensorSuite:
                 f"out must hold {n} rows of {self._num_sonars} sonars and {self._num_beams} beams "
                 f"(SensorSuite.empty_batch({n})); got sonar {out.sonar.shape} and laser {out.laser.shape}"
             )
-        return self._read_stack(poses, scenes, rngs, excludes, body_poses, out)
+        return self._read_stack(poses, scenes, rngs, excludes, body_poses, out, flags, rows)
 
     def read_many(self, requests: Sequence[tuple]) -> list[SensorReading]:
         """Read the sensors of many robots, all with these sensors, in one compiled call.
@@ -333,15 +340,19 @@ class SensorSuite:
         excludes = np.array([check_owner(request[3]) for request in requests], np.int64)
         rngs = [request[2] for request in requests]
         _check_rngs(rngs, "request")
-        batch = self._read_stack(poses, stack, rngs, excludes, np.empty((0, 3)), self.empty_batch(n))
+        batch = self._read_stack(
+            poses, stack, rngs, excludes, np.empty((0, 3)), self.empty_batch(n), np.ones(n, np.uint8), None
+        )
         return [batch.reading(i) for i in range(n)]
 
-    def _read_stack(self, poses, stack, rngs, excludes, body_poses, out: BatchReading) -> BatchReading:
-        """``read_batch`` after its checks: the noise drawn into ``out``, then the kernel."""
-        unit_noise_rows(self._noise_model, rngs, out.unit_noise)
+    def _read_stack(self, poses, stack, rngs, excludes, body_poses, out: BatchReading, flags, rows) -> BatchReading:
+        """``read_batch`` after its checks: the noise of the active ``rows`` (None: all)
+        drawn into ``out``, then the kernel over the rows whose ``flags`` are set."""
+        unit_noise_rows(self._noise_model, rngs, out.unit_noise, rows)
         ring = self.sonar_ring
         _read_many_kernel(
             poses,
+            flags,
             excludes,
             stack.layout,
             ring._positions,
@@ -377,9 +388,23 @@ def _reading(sonar, laser, sonar_owner, laser_owner) -> SensorReading:
     return reading
 
 
-def _check_poses(poses, n: int) -> np.ndarray:
+def _check_active(active, n: int) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(flags (n,) uint8, rows)`` of the robots to read: every one (``rows`` None) for
+    ``active=None``, else those ``active`` marks; ``ValueError`` unless it is ``(n,)`` bools."""
+    if active is None:
+        return np.ones(n, np.uint8), None
+    array = np.asarray(active)
+    if array.dtype != np.bool_ or array.shape != (n,):
+        raise ValueError(
+            f"active must be None or an (N,) bool array (N = {n}), got shape {array.shape} of dtype {array.dtype}"
+        )
+    return array.astype(np.uint8), np.flatnonzero(array)
+
+
+def _check_poses(poses, n: int, rows=None) -> np.ndarray:
     """``poses`` as a contiguous ``(n, 3)`` float64 array, or ``ValueError`` unless it is a
-    real array of that shape with finite entries (naming the first robot whose pose is not)."""
+    real array of that shape with finite entries in ``rows`` (None: all), naming the first
+    robot whose pose is not."""
     array = np.asarray(poses)
     if array.dtype.kind not in "iuf" or array.shape != (n, 3):
         raise ValueError(
@@ -387,8 +412,9 @@ def _check_poses(poses, n: int) -> np.ndarray:
             f"got shape {array.shape} of dtype {array.dtype}"
         )
     array = np.ascontiguousarray(array, dtype=np.float64)
-    if not np.isfinite(array).all():
-        row = int(np.argmin(np.isfinite(array).all(axis=1)))
+    if not np.isfinite(array if rows is None else array[rows]).all():
+        finite = np.isfinite(array).all(axis=1)
+        row = int(next(i for i in (range(n) if rows is None else rows) if not finite[i]))
         raise ValueError(f"poses must be finite; robot {row} has x_m, y_m, theta_rad = {array[row].tolist()}")
     return array
 
@@ -406,11 +432,12 @@ def _check_owners(exclude_owner, n: int) -> np.ndarray:
     return np.ascontiguousarray(array, dtype=np.int64)
 
 
-def _check_rngs(rngs, what: str = "rngs") -> None:
-    """``TypeError`` unless every entry of ``rngs`` is a ``numpy.random.Generator``."""
-    for i, rng in enumerate(rngs):
-        if not isinstance(rng, np.random.Generator):
-            raise TypeError(f"{what} {i}: rng must be a numpy.random.Generator, got {type(rng).__name__}")
+def _check_rngs(rngs, what: str = "rngs", rows=None) -> None:
+    """``TypeError`` unless every entry of ``rngs`` (those in ``rows``; None: all) is a
+    ``numpy.random.Generator``."""
+    for i in range(len(rngs)) if rows is None else rows:
+        if not isinstance(rngs[i], np.random.Generator):
+            raise TypeError(f"{what} {i}: rng must be a numpy.random.Generator, got {type(rngs[i]).__name__}")
 
 
 @njit(cache=True)
@@ -507,6 +534,7 @@ def _read_member(
 @njit(cache=True, parallel=True)
 def _read_many_kernel(
     poses,
+    active,
     excludes,
     layout,
     sonar_positions,
@@ -528,8 +556,11 @@ def _read_many_kernel(
     """``_read_member`` for robot i of ``poses`` ``(N, 3)`` in its rows of a ``SceneStack``
     (``layout``, ``segments`` ... ``point_body``), after placing its moving points at its
     rows of ``body_poses`` ``(B, 3)`` (checked finite); one robot per parallel iteration,
-    into row i of ``draws`` and the outputs."""
+    with row i of ``draws``, into row i of the outputs; robots whose ``active`` (``(N,)``
+    uint8) is 0 are skipped."""
     for i in prange(poses.shape[0]):
+        if active[i] == 0:
+            continue
         s0 = layout[i, S0]
         s1 = layout[i, S1]
         c0 = layout[i, C0]

@@ -160,6 +160,35 @@ def test_read_batch_reads_pymunk_poses_without_body_poses(pm):
     )
 
 
+@pytest.mark.parametrize("noise_model", NOISE_MODELS)
+def test_inactive_robots_are_left_alone(pm, noise_model):
+    suite = SensorSuite(noise_std=0.05, noise_model=noise_model)
+    scenes, poses, body_poses = _members(pm, 5, seed=7)
+    stack = SceneStack(scenes)
+    active = np.array([True, False, True, False, True])
+    expected = _expected(suite, stack, poses, body_poses, range(5), np.zeros(5, int))
+    poses[1] = np.nan  # a resetting member's pose and bodies may be anything
+    body_poses[stack.body_start[1] : stack.body_start[2]] = np.inf
+    out = suite.empty_batch(5)
+    for block in (out.sonar, out.laser, out.unit_noise):
+        block.fill(-7.0)
+    rngs = [np.random.default_rng(s) for s in range(5)]
+    untouched = _states(rngs)
+    suite.read_batch(poses, stack, rngs, 0, body_poses=body_poses, out=out, active=active)
+    for i in range(5):
+        if active[i]:
+            _assert_same_reading(out.reading(i), expected[i])
+            assert rngs[i].bit_generator.state != untouched[i]
+        else:
+            assert (out.sonar[i] == -7.0).all() and (out.laser[i] == -7.0).all() and (out.unit_noise[i] == -7.0).all()
+            assert rngs[i].bit_generator.state == untouched[i]
+    for bad in (np.ones(4, bool), np.ones(5, int), [[True] * 5]):
+        with pytest.raises(ValueError, match=r"active must be None or an \(N,\) bool array \(N = 5\)"):
+            suite.read_batch(poses, stack, rngs, 0, body_poses=body_poses, active=bad)
+    with pytest.raises(ValueError, match="poses must be finite; robot 1 has"):
+        suite.read_batch(poses, stack, rngs, 0, body_poses=body_poses, active=~active)
+
+
 def test_one_generator_for_several_robots_draws_their_rows_in_turn(room):
     suite = SensorSuite(noise_std=0.1)
     poses = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 2.0], [-1.0, 0.5, -1.0]])
@@ -187,6 +216,12 @@ def test_unit_noise_rows_are_each_generators_unit_noise(noise_model):
         assert rng.bit_generator.state == reference.bit_generator.state
     with pytest.raises(ValueError, match="noise model must be one of"):
         unit_noise_rows("laplace", rngs, out)
+    rngs = [np.random.default_rng(s) for s in (1, 2, 3)]
+    before = out.copy()
+    unit_noise_rows(noise_model, rngs, out, rows=np.array([0, 2]))
+    np.testing.assert_array_equal(out[1], before[1])
+    np.testing.assert_array_equal(out[2], unit_noise(noise_model, 50, np.random.default_rng(3)))
+    assert rngs[1].bit_generator.state == np.random.default_rng(2).bit_generator.state
 
 
 def test_stack_layout_and_reuse(pm):
