@@ -332,11 +332,18 @@ def _read_back(functions, scratch, world, movers, mover_bodies, robot):
 @njit(cache=True, nogil=False)
 def _step_worlds_kernel(functions, table, dt_s, commands, touched):
     """Step the worlds of ``table`` (``(N, ROW_SIZE)`` int64 rows) by ``dt_s`` with
-    ``commands`` (``(N, 2)`` float64, finite), one after another, writing ``touched`` (N,).
-    Holds the GIL: the contact callbacks Chipmunk calls are Python."""
+    ``commands`` (``(N, 2)`` float64), one after another, writing ``touched`` (N,).
+
+    Returns -1, or the first world whose command is not finite (then no world moved).
+    Holds the GIL: the contact callbacks Chipmunk calls are Python.
+    """
+    for w in range(table.shape[0]):
+        if not (math.isfinite(commands[w, 0]) and math.isfinite(commands[w, 1])):
+            return w
     scratch = _new_scratch()
     for w in range(table.shape[0]):
         touched[w] = _step_world(functions, scratch, table[w], dt_s, commands[w, 0], commands[w, 1])
+    return -1
 
 
 def step_worlds(worlds: Sequence[World], dt_s: float, commands: np.ndarray) -> np.ndarray:
@@ -358,32 +365,32 @@ def step_worlds(worlds: Sequence[World], dt_s: float, commands: np.ndarray) -> n
     if not (isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0.0):
         raise ValueError(f"dt_s must be a finite number of seconds > 0, got {dt_s!r}")
     commands = np.ascontiguousarray(commands, dtype=np.float64)
-    if commands.shape != (len(worlds), 2):
+    n = len(worlds)
+    if commands.shape != (n, 2):
         raise ValueError(
-            f"commands must have shape (N, 2) = (linear m/s, angular rad/s) per world, with N = {len(worlds)} "
+            f"commands must have shape (N, 2) = (linear m/s, angular rad/s) per world, with N = {n} "
             f"worlds; got shape {commands.shape}"
         )
-    finite = np.isfinite(commands).all(axis=1)
-    if not finite.all():
-        i = int(np.flatnonzero(~finite)[0])
-        linear, angular = commands[i].tolist()
-        raise ValueError(
-            f"robot commands must be finite numbers, got linear {linear!r} m/s, angular {angular!r} rad/s for world {i}"
-        )
     if _engine == "python":
-        return np.array(
-            [
-                world._step_python(float(dt_s), linear, angular)
-                for world, (linear, angular) in zip(worlds, commands.tolist())
-            ],
-            dtype=np.bool_,
-        )
-    touched = np.empty(len(worlds), dtype=np.bool_)
-    table = np.array([world.kernel_row() for world in worlds], dtype=np.int64).reshape(-1, ROW_SIZE)
-    spaces = [world.space for world in worlds]
-    with _pymunk_access.stepping(spaces):
-        _step_worlds_kernel(_functions, table, float(dt_s), commands, touched)
+        if not np.isfinite(commands).all():
+            _refuse(commands, int(np.flatnonzero(~np.isfinite(commands).all(axis=1))[0]))
+        pairs = commands.tolist()
+        return np.array([world._step_python(float(dt_s), *pair) for world, pair in zip(worlds, pairs)], dtype=np.bool_)
+    touched = np.empty(n, dtype=np.bool_)
+    table = worlds[0].kernel_row() if n == 1 else np.concatenate([world.kernel_row() for world in worlds])
+    with _pymunk_access.stepping([world.space for world in worlds]):
+        bad = _step_worlds_kernel(_functions, table, float(dt_s), commands, touched)
+    if bad >= 0:
+        _refuse(commands, bad)
     return touched
+
+
+def _refuse(commands: np.ndarray, i: int) -> None:
+    """Raise the ``ValueError`` for world ``i``'s command, which is not finite."""
+    linear, angular = commands[i].tolist()
+    raise ValueError(
+        f"robot commands must be finite numbers, got linear {linear!r} m/s, angular {angular!r} rad/s for world {i}"
+    )
 
 
 def engine() -> str:

@@ -289,7 +289,7 @@ class World:
         return float(self.state.world["time_s"][0])
 
     def kernel_row(self) -> np.ndarray:
-        """``(compiled.ROW_SIZE,)`` int64: the addresses of this world's records and of its
+        """``(1, compiled.ROW_SIZE)`` int64: the addresses of this world's records and of its
         Chipmunk space and bodies, and the record counts, as the compiled step reads them.
         Valid while the world lives; a copy or an unpickled world computes its own."""
         row = self._kernel_row
@@ -297,16 +297,16 @@ class World:
             handles = np.array([_pymunk_access.handle(m.body) for m in self.movers], dtype=np.int64)
             self._mover_handles = handles  # kept alive with the row that points at it
             state = self.state
-            row = np.zeros(compiled.ROW_SIZE, dtype=np.int64)
-            row[compiled.ROW_WORLD] = state.world.ctypes.data
-            row[compiled.ROW_MOVERS] = state.movers.ctypes.data
-            row[compiled.ROW_NUM_MOVERS] = len(state.movers)
-            row[compiled.ROW_KNOTS] = state.knots.ctypes.data
-            row[compiled.ROW_NUM_KNOTS] = len(state.knots)
-            row[compiled.ROW_SPACE] = _pymunk_access.handle(self.space)
-            row[compiled.ROW_ROBOT] = _pymunk_access.handle(self.robot.body)
-            row[compiled.ROW_CONTROL] = _pymunk_access.handle(self.robot.control)
-            row[compiled.ROW_MOVER_BODIES] = handles.ctypes.data
+            row = np.zeros((1, compiled.ROW_SIZE), dtype=np.int64)
+            row[0, compiled.ROW_WORLD] = state.world.ctypes.data
+            row[0, compiled.ROW_MOVERS] = state.movers.ctypes.data
+            row[0, compiled.ROW_NUM_MOVERS] = len(state.movers)
+            row[0, compiled.ROW_KNOTS] = state.knots.ctypes.data
+            row[0, compiled.ROW_NUM_KNOTS] = len(state.knots)
+            row[0, compiled.ROW_SPACE] = _pymunk_access.handle(self.space)
+            row[0, compiled.ROW_ROBOT] = _pymunk_access.handle(self.robot.body)
+            row[0, compiled.ROW_CONTROL] = _pymunk_access.handle(self.robot.control)
+            row[0, compiled.ROW_MOVER_BODIES] = handles.ctypes.data
             self._kernel_row = row
         return row
 

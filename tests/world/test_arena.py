@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention.goals import Goal
-from attentive_gym.world.arena import ArenaConfig, generate_arena
+from attentive_gym.world.arena import ArenaConfig, _segment_distances, generate_arena
 from attentive_gym.world.scenario import EvadeBehaviour, PathBehaviour, PursueBehaviour
 from attentive_gym.world.world import World
 
@@ -105,3 +105,16 @@ def test_an_arena_without_room_says_so():
         r"the number of distractors \(in 20 layouts in a row\)",
     ):
         generate_arena(config, np.random.default_rng(0))
+
+
+def test_segment_distances_are_numpy_s_norms_bit_for_bit():
+    # the arena's layout (and so every seed's arena) depends on these exact numbers
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        points = rng.uniform(-5.0, 5.0, (int(rng.integers(0, 12)), 2))
+        a = rng.uniform(-5.0, 5.0, 2)
+        b = a if rng.random() < 0.3 else rng.uniform(-5.0, 5.0, 2)
+        ab = b - a
+        t = np.zeros(len(points)) if ab @ ab == 0.0 else np.clip((points - a) @ ab / float(ab @ ab), 0.0, 1.0)
+        expected = np.linalg.norm(a + t[:, None] * ab - points, axis=1)
+        assert _segment_distances(points, a, b).tolist() == expected.tolist()
