@@ -120,11 +120,11 @@ class Robot:
     def drive(self, h_s: float) -> None:
         """Ramp the command towards the target for a sub-step of ``h_s`` and apply it."""
         c = self.config
-        state = self.state[0]
-        (target_linear, target_angular), (linear, angular) = state["target"].tolist(), state["command"].tolist()
+        state = self.state
+        (target_linear, target_angular), (linear, angular) = state["target"][0].tolist(), state["command"][0].tolist()
         linear = _approach(linear, target_linear, c.linear_accel_mps2 * h_s)
         angular = _approach(angular, target_angular, c.angular_accel_rps2 * h_s)
-        state["command"] = (linear, angular)
+        state["command"][0] = (linear, angular)
         # Drive along the chord of the arc turned during this sub-step (the heading at its
         # middle), so the body's velocity stays aligned with its heading while turning.
         heading = self.body.angle + 0.5 * angular * h_s
@@ -149,9 +149,8 @@ class Robot:
         ``robot_velocity``), as the compiled step does after every step."""
         body = self.body
         vx, vy = _pymunk_access.velocity(body)
-        state = self.state[0]
-        state["robot_pose"] = _pymunk_access.pose(body)
-        state["robot_velocity"] = (vx, vy, body.angular_velocity)
+        self.state["robot_pose"][0] = _pymunk_access.pose(body)
+        self.state["robot_velocity"][0] = (vx, vy, body.angular_velocity)
 
     @property
     def pose(self) -> np.ndarray:

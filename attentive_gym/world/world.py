@@ -146,19 +146,19 @@ class Mover:
         if motion is None:
             return
         body = self.body
-        row = self._records[self._index]  # a view of this mover's record
-        script_delay_s = float(row["script_delay_s"])
-        if row["blocked"] and motion.follows_clock:
+        records, i = self._records, self._index  # field first, then row: the cheap way round
+        script_delay_s = records["script_delay_s"].item(i)
+        if records["blocked"][i] and motion.follows_clock:
             script_delay_s += h_s  # stopped part-way through the last step: redo it
-        row["blocked"] = 0
+        records["blocked"][i] = 0
         vx, vy = motion.velocity(t_s - script_delay_s, h_s, _pymunk_access.position(body), robot_xy)
-        if row["touching"]:
-            row["touching"] = 0
-            if _not_leaving(vx, vy, row["towards_robot"].tolist()):
+        if records["touching"][i]:
+            records["touching"][i] = 0
+            if _not_leaving(vx, vy, records["towards_robot"][i].tolist()):
                 vx = vy = 0.0
                 if motion.follows_clock:
                     script_delay_s += h_s
-        row["script_delay_s"] = script_delay_s
+        records["script_delay_s"][i] = script_delay_s
         _pymunk_access.set_velocity(body, vx, vy)
         if motion.face_motion and (vx or vy):
             _pymunk_access.set_angle(body, math.atan2(vy, vx))
@@ -166,9 +166,8 @@ class Mover:
     def read_back(self) -> None:
         """Copy the body's pose and velocity into its record (``pose``, ``velocity``), as
         the compiled step does after every step."""
-        row = self._records[self._index]
-        row["pose"] = _pymunk_access.pose(self.body)
-        row["velocity"] = _pymunk_access.velocity(self.body)
+        self._records["pose"][self._index] = _pymunk_access.pose(self.body)
+        self._records["velocity"][self._index] = _pymunk_access.velocity(self.body)
 
 
 def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bool:
@@ -363,27 +362,28 @@ class World:
 
     def _step_python(self, dt_s: float, linear_mps: float, angular_rps: float) -> bool:
         """The pure-Python step (checked arguments): what the compiled step does, in Python."""
-        world = self.state.world[0]  # a view of the record
-        if dt_s != world["clock_dt_s"]:
-            world["clock_start_s"], world["clock_dt_s"], world["steps_taken"] = world["time_s"], dt_s, 0
+        world = self.state.world
+        time_s = world["time_s"].item(0)
+        if dt_s != world["clock_dt_s"][0]:
+            world["clock_start_s"], world["clock_dt_s"], world["steps_taken"] = time_s, dt_s, 0
         substeps = self.substeps(dt_s)
         h = dt_s / substeps
         robot = self.robot
         robot.command(linear_mps, angular_rps)
         if self.movers:
             robot_xy = _pymunk_access.position(robot.body)
-            t_s = float(world["time_s"])
             for mover in self.movers:
-                mover.drive(t_s, dt_s, robot_xy)
+                mover.drive(time_s, dt_s, robot_xy)
         world["touched"] = 0
         space = self.space
         for _ in range(substeps):
             robot.drive(h)
             space.step(h)
-        world["steps_taken"] += 1
-        world["time_s"] = float(world["clock_start_s"]) + int(world["steps_taken"]) * dt_s
+        steps_taken = world["steps_taken"].item(0) + 1
+        world["steps_taken"] = steps_taken
+        world["time_s"] = world["clock_start_s"].item(0) + steps_taken * dt_s
         self.read_back()
-        return bool(world["touched"])
+        return bool(world["touched"][0])
 
     def read_back(self) -> None:
         """Copy the robot's and the movers' poses and velocities from pymunk into
