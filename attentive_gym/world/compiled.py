@@ -360,7 +360,8 @@ def step_worlds(worlds: Sequence[World], dt_s: float, commands: np.ndarray) -> n
 
     Raises:
         ValueError: ``dt_s`` is not a finite number > 0, ``commands`` does not have shape
-            ``(N, 2)``, or a command is not finite; raised before any world moves.
+            ``(N, 2)``, a command is not finite, or a world is listed twice; raised before
+            any world moves.
     """
     if not (isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0.0):
         raise ValueError(f"dt_s must be a finite number of seconds > 0, got {dt_s!r}")
@@ -371,6 +372,8 @@ def step_worlds(worlds: Sequence[World], dt_s: float, commands: np.ndarray) -> n
             f"commands must have shape (N, 2) = (linear m/s, angular rad/s) per world, with N = {n} "
             f"worlds; got shape {commands.shape}"
         )
+    if n > 1 and len({id(world) for world in worlds}) < n:
+        raise ValueError("worlds must be distinct: a world listed twice would step twice")
     if _engine == "python":
         if not np.isfinite(commands).all():
             _refuse(commands, int(np.flatnonzero(~np.isfinite(commands).all(axis=1))[0]))

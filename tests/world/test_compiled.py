@@ -182,6 +182,8 @@ def test_a_bad_command_in_one_world_moves_no_world(which, engine):
         compiled.step_worlds(worlds, DT_S, commands[:2])
     with pytest.raises(ValueError, match="dt_s must be a finite number of seconds > 0"):
         compiled.step_worlds(worlds, math.inf, np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="worlds must be distinct"):
+        compiled.step_worlds([worlds[0], worlds[1], worlds[0]], DT_S, np.zeros((3, 2)))
     assert [world_snapshot(w) for w in worlds] == before
 
 
