@@ -32,15 +32,22 @@ from types import MappingProxyType
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention.attentional_map import CourseBook, lateral_spread
+from attentive_gym.attention.attentional_map import CourseBook, course_parameters, lateral_spread
+from attentive_gym.attention.compiled.records import (
+    COURSE_FIELDS,
+    MEMORY_FIELDS,
+    OUTPUT_ARRAYS,
+    ModelState,
+    StateLayout,
+    output_dtype,
+)
 from attentive_gym.attention.compiled.step_kernels import (
     PLAN_COLUMNS,
-    attend_one,
+    attend_many,
     fulfilling_range,
     goal_maps,
     goal_plan_row,
     load_row,
-    new_output_arrays,
     select,
     sense,
     window_kinematics,
@@ -74,6 +81,7 @@ from attentive_gym.attention.regions import (
     laser_bearings_rad,
     sonar_cone_bounds,
 )
+from attentive_gym.attention.tracking.tracker import STATE_FIELDS as TRACKER_FIELDS
 from attentive_gym.attention.tracking.tracker import (
     TRACK_TABLE_FIELDS,
     Tracker,
@@ -330,12 +338,8 @@ class AttentionModel:
         self.grid = Grid.make(config.grid)
         self._memory = SensorMemory(config.memory_window, _N_CHANNELS)
         self._courses = CourseBook(config, self.grid.n_regions)
-        self._spread = lateral_spread(self.grid.n_regions, config.lateral_sigma_regions)
-        self._max_ranges = np.concatenate(
-            [np.full(FRONT_SONARS, config.sonar_max_range_m), np.full(LASER_BEAMS, config.laser_max_range_m)]
-        )
-        self._no_echo_from = self._max_ranges - config.no_echo_epsilon_m
-        self._limits = np.stack([self._max_ranges, self._no_echo_from])  # per channel, for the kernels (m)
+        constants = _constants(config)
+        self._spread, self._max_ranges, self._limits = constants["spread"], constants["max_ranges"], constants["limits"]
         beams = laser_bearings_rad()
         self._beam_bearings, self._beam_cos, self._beam_sin = beams, np.cos(beams), np.sin(beams)
         sonars = front_sonar_bearings_rad()
@@ -356,18 +360,22 @@ class AttentionModel:
         self._ego = np.empty(_N_CHANNELS)
         # K of the range-rate slope: the configured window, the paper's two samples, or none
         # (the tracker estimates motion)
-        self._slope_samples = {"window": config.slope_samples, "literal": 2, "tracker": 0}[config.kinematics]
+        self._slope_samples = _slope_samples(config)
         self._tracker = Tracker(config) if config.kinematics == "tracker" else None
-        self._gather_kernel_arrays()
         self._sonar_time: float | None = None  # times (s) of the latest sonar and laser scans
         self._laser_time: float | None = None
         self._goals: dict[Feature, Goal] = {}
-        self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), PLAN_COLUMNS))
         self._weights = np.asarray(config.weights, dtype=float)
         self._gain = config.gain
+        # the goals' settings (``_update_active`` writes them in place)
         self._active = np.zeros(len(MAP_NAMES))
+        self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), PLAN_COLUMNS))
+        self._combine = np.zeros((2, len(BOTTOM_UP_MAPS)))
+        self._wanted_speed = np.zeros(2)
+        self._adopt()
         self._update_active()
         self._last_t: float | None = None
+        self._record_dtype = output_dtype(self.grid.n_regions, _N_CHANNELS, FRONT_SONARS)
 
     # --- settings ---------------------------------------------------------------------
     @property
@@ -471,24 +479,27 @@ class AttentionModel:
     def set_state(self, state: str | float) -> None:
         """Set the Global Attentive State: "drowsy" (0.5), "alert" (1), "vigilant" (1.5) or a gain > 0."""
         self._gain = parse_state(state)
+        self._gain_cell[0] = self._gain
 
     def _update_active(self) -> None:
+        """Write the goals' settings (``_active``, ``_goal_plan``, ``_wanted_speed``, ``_combine``)
+        from the goals and weights, in place (they are state fields)."""
         active = self._weights.copy()
         for feature, row in GOAL_MAP_OF_FEATURE.items():
             if feature not in self._goals:
                 active[row] = 0.0
-        self._active = active
+        self._active[:] = active
         maxima = {Feature.SPEED: self.config.max_speed_mps, Feature.DISTANCE: self.config.max_distance_m}
         # one row per top-down map (F4..F6) for the compiled goal maps, see PLAN_COLUMNS
         plan = np.zeros((len(TOP_DOWN_MAPS), PLAN_COLUMNS))
         for feature, row in GOAL_MAP_OF_FEATURE.items():
             if active[row] > 0.0:
                 plan[row - TOP_DOWN_MAPS[0]] = goal_plan_row(self._goals[feature], maxima.get(feature))
-        self._goal_plan = plan
+        self._goal_plan[:] = plan
         # the speeds [lo, hi] (m/s) an active speed goal asks for: the tracker's top-down
         # choice of a region's track
         speed_goal = self._goals.get(Feature.SPEED) if active[GOAL_MAP_OF_FEATURE[Feature.SPEED]] > 0.0 else None
-        self._wanted_speed = np.full(2, np.inf) if speed_goal is None else np.array(fulfilling_range(speed_goal))
+        self._wanted_speed[:] = (np.inf, np.inf) if speed_goal is None else fulfilling_range(speed_goal)
         combined = active.copy()  # the weights C uses
         bottom_up, top_down = list(BOTTOM_UP_MAPS), list(TOP_DOWN_MAPS)
         bottom_up_total, top_down_total = float(active[bottom_up].sum()), float(active[top_down].sum())
@@ -500,7 +511,7 @@ class AttentionModel:
         divisor = total if (self.config.normalise_combined and total > 0.0) else 1.0
         # weights of C_BU = w_BU @ F[:3] (row 0) and C_TD = w_TD @ F[3:] (row 1), normaliser folded in;
         # divided, not multiplied by 1/total, which overflows for subnormal weights
-        self._combine = np.stack([combined[bottom_up], combined[top_down]]) / divisor
+        self._combine[:] = np.stack([combined[bottom_up], combined[top_down]]) / divisor
 
     # --- dynamics -----------------------------------------------------------------------
     def reset(self) -> None:
@@ -549,13 +560,24 @@ class AttentionModel:
                 is unchanged then.
         """
         inputs = self._checked(t, sonar, laser, odometry, sonar_time_s, laser_time_s)
+        state = self.model_state
         step = self._advance(*inputs)
-        arrays = new_output_arrays(self.grid.n_regions)
-        self._courses.reserve()  # room for one more course of each kind: the kernels cannot grow arrays
         if self.grid.is_laser:
-            return self._step_laser_grid(step, arrays)
-        winner, fired, n_tracks = attend_one(*self._kernel_inputs(step), *arrays)
-        return self._output(step[0], arrays, winner, fired, n_tracks)
+            return self._step_laser_grid(step, np.zeros(1, self._record_dtype))
+        records = np.empty(1, self._record_dtype)
+        layout = state.layout
+        attend_many(
+            _ONE_MEMBER,
+            layout.table,
+            layout.constant_floats,
+            layout.constant_ints,
+            state.floats,
+            state.ints,
+            state.flags,
+            np.array([step], np.float64),
+            records,
+        )
+        return outputs_of_records(records, (self,), (step[0],))[0]
 
     def _checked(self, t, sonar, laser, odometry, sonar_time_s, laser_time_s) -> tuple:
         """``step``'s arguments checked (``ValueError`` as ``step`` says), before anything
@@ -590,111 +612,97 @@ class AttentionModel:
         linear, angular = (0.0, 0.0) if motion is None or self.config.ego_motion is None else motion
         return t, dt, moved, push, linear, angular, laser_new, sonar_new
 
-    def _kernel_inputs(self, step: tuple) -> tuple:
-        """``attend_one``'s arguments before its outputs, for the step ``_advance`` returned
-        (``batch.ModelBatch`` passes the same ones, stacked)."""
-        cfg = self.config
-        t, dt, moved, push, linear, angular, laser_new, sonar_new = step
-        return (
-            self._row[:_N_CHANNELS],
-            *self._sensing_arrays,
-            t,
-            dt,
-            self._slope_samples,
-            self._ego,
-            moved,
-            push,
-            self._tracker is not None,
-            linear,
-            angular,
-            laser_new,
-            sonar_new,
-            self._wanted_speed,
-            *self._tracker_constants,
-            *self._tracker_state,
-            self._max_ranges,
-            cfg.max_distance_m,
-            cfg.laser_only,
-            cfg.laser_max_range_m,
-            self._active,
-            self._goal_plan,
-            cfg.td_require_target,
-            self._combine,
-            self._gain,
-            cfg.threshold,
-            self._spread,
-            *self._courses.arrays,
-        )
+    # --- state ----------------------------------------------------------------------------
+    @property
+    def model_state(self) -> ModelState:
+        """Everything a step reads and writes besides its inputs (``records.STATE_FIELDS``:
+        the input row, the goals' settings, the sensorial memory, the courses, the tracker),
+        as one ``ModelState`` whose fields the model's own arrays are views of.
 
-    def _gather_kernel_arrays(self) -> None:
-        """Gather the arrays ``_kernel_inputs`` passes every step: the limits and the memory's
-        buffers; the tracker's constants and state (an idle tracker's in the window modes).
-        Called again by whoever replaces those arrays. (No views: a copy or a pickle would
-        part them from their arrays.)"""
-        self._sensing_arrays = (self._limits, *self._memory.buffers)
-        tracker = self._tracker or _idle_tracker(self.config)
-        self._tracker_constants, self._tracker_state = tracker.constants, tracker.state
+        The state has room for one more course of each kind: a full course book grows
+        first, and the model moves to a new, larger state (so do a copied or unpickled
+        model, whose arrays are no longer views of their state). Read it afresh before a
+        step; a batch rebinds a model whose state changed (``bind_state``).
+        """
+        self._courses.reserve()
+        if not self._attached():
+            self._adopt()
+        return self._state
 
-    def _output(self, t: float, arrays: tuple, winner: int, fired: bool, n_tracks: int) -> AttentionOutput:
-        """The ``AttentionOutput`` of a step from ``attend_one``'s outputs ``arrays``
-        (``new_output_arrays``) and results (``batch.ModelBatch`` calls it too)."""
-        (
-            readings,
-            valid,
-            rates,
-            _,
-            _,
-            region_slot,
-            F,
-            C_BU,
-            C_TD,
-            C,
-            region_speed,
-            distances,
-            nearest,
-            origins,
-            directions,
-            fulfilled,
-            M,
-            L,
-        ) = arrays
+    def bind_state(self, state: ModelState) -> None:
+        """Move the model's state into ``state`` (e.g. rows of a batch's buffers): its values
+        are copied there and the model's arrays become views of it.
+
+        Raises:
+            ValueError: when ``state``'s layout does not fit the model's (another
+                configuration, or room for fewer courses than the model holds).
+        """
+        current = self.model_state
+        if not state.layout.fits(current.layout):
+            raise ValueError(
+                "bind_state takes a state of the model's layout (same configuration, room for at least "
+                f"{current.layout.course_capacity} courses of each kind)"
+            )
+        state.load(self._state_arrays())
+        self._bind(state)
+
+    def _state_arrays(self) -> dict[str, np.ndarray]:
+        """Every state field's current array, by name (``records.STATE_FIELDS``)."""
+        arrays = {
+            "row": self._row,
+            "ego": self._ego,
+            "active": self._active,
+            "goal_plan": self._goal_plan,
+            "combine": self._combine,
+            "gain": np.array([self._gain]),
+            "wanted_speed": self._wanted_speed,
+        }
+        arrays.update(zip(MEMORY_FIELDS, self._memory.buffers))
+        arrays.update(zip(COURSE_FIELDS, self._courses.arrays[1:]))
         if self._tracker is None:
-            track_rows = _NO_TRACK_ROWS
+            shapes = _layout(self.config, self._courses.arrays[1].shape[0]).shapes
+            arrays.update((f"tracker.{n}", np.zeros(shapes[f"tracker.{n}"][1])) for n in TRACKER_FIELDS)
         else:
-            track_rows = (self._tracker._rows[:n_tracks].copy(), self._tracker._covariance[:n_tracks].copy())
-        saliency = float(L[winner])
-        focus = origin = None
-        if saliency >= self.config.threshold:
-            focus = int(winner)
-            origin = ORIGIN_TOP_DOWN if origins[winner] else ORIGIN_BOTTOM_UP
-        # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
-        # them, in order) directly
-        output = object.__new__(AttentionOutput)
-        vars(output).update(
-            t=t,
-            focus=focus,
-            fired=bool(fired),
-            origin=origin,
-            saliency=saliency,
-            F=F,
-            C=C,
-            C_BU=C_BU,
-            C_TD=C_TD,
-            origins=origins,
-            M=M,
-            L=L,
-            gain=self._gain,
-            goal_fulfilled=fulfilled,
-            directions=directions,
-            speeds_mps=region_speed,
-            distances_m=distances,
-            _sources=(self.grid, readings, valid, rates, nearest, region_slot, *track_rows),
-        )
-        return output
+            arrays.update((f"tracker.{n}", array) for n, array in zip(TRACKER_FIELDS, self._tracker.state))
+        return arrays
 
-    def _step_laser_grid(self, step: tuple, arrays: tuple) -> AttentionOutput:
+    def _adopt(self) -> None:
+        """Move the model's arrays into a fresh ``ModelState`` sized for its course book."""
+        state = ModelState(_layout(self.config, self._courses.arrays[1].shape[0]))
+        state.load(self._state_arrays())
+        self._bind(state)
+
+    def _bind(self, state: ModelState) -> None:
+        """Make the model's arrays (and its memory's, course book's and tracker's) views of
+        ``state``'s fields."""
+        field = state.field
+        self._row, self._ego = field("row"), field("ego")
+        self._active, self._goal_plan, self._combine = field("active"), field("goal_plan"), field("combine")
+        self._gain_cell, self._wanted_speed = field("gain"), field("wanted_speed")
+        memory, courses = self._memory, self._courses
+        memory._state, memory._times, memory._samples, memory._ego_offset = (field(n) for n in MEMORY_FIELDS)
+        (courses._bu_regions, courses._bu_starts, courses._td_regions, courses._td_times, courses._counts) = (
+            field(n) for n in COURSE_FIELDS
+        )
+        if self._tracker is not None:
+            for name in TRACKER_FIELDS:
+                setattr(self._tracker, name, field(f"tracker.{name}"))
+        self._state = state
+
+    def _attached(self) -> bool:
+        """Whether the model's arrays are still views of its state (each owner's arrays are
+        replaced together: a copy, a pickle, a course book that grew)."""
+        state = self._state
+        return (
+            state.holds(self._row)
+            and state.holds(self._memory._state)
+            and state.holds(self._courses._bu_regions)
+            and (self._tracker is None or state.holds(self._tracker.pose))
+        )
+
+    def _step_laser_grid(self, step: tuple, records: np.ndarray) -> AttentionOutput:
         """``step`` on the laser grid: the kernels one by one, F1–F3 and the region
-        quantities in numpy."""
+        quantities in numpy, into ``records`` ``(1,)`` (``records.output_dtype``, zeroed)."""
         cfg = self.config
         grid = self.grid
         t, dt, moved, push, linear, angular, laser_new, sonar_new = step
@@ -717,7 +725,7 @@ class AttentionModel:
             fulfilled,
             M,
             L,
-        ) = arrays
+        ) = (records[name][0] for name in _RECORD_ARRAYS)
         # --- sensorial memory and kinematics (§2, §3, §10) ------------------------------------
         sense(
             self._row[:_N_CHANNELS],
@@ -748,8 +756,8 @@ class AttentionModel:
                 readings,
                 valid,
                 self._wanted_speed,
-                *self._tracker_constants,
-                *self._tracker_state,
+                *self._tracker.constants,
+                *self._tracker.state,
                 rates,
                 speeds,
                 moving,
@@ -811,7 +819,10 @@ class AttentionModel:
         winner, fired = select(
             t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread, *self._courses.arrays, M, L
         )
-        return self._output(t, arrays, winner, fired, n_tracks)
+        record = records[0]
+        record["winner"], record["saliency"], record["fired"], record["n_tracks"] = winner, L[winner], fired, n_tracks
+        record["focus"], record["top_down"] = (winner if L[winner] >= cfg.threshold else -1), origins[winner]
+        return outputs_of_records(records, (self,), (t,))[0]
 
     # --- input checks and ego-motion -----------------------------------------------------
     def _check_time(self, t) -> float:
@@ -908,12 +919,166 @@ class AttentionModel:
 
 #: The tracks in the modes without a tracker.
 _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
+#: The member list of a model stepped alone (its state is a batch of one).
+_ONE_MEMBER = np.zeros(1, np.int64)
+#: The output arrays of a step record, in ``attend_one``'s order (``records.OUTPUT_ARRAYS``),
+#: and which of them are flags (stored as uint8).
+_RECORD_ARRAYS = tuple(name for name, _, _ in OUTPUT_ARRAYS)
+_RECORD_FLAGS = frozenset(name for name, dtype, _ in OUTPUT_ARRAYS if dtype is np.bool_)
+#: The arrays an ``AttentionOutput`` keeps, in the order ``outputs_of_records`` takes them.
+_KEPT_ARRAYS = tuple(name for name in _RECORD_ARRAYS if name not in ("speeds", "moving"))
+
+
+def outputs_of_records(records: np.ndarray, models, times) -> list[AttentionOutput]:
+    """The ``AttentionOutput`` of each model's step from its record (``records.output_dtype``).
+
+    Args:
+        records: ``(n,)`` the step's records, one per model, in the order of ``models``.
+        models: the ``AttentionModel`` of each record, as it is after the step (its gain,
+            grid and tracker's rows).
+        times: the time (s) of each model's reading.
+
+    The outputs' arrays are views of ``records`` (flags viewed as bool); the tracks are
+    copied from each model's tracker.
+    """
+    columns = [records[name].view(np.bool_) if name in _RECORD_FLAGS else records[name] for name in _KEPT_ARRAYS]
+    results = zip(
+        records["focus"].tolist(), records["saliency"].tolist(), records["fired"].tolist(), records["top_down"].tolist()
+    )
+    n_tracks = records["n_tracks"].tolist()
+    outputs = []
+    # zip over the (n, ...) arrays hands out each model's row views (faster than indexing each)
+    for model, t, (focus, saliency, fired, top_down), count, arrays in zip(
+        models, times, results, n_tracks, zip(*columns)
+    ):
+        (readings, valid, rates, region_slot, F, C_BU, C_TD, C, speed, distances, nearest, origins) = arrays[:12]
+        directions, fulfilled, M, L = arrays[12:]
+        tracker = model._tracker
+        if tracker is None:
+            track_rows = _NO_TRACK_ROWS
+        else:
+            track_rows = (tracker._rows[:count].copy(), tracker._covariance[:count].copy())
+        # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
+        # them, in order) directly
+        output = object.__new__(AttentionOutput)
+        vars(output).update(
+            t=t,
+            focus=None if focus < 0 else focus,
+            fired=fired != 0,
+            origin=None if focus < 0 else (ORIGIN_TOP_DOWN if top_down else ORIGIN_BOTTOM_UP),
+            saliency=saliency,
+            F=F,
+            C=C,
+            C_BU=C_BU,
+            C_TD=C_TD,
+            origins=origins,
+            M=M,
+            L=L,
+            gain=model._gain,
+            goal_fulfilled=fulfilled,
+            directions=directions,
+            speeds_mps=speed,
+            distances_m=distances,
+            _sources=(model.grid, readings, valid, rates, nearest, region_slot, *track_rows),
+        )
+        outputs.append(output)
+    return outputs
+
+
+def _slope_samples(config: AttentionConfig) -> int:
+    """K of the range-rate slope: the configured window, the paper's two samples, or 0 (the
+    tracker estimates motion)."""
+    return {"window": config.slope_samples, "literal": 2, "tracker": 0}[config.kinematics]
+
+
+@functools.lru_cache(maxsize=16)
+def _constants(config: AttentionConfig) -> dict[str, np.ndarray]:
+    """The configuration's constant fields (``records.CONSTANT_FIELDS``), read-only arrays."""
+    max_ranges = np.concatenate(
+        [np.full(FRONT_SONARS, config.sonar_max_range_m), np.full(LASER_BEAMS, config.laser_max_range_m)]
+    )
+    tracker = _idle_tracker(config)
+    (beam_cos, beam_sin, sonar_cos, sonar_sin, beam_step, params, confirm_hits) = tracker.constants[:7]
+    (max_speed, epsilon, beam_region, cone_bounds, match_m, match_sigmas, noise_rel, noise_floor) = tracker.constants[
+        7:
+    ]
+    constants = {
+        # per channel: the maximum range, and the reading from which on it means no echo (m)
+        "limits": np.stack([max_ranges, max_ranges - config.no_echo_epsilon_m]),
+        "max_ranges": max_ranges,
+        "spread": lateral_spread(Grid.make(config.grid).n_regions, config.lateral_sigma_regions),
+        "course_params": course_parameters(config),
+        "beam_cos": beam_cos,
+        "beam_sin": beam_sin,
+        "sonar_cos": sonar_cos,
+        "sonar_sin": sonar_sin,
+        "tracker_params": params,
+        "float_scalars": np.array(
+            [
+                beam_step,
+                max_speed,
+                epsilon,
+                match_m,
+                match_sigmas,
+                noise_rel,
+                noise_floor,
+                config.max_distance_m,
+                config.laser_max_range_m,
+                config.threshold,
+            ],
+            np.float64,
+        ),
+        "beam_region": np.asarray(beam_region, np.int64),
+        "cone_bounds": np.asarray(cone_bounds, np.int64),
+        "int_scalars": np.array(
+            [
+                _slope_samples(config),
+                config.kinematics == "tracker",
+                confirm_hits,
+                config.laser_only,
+                config.td_require_target,
+            ],
+            np.int64,
+        ),
+    }
+    for array in constants.values():
+        array.flags.writeable = False
+    return constants
+
+
+@functools.lru_cache(maxsize=64)
+def _layout(config: AttentionConfig, course_capacity: int) -> StateLayout:
+    """The state layout of a model of ``config`` with room for ``course_capacity`` courses of
+    each kind (the tracker's fields are empty without a tracker)."""
+    window, channels = config.memory_window, _N_CHANNELS
+    tracked = config.kinematics == "tracker"
+    shapes = {
+        "row": (np.float64, (_REAR.stop,)),
+        "ego": (np.float64, (channels,)),
+        "active": (np.float64, (len(MAP_NAMES),)),
+        "goal_plan": (np.float64, (len(TOP_DOWN_MAPS), PLAN_COLUMNS)),
+        "combine": (np.float64, (2, len(BOTTOM_UP_MAPS))),
+        "gain": (np.float64, (1,)),
+        "wanted_speed": (np.float64, (2,)),
+        "memory_state": (np.int64, (2,)),
+        "times": (np.float64, (window,)),
+        "samples": (np.float64, (3, window, channels)),
+        "ego_offset": (np.float64, (channels,)),
+        "bu_regions": (np.int64, (course_capacity,)),
+        "bu_starts": (np.float64, (course_capacity,)),
+        "td_regions": (np.int64, (course_capacity,)),
+        "td_times": (np.float64, (course_capacity, 3)),
+        "counts": (np.int64, (2,)),
+    }
+    for name, array in zip(TRACKER_FIELDS, _idle_tracker(config).state):
+        shapes[f"tracker.{name}"] = (array.dtype, array.shape if tracked else (0, *array.shape[1:]))
+    return StateLayout(shapes, _constants(config))
 
 
 @functools.lru_cache(maxsize=8)
 def _idle_tracker(config: AttentionConfig) -> Tracker:
-    """A tracker that never steps: its arrays fill ``attend_one``'s tracker arguments in the
-    modes without one (one per configuration, shared)."""
+    """A tracker that never steps: its constants and the shapes of its state (one per
+    configuration, shared)."""
     return Tracker(config)
 
 

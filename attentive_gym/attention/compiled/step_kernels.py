@@ -5,13 +5,17 @@ numpy's arctan2, kinematics.ego_range_change) when the robot moved in the window
 ``attend_one`` on the sonar grid: ``sense`` (§2–§3), the tracker's ``track_step`` (§10) or
 ``window_kinematics``, ``sonar_grid_maps`` (§4–§6) and ``select`` (§7–§8: the courses of
 ``attentional_map`` and ``saliency``). On the laser grid the model calls ``sense``, the
-tracker, numpy's F1–F3, ``goal_maps`` and ``select`` one by one. ``batch.attend_many`` runs
-``attend_one`` for a batch of models in one call.
+tracker, numpy's F1–F3, ``goal_maps`` and ``select`` one by one.
+
+``attend_many`` is the sonar grid's step for any number of models, one included: it takes
+the models' state buffers, the layout's table and constants, the step's inputs and the
+output records (``records``), and runs ``attend_record`` (``attend_one`` over one model's
+rows) for each, in parallel over the models.
 
 The kernels repeat the arithmetic of the numpy expressions they replace (features.py,
 kinematics.py, memory.py) operation for operation, with sums in numpy's pairwise order and
 matrix products in BLAS's order (see ``_numerics``), so a step gives the same floats.
-Outputs are arrays allocated per step by the caller (users keep them).
+Outputs are records allocated per step by the caller (users keep them).
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from attentive_gym.attention._numerics import interp, pairwise_sum, vecmat
 from attentive_gym.attention.attentional_map import (
@@ -29,10 +33,19 @@ from attentive_gym.attention.attentional_map import (
     release_courses,
     top_down_holding,
 )
+from attentive_gym.attention.compiled.records import (
+    CONSTANT_FIELDS,
+    DIMS,
+    FLOAT_SCALARS,
+    INT_SCALARS,
+    OFFSET,
+    STATE_FIELDS,
+)
 from attentive_gym.attention.features import goal_knots
 from attentive_gym.attention.goals import Feature, Goal, Relation
 from attentive_gym.attention.memory import push_sample, slope_rates
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS
+from attentive_gym.attention.tracking.tracker import STATE_FIELDS as TRACKER_FIELDS
 from attentive_gym.attention.tracking.tracker import track_step
 
 #: Columns of the goal plan, one row per top-down map (F4, F5, F6): the goal's kind
@@ -78,36 +91,6 @@ def goal_plan_row(goal: Goal, max_value: float | None) -> np.ndarray:
 
 #: Reading channels: the front sonars, then the laser beams.
 N_CHANNELS = FRONT_SONARS + LASER_BEAMS
-
-
-def new_output_arrays(n_regions: int, batch: tuple[int, ...] = ()) -> tuple[np.ndarray, ...]:
-    """Fresh output arrays of ``attend_one`` (each with the leading ``batch`` axes):
-    ``readings``, ``valid``, ``rates``, ``speeds``, ``moving`` ``(188,)``, ``region_slot`` ``(8,)``,
-    ``F`` ``(6, J)`` (zeros: inactive maps stay 0), then ``(J,)`` ``C_BU``, ``C_TD``, ``C``, region
-    speeds, distances, nearest readings, origins, directions, goal flags, ``M``, ``L``."""
-    empty, J = np.empty, n_regions
-    channels = (*batch, N_CHANNELS)
-    regions = (*batch, J)
-    return (
-        empty(channels),
-        empty(channels, np.bool_),
-        empty(channels),
-        empty(channels),
-        empty(channels, np.bool_),
-        empty((*batch, FRONT_SONARS), np.int64),
-        np.zeros((*batch, 6, J)),
-        empty(regions),
-        empty(regions),
-        empty(regions),
-        empty(regions),
-        empty(regions),
-        empty(regions),
-        empty(regions, np.int8),
-        empty(regions, np.int8),
-        empty(regions, np.bool_),
-        empty(regions),
-        empty(regions),
-    )
 
 
 @njit(cache=True)
@@ -744,3 +727,237 @@ def attend_one(
         L,
     )
     return winner, fired, n_tracks
+
+
+# --- the step over records (records.StateLayout, records.ModelState, records.output_dtype) ---
+# rows of the layout's table
+_ROW, _EGO, _ACTIVE, _GOAL_PLAN, _COMBINE, _GAIN, _WANTED_SPEED = (
+    STATE_FIELDS.index(name) for name in ("row", "ego", "active", "goal_plan", "combine", "gain", "wanted_speed")
+)
+_MEMORY_STATE, _TIMES, _SAMPLES, _EGO_OFFSET = (
+    STATE_FIELDS.index(name) for name in ("memory_state", "times", "samples", "ego_offset")
+)
+_BU_REGIONS, _BU_STARTS, _TD_REGIONS, _TD_TIMES, _COUNTS = (
+    STATE_FIELDS.index(name) for name in ("bu_regions", "bu_starts", "td_regions", "td_times", "counts")
+)
+(
+    _POSE,
+    _ODOMETRY,
+    _SONAR_POSE,
+    _BOUNDS,
+    _SEGMENTS,
+    _CV_X,
+    _CV_P,
+    _STATIC_X,
+    _STATIC_P,
+    _P_MOVING,
+    _ALIVE,
+    _IDS,
+    _HITS,
+    _MISSES,
+    _BORN_S,
+    _FILTER_T,
+    _SEEN_S,
+    _EXTENT_M,
+    _SEGMENT_OF,
+    _COUNTERS,
+    _SONAR_X,
+    _SONAR_P,
+    _SONAR_HITS,
+    _SONAR_T,
+    _TRACK_ROWS,
+    _TRACK_COVARIANCE,
+) = (STATE_FIELDS.index(f"tracker.{name}") for name in TRACKER_FIELDS)
+(
+    _LIMITS,
+    _MAX_RANGES,
+    _SPREAD,
+    _COURSE_PARAMS,
+    _BEAM_COS,
+    _BEAM_SIN,
+    _SONAR_COS,
+    _SONAR_SIN,
+    _TRACKER_PARAMS,
+    _FLOAT_SCALARS,
+    _BEAM_REGION,
+    _CONE_BOUNDS,
+    _INT_SCALARS,
+) = (len(STATE_FIELDS) + k for k in range(len(CONSTANT_FIELDS)))
+# places in the scalar fields
+_BEAM_STEP, _MAX_SPEED, _EPSILON, _MATCH_M, _MATCH_SIGMAS, _NOISE_REL, _NOISE_FLOOR, _MAX_DISTANCE, _LASER_MAX = (
+    FLOAT_SCALARS.index(name)
+    for name in (
+        "beam_step_rad",
+        "max_speed",
+        "epsilon",
+        "match_m",
+        "match_sigmas",
+        "noise_rel",
+        "noise_floor_m",
+        "max_distance",
+        "laser_max",
+    )
+)
+_THRESHOLD = FLOAT_SCALARS.index("threshold")
+_SLOPE_SAMPLES, _TRACKED, _CONFIRM_HITS, _LASER_ONLY, _REQUIRE_TARGET = (
+    INT_SCALARS.index(name) for name in ("slope_samples", "tracked", "confirm_hits", "laser_only", "require_target")
+)
+
+
+@njit(cache=True)
+def _flat(buffer, table, k):
+    """Field ``k`` of the layout's ``table`` in ``buffer`` ``(size,)``, flat."""
+    offset = table[k, OFFSET]
+    return buffer[offset : offset + table[k, DIMS] * table[k, DIMS + 1] * table[k, DIMS + 2]]
+
+
+@njit(cache=True)
+def _two(buffer, table, k):
+    """Field ``k`` in ``buffer``, as its 2-D array."""
+    return _flat(buffer, table, k).reshape((table[k, DIMS], table[k, DIMS + 1]))
+
+
+@njit(cache=True)
+def _three(buffer, table, k):
+    """Field ``k`` in ``buffer``, as its 3-D array."""
+    return _flat(buffer, table, k).reshape((table[k, DIMS], table[k, DIMS + 1], table[k, DIMS + 2]))
+
+
+@njit(cache=True)
+def attend_record(table, constant_floats, constant_ints, floats, ints, flags, step, out):
+    """``attend_one`` for one model whose state is ``floats``, ``ints``, ``flags`` (its rows of
+    the buffers, ``records.ModelState``), with the constants of ``constant_floats`` and
+    ``constant_ints``, where the layout's ``table`` says; ``step`` ``(8,)`` holds the step's
+    inputs (``records.STEP_COLUMNS``); writes every output into the record ``out``
+    (``records.output_dtype``), ``F`` zeroed first."""
+    fs = _flat(constant_floats, table, _FLOAT_SCALARS)
+    ns = _flat(constant_ints, table, _INT_SCALARS)
+    threshold = fs[_THRESHOLD]
+    F = out.F
+    F[:] = 0.0
+    M, L, origins = out.M, out.L, out.origins
+    winner, fired, n_tracks = attend_one(
+        _flat(floats, table, _ROW)[:N_CHANNELS],
+        _two(constant_floats, table, _LIMITS),
+        _flat(ints, table, _MEMORY_STATE),
+        _flat(floats, table, _TIMES),
+        _three(floats, table, _SAMPLES),
+        _flat(floats, table, _EGO_OFFSET),
+        step[0],
+        step[1],
+        ns[_SLOPE_SAMPLES],
+        _flat(floats, table, _EGO),
+        step[2] != 0.0,
+        step[3] != 0.0,
+        ns[_TRACKED] != 0,
+        step[4],
+        step[5],
+        step[6] != 0.0,
+        step[7] != 0.0,
+        _flat(floats, table, _WANTED_SPEED),
+        _flat(constant_floats, table, _BEAM_COS),
+        _flat(constant_floats, table, _BEAM_SIN),
+        _flat(constant_floats, table, _SONAR_COS),
+        _flat(constant_floats, table, _SONAR_SIN),
+        fs[_BEAM_STEP],
+        _flat(constant_floats, table, _TRACKER_PARAMS),
+        ns[_CONFIRM_HITS],
+        fs[_MAX_SPEED],
+        fs[_EPSILON],
+        _flat(constant_ints, table, _BEAM_REGION),
+        _two(constant_ints, table, _CONE_BOUNDS),
+        fs[_MATCH_M],
+        fs[_MATCH_SIGMAS],
+        fs[_NOISE_REL],
+        fs[_NOISE_FLOOR],
+        _flat(floats, table, _POSE),
+        _flat(floats, table, _ODOMETRY),
+        _flat(floats, table, _SONAR_POSE),
+        _two(ints, table, _BOUNDS),
+        _two(floats, table, _SEGMENTS),
+        _two(floats, table, _CV_X),
+        _three(floats, table, _CV_P),
+        _two(floats, table, _STATIC_X),
+        _three(floats, table, _STATIC_P),
+        _flat(floats, table, _P_MOVING),
+        _flat(flags, table, _ALIVE).view(np.bool_),
+        _flat(ints, table, _IDS),
+        _flat(ints, table, _HITS),
+        _flat(ints, table, _MISSES),
+        _flat(floats, table, _BORN_S),
+        _flat(floats, table, _FILTER_T),
+        _flat(floats, table, _SEEN_S),
+        _flat(floats, table, _EXTENT_M),
+        _flat(ints, table, _SEGMENT_OF),
+        _flat(ints, table, _COUNTERS),
+        _two(floats, table, _SONAR_X),
+        _three(floats, table, _SONAR_P),
+        _flat(ints, table, _SONAR_HITS),
+        _flat(floats, table, _SONAR_T),
+        _two(floats, table, _TRACK_ROWS),
+        _three(floats, table, _TRACK_COVARIANCE),
+        _flat(constant_floats, table, _MAX_RANGES),
+        fs[_MAX_DISTANCE],
+        ns[_LASER_ONLY] != 0,
+        fs[_LASER_MAX],
+        _flat(floats, table, _ACTIVE),
+        _two(floats, table, _GOAL_PLAN),
+        ns[_REQUIRE_TARGET] != 0,
+        _two(floats, table, _COMBINE),
+        _flat(floats, table, _GAIN)[0],
+        threshold,
+        _two(constant_floats, table, _SPREAD),
+        _flat(constant_floats, table, _COURSE_PARAMS),
+        _flat(ints, table, _BU_REGIONS),
+        _flat(floats, table, _BU_STARTS),
+        _flat(ints, table, _TD_REGIONS),
+        _two(floats, table, _TD_TIMES),
+        _flat(ints, table, _COUNTS),
+        out.readings,
+        out.valid.view(np.bool_),
+        out.rates,
+        out.speeds,
+        out.moving.view(np.bool_),
+        out.region_slot,
+        F,
+        out.C_BU,
+        out.C_TD,
+        out.C,
+        out.region_speed,
+        out.distances,
+        out.nearest,
+        origins,
+        out.directions,
+        out.fulfilled.view(np.bool_),
+        M,
+        L,
+    )
+    out.winner = winner
+    out.saliency = L[winner]
+    out.focus = winner if L[winner] >= threshold else -1
+    out.top_down = origins[winner]
+    out.fired = fired
+    out.n_tracks = n_tracks
+
+
+@njit(cache=True, parallel=True)
+def attend_many(members, table, constant_floats, constant_ints, floats, ints, flags, steps, outputs):
+    """One step of the models ``members`` ``(n,)`` of a batch (``attend_record`` for each, in
+    parallel over them when n > 1).
+
+    Args:
+        members: the rows of the models to step in the state buffers.
+        table, constant_floats, constant_ints: the layout (``records.StateLayout``).
+        floats, ints, flags: the state buffers ``(N, size)`` of the batch's N models
+            (``records.ModelState``; one model's own state is a batch of one).
+        steps: ``(n, 8)`` the stepped models' inputs (``records.STEP_COLUMNS``), in the
+            order of ``members``.
+        outputs: ``(n,)`` records (``records.output_dtype``), written in that order.
+    """
+    if members.shape[0] == 1:  # one model: no thread pool to start
+        i = members[0]
+        attend_record(table, constant_floats, constant_ints, floats[i], ints[i], flags[i], steps[0], outputs[0])
+        return
+    for j in prange(members.shape[0]):
+        i = members[j]
+        attend_record(table, constant_floats, constant_ints, floats[i], ints[i], flags[i], steps[j], outputs[j])
