@@ -139,8 +139,8 @@ class Fleet:
         """
         with numba_threads(self.threads):
             commands = self._commands(indices, actions)
-            touched = [self.bases[i].move(linear, angular) for i, (linear, angular) in zip(indices, commands)]
-            readings = self.bases[0].sensors.read_many([self.bases[i].sensing_request() for i in indices])
+            touched = self._move(indices, commands)
+            readings = self._perceive(indices)
             steps = [self.bases[i].complete_step(hit, reading) for i, hit, reading in zip(indices, touched, readings)]
             return self._observe(indices, steps)
 
@@ -154,6 +154,16 @@ class Fleet:
                 action = hook(action)
             commands.append(self.bases[i].command(action))
         return commands
+
+    def _move(self, indices: Sequence[int], commands: list[tuple[float, float]]) -> list[bool]:
+        """The world stage: every member's world advances under its command; whether each robot
+        touched anything."""
+        return [self.bases[i].move(linear, angular) for i, (linear, angular) in zip(indices, commands)]
+
+    def _perceive(self, indices: Sequence[int]) -> list:
+        """The perceive stage: every member's sensors read in one compiled call; one
+        ``SensorReading`` per member."""
+        return self.bases[0].sensors.read_many([self.bases[i].sensing_request() for i in indices])
 
     def _observe(self, indices: Sequence[int], steps: list[StepResult]) -> list[StepResult]:
         """The completed ``steps`` of the members ``indices`` with their observations taken up
