@@ -23,7 +23,8 @@ Random actions, no rendering; resets are part of the stepping (autoreset).
 Usage: ``python benchmarks/bench_vector.py [--seconds 2] [--rounds 3] [--max-envs 256]
 [--sections peers,vmas,scaling,floor] [--csv PATH]``; ``--csv`` also writes the figures as tidy rows
 into ``PATH`` (``tidy_csv``)
-(the compiled kernels run on ``NUMBA_NUM_THREADS`` threads, all cores by default)
+(the native env's compiled kernels run on ``attentive_gym.vector.threads.default_threads(N)`` threads:
+one below 32 envs, else the idle cores up to ``NUMBA_NUM_THREADS``)
 (BipedalWalker needs ``pip install -e ".[bench]"``; VMAS ``pip install vmas``, skipped if absent).
 """
 
@@ -37,7 +38,6 @@ import sys
 import time
 
 import gymnasium as gym
-import numba
 import numpy as np
 
 import attentive_gym  # noqa: F401  (registers the environments)
@@ -237,7 +237,7 @@ def floor_at_16(seconds: float, figures: Figures, steps: int = 400) -> None:
     sync_us = 1e6 / vector_rate(sync, seconds)
     sync.close()
     floor = sensing_us + models_us + pymunk_us
-    print(f"== floor of the native focus env, N = 16, {numba.get_num_threads()} numba thread(s), µs per env-step ==")
+    print(f"== floor of the native focus env, N = 16, {env.unwrapped.threads} numba thread(s), µs per env-step ==")
     for name, value in (
         ("compiled sensor sweep", sensing_us),
         ("compiled attentional models", models_us),

@@ -113,6 +113,11 @@ class NativeVecEnv(VecEnv):
             record[key] = info[key]
         return record
 
+    @property
+    def threads(self) -> int:
+        """numba threads the compiled stages of a step run on (the fleet's)."""
+        return self._fleet.threads
+
     def _stacked(self):
         return stack_observations(self.observation_space, self._observations)
 

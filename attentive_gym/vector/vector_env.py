@@ -207,6 +207,11 @@ class AttentiveRescueVectorEnv(VectorEnv):
         self._observations = stacked if stacked is not None else concatenate(space, members, self._observations)
         return self._observations
 
+    @property
+    def threads(self) -> int:
+        """numba threads the compiled stages of a step run on (the fleet's)."""
+        return self._fleet.threads
+
     # --- members --------------------------------------------------------------------------
     def render(self):
         """Member 0's frame (``render_mode`` ``"rgb_array"``: an ``(H, W, 3)`` uint8 array)."""

@@ -7,7 +7,7 @@ import numba
 import numpy as np
 import pytest
 
-from attentive_gym.vector import Fleet, threads
+from attentive_gym.vector import Fleet, make_vector_env, threads
 from attentive_gym.wrappers import make_env
 
 SHORT = {"time_limit_s": 1.0, "arena_size_m": 8.0, "num_distractors": 2}
@@ -56,3 +56,11 @@ def test_a_fleet_steps_on_its_threads_and_puts_the_callers_count_back():
 def test_a_bad_thread_count_is_refused(bad):
     with pytest.raises(ValueError, match=r"threads must be an integer in \[1, "):
         Fleet([make_env("raw", **SHORT)], threads=bad)
+
+
+def test_the_vector_envs_say_and_take_their_thread_count():
+    assert make_vector_env(2, "raw", **SHORT).threads == 1  # a small fleet: serial
+    assert make_vector_env(2, "raw", threads=1, **SHORT).threads == 1
+    from attentive_gym.vector.sb3 import NativeVecEnv
+
+    assert NativeVecEnv([make_env("raw", **SHORT)], threads=1).threads == 1
