@@ -39,6 +39,7 @@ import numba
 import numpy as np
 
 from attentive_gym.attention.compiled.batch import ModelBatch, batching_problem
+from attentive_gym.vector.batching import stack_observations  # noqa: F401  (named by the old path envs.fleet)
 from attentive_gym.vector.protocol import ModelStage, ObservationStage, StagedEnv, StepResult
 from attentive_gym.vector.threads import default_threads, numba_threads
 

@@ -8,6 +8,7 @@ import pickle
 import subprocess
 import sys
 import textwrap
+import warnings
 from pathlib import Path
 
 import pytest
@@ -46,6 +47,22 @@ def test_an_old_path_warns_at_the_import_and_gives_the_moved_module(old, forget)
         module = importlib.import_module(old)
     assert module is new and sys.modules[old] is new
     assert caught[0].filename == __file__
+
+
+#: The names each old module exported.
+OLD_NAMES = {
+    "attentive_gym.envs.fleet": ("Fleet", "stack_observations"),
+    "attentive_gym.envs.vector_env": ("AttentiveRescueVectorEnv", "make_vector_env", "batch_infos", "AUTORESET_MODES"),
+    "attentive_gym.agents.native_vec": ("NativeVecEnv",),
+}
+
+
+@pytest.mark.parametrize("old", sorted(OLD_NAMES))
+def test_an_old_path_still_has_every_name_it_exported(old):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the warning itself: the tests above
+        module = importlib.import_module(old)
+    assert all(hasattr(module, name) for name in OLD_NAMES[old])
 
 
 def test_every_form_of_import_warns_at_the_importing_line(forget):
