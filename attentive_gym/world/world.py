@@ -163,12 +163,6 @@ class Mover:
         if motion.face_motion and (vx or vy):
             _pymunk_access.set_angle(body, math.atan2(vy, vx))
 
-    def read_back(self) -> None:
-        """Copy the body's pose and velocity into its record (``pose``, ``velocity``), as
-        the compiled step does after every step."""
-        self._records["pose"][self._index] = _pymunk_access.pose(self.body)
-        self._records["velocity"][self._index] = _pymunk_access.velocity(self.body)
-
 
 def _not_leaving(vx: float, vy: float, towards_robot: tuple[float, float]) -> bool:
     """Whether a mover moving at ``(vx, vy)`` m/s heads into, or slides along, the robot it
@@ -250,8 +244,8 @@ class World:
         for i, (spec, motion) in enumerate(zip(scenario.movers, motions)):
             mover = Mover(self._new_entity(spec.kind, spec.name), spec, motion, self.state.movers, i)
             self.space.add(mover.body, mover.shape)
-            mover.read_back()
             self.movers.append(mover)
+        self.read_back()
         if self.movers:
             self.space.on_collision(
                 ROBOT_COLLISION_TYPE,
@@ -389,8 +383,11 @@ class World:
         """Copy the robot's and the movers' poses and velocities from pymunk into
         ``state`` (the compiled step does it after every step)."""
         self.robot.read_back()
-        for mover in self.movers:
-            mover.read_back()
+        if self.movers:
+            bodies = [mover.body for mover in self.movers]
+            records = self.state.movers
+            records["pose"] = np.array(_pymunk_access.poses(bodies)).reshape(-1, 3)
+            records["velocity"] = [_pymunk_access.velocity(body) for body in bodies]
 
     def substeps(self, dt_s: float) -> int:
         """How many equal physics sub-steps, none longer than ``physics_dt_s``, a ``step`` of
