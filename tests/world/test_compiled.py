@@ -139,8 +139,9 @@ def test_step_worlds_equals_each_world_stepped_alone():
     names = ["mixed", "exp01", "arena 0 direction == away", "arena 1 None"]
     all_scenes = scenes()
     scenarios = [all_scenes[n] for n in names] + [Scenario("empty", (-5, -5, 5, 5))]
-    together = [World(s) for s in scenarios]
-    alone = [World(s) for s in scenarios]
+    physics_dt_s = [0.025, 0.01, 0.025, 0.04, 0.025]  # sub-steps differ between the worlds
+    together = [World(s, physics_dt_s=h) for s, h in zip(scenarios, physics_dt_s)]
+    alone = [World(s, physics_dt_s=h) for s, h in zip(scenarios, physics_dt_s)]
     rng = np.random.default_rng(7)
     touched_any = np.zeros(len(together), bool)
     for k in range(400):
