@@ -8,10 +8,10 @@
   put the previous count back.
 
 Why (``docs/vector.md``, native ``focus`` env, µs per env-step, OpenMP threading layer):
-on 2 idle cores a second thread saves nothing at N = 16 (1.04× faster) and pays at N = 64
-(1.21×); with one core busy in another process, 2 threads are 2.7-3.7× slower than one at
-every N (the threads wait for each other on the shared core). So: serial for small fleets,
-and never more threads than idle cores.
+on 2 idle cores a second thread saves little at N = 16 (1.04-1.10× faster) and at most 1.2× from
+N = 32 on; with one core busy in another process, 2 threads are 1.4-45× slower than one at every
+N (the threads wait for each other on the shared core). So: serial for small fleets, and never
+more threads than idle cores when the fleet is built.
 """
 
 from __future__ import annotations
