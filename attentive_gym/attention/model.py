@@ -375,7 +375,7 @@ class AttentionModel:
         self._adopt()
         self._update_active()
         self._last_t: float | None = None
-        self._record_dtype = output_dtype(self.grid.n_regions, _N_CHANNELS, FRONT_SONARS)
+        self._records = _Records(output_dtype(self.grid.n_regions, _N_CHANNELS, FRONT_SONARS))
 
     # --- settings ---------------------------------------------------------------------
     @property
@@ -562,9 +562,9 @@ class AttentionModel:
         inputs = self._checked(t, sonar, laser, odometry, sonar_time_s, laser_time_s)
         state = self.model_state
         step = self._advance(*inputs)
+        records, arrays = self._records.take()
         if self.grid.is_laser:
-            return self._step_laser_grid(step, np.zeros(1, self._record_dtype))
-        records = np.empty(1, self._record_dtype)
+            return self._step_laser_grid(step, arrays)
         layout = state.layout
         attend_many(
             _ONE_MEMBER,
@@ -577,7 +577,7 @@ class AttentionModel:
             np.array([step], np.float64),
             records,
         )
-        return outputs_of_records(records, (self,), (step[0],))[0]
+        return _output(self, step[0], arrays)
 
     def _checked(self, t, sonar, laser, odometry, sonar_time_s, laser_time_s) -> tuple:
         """``step``'s arguments checked (``ValueError`` as ``step`` says), before anything
@@ -690,19 +690,14 @@ class AttentionModel:
         self._state = state
 
     def _attached(self) -> bool:
-        """Whether the model's arrays are still views of its state (each owner's arrays are
-        replaced together: a copy, a pickle, a course book that grew)."""
-        state = self._state
-        return (
-            state.holds(self._row)
-            and state.holds(self._memory._state)
-            and state.holds(self._courses._bu_regions)
-            and (self._tracker is None or state.holds(self._tracker.pose))
-        )
+        """Whether the model's arrays are still views of its state. A copy or a pickle
+        replaces all of them (the input row tells), a course book that grew its course
+        arrays (the first tells)."""
+        return self._state.holds(self._row) and self._state.holds(self._courses._bu_regions)
 
-    def _step_laser_grid(self, step: tuple, records: np.ndarray) -> AttentionOutput:
+    def _step_laser_grid(self, step: tuple, arrays: list[np.ndarray]) -> AttentionOutput:
         """``step`` on the laser grid: the kernels one by one, F1–F3 and the region
-        quantities in numpy, into ``records`` ``(1,)`` (``records.output_dtype``, zeroed)."""
+        quantities in numpy, into a step record's ``arrays`` (``record_arrays``)."""
         cfg = self.config
         grid = self.grid
         t, dt, moved, push, linear, angular, laser_new, sonar_new = step
@@ -725,7 +720,9 @@ class AttentionModel:
             fulfilled,
             M,
             L,
-        ) = (records[name][0] for name in _RECORD_ARRAYS)
+            results,
+        ) = arrays
+        F.fill(0.0)  # inactive maps stay 0
         # --- sensorial memory and kinematics (§2, §3, §10) ------------------------------------
         sense(
             self._row[:_N_CHANNELS],
@@ -819,10 +816,9 @@ class AttentionModel:
         winner, fired = select(
             t, fulfilled, origins, C, self._gain, cfg.threshold, self._spread, *self._courses.arrays, M, L
         )
-        record = records[0]
-        record["winner"], record["saliency"], record["fired"], record["n_tracks"] = winner, L[winner], fired, n_tracks
-        record["focus"], record["top_down"] = (winner if L[winner] >= cfg.threshold else -1), origins[winner]
-        return outputs_of_records(records, (self,), (t,))[0]
+        focus = winner if L[winner] >= cfg.threshold else -1
+        results[:] = (winner, focus, L[winner], fired, origins[winner], n_tracks)  # records.RESULTS
+        return _output(self, t, arrays)
 
     # --- input checks and ego-motion -----------------------------------------------------
     def _check_time(self, t) -> float:
@@ -921,12 +917,46 @@ class AttentionModel:
 _NO_TRACK_ROWS = (np.zeros((0, len(TRACK_TABLE_FIELDS))), np.zeros((0, 4, 4)))
 #: The member list of a model stepped alone (its state is a batch of one).
 _ONE_MEMBER = np.zeros(1, np.int64)
-#: The output arrays of a step record, in ``attend_one``'s order (``records.OUTPUT_ARRAYS``),
-#: and which of them are flags (stored as uint8).
-_RECORD_ARRAYS = tuple(name for name, _, _ in OUTPUT_ARRAYS)
+#: The flags among a step record's arrays (stored as uint8, handed out as bool).
 _RECORD_FLAGS = frozenset(name for name, dtype, _ in OUTPUT_ARRAYS if dtype is np.bool_)
-#: The arrays an ``AttentionOutput`` keeps, in the order ``outputs_of_records`` takes them.
-_KEPT_ARRAYS = tuple(name for name in _RECORD_ARRAYS if name not in ("speeds", "moving"))
+#: The fields of a step record in ``record_arrays``' order.
+_RECORD_FIELDS = (*(name for name, _, _ in OUTPUT_ARRAYS), "results")
+#: Step records a model allocates at a time.
+_RECORD_BLOCK = 16
+
+
+def record_arrays(records: np.ndarray) -> list[np.ndarray]:
+    """The fields of the step records ``records`` ``(n,)`` (``records.output_dtype``) as arrays
+    ``(n, ...)``: ``OUTPUT_ARRAYS`` (flags viewed as bool), then ``results``; views."""
+    return [records[name].view(np.bool_) if name in _RECORD_FLAGS else records[name] for name in _RECORD_FIELDS]
+
+
+class _Records:
+    """Fresh step records for one model, allocated ``_RECORD_BLOCK`` at a time (one
+    allocation and one set of field views per block, not per step).
+
+    Args:
+        dtype: the records' dtype (``records.output_dtype``).
+    """
+
+    def __init__(self, dtype: np.dtype) -> None:
+        self.dtype = dtype
+        self._taken = _RECORD_BLOCK
+
+    def take(self) -> tuple[np.ndarray, list[np.ndarray]]:
+        """A record no step has used, ``(1,)``, and its arrays (``record_arrays`` without the
+        record axis)."""
+        k = self._taken
+        if k == _RECORD_BLOCK:
+            self._block = np.empty(_RECORD_BLOCK, self.dtype)
+            self._fields = record_arrays(self._block)
+            k = 0
+        self._taken = k + 1
+        return self._block[k : k + 1], [field[k] for field in self._fields]
+
+    def __getstate__(self) -> dict:
+        """Pickled without the block: a copy starts a block of its own."""
+        return {"dtype": self.dtype, "_taken": _RECORD_BLOCK}
 
 
 def outputs_of_records(records: np.ndarray, models, times) -> list[AttentionOutput]:
@@ -934,55 +964,53 @@ def outputs_of_records(records: np.ndarray, models, times) -> list[AttentionOutp
 
     Args:
         records: ``(n,)`` the step's records, one per model, in the order of ``models``.
-        models: the ``AttentionModel`` of each record, as it is after the step (its gain,
-            grid and tracker's rows).
+        models: the ``AttentionModel`` of each record, as it is after the step.
         times: the time (s) of each model's reading.
 
-    The outputs' arrays are views of ``records`` (flags viewed as bool); the tracks are
-    copied from each model's tracker.
+    The outputs' arrays are views of ``records``.
     """
-    columns = [records[name].view(np.bool_) if name in _RECORD_FLAGS else records[name] for name in _KEPT_ARRAYS]
-    results = zip(
-        records["focus"].tolist(), records["saliency"].tolist(), records["fired"].tolist(), records["top_down"].tolist()
+    # zip over the (n, ...) fields hands out each model's row views (faster than indexing each)
+    return [_output(model, t, arrays) for model, t, arrays in zip(models, times, zip(*record_arrays(records)))]
+
+
+def _output(model: AttentionModel, t: float, arrays) -> AttentionOutput:
+    """The ``AttentionOutput`` of ``model``'s step at ``t`` (s) from its record's ``arrays``
+    (``record_arrays`` without the record axis); the tracks are copied from the model's
+    tracker."""
+    readings, valid, rates, _, _, region_slot, F, C_BU, C_TD, C = arrays[:10]
+    region_speed, distances, nearest, origins, directions, fulfilled, M, L, results = arrays[10:]
+    _, focus, saliency, fired, top_down, n_tracks = results.tolist()  # records.RESULTS
+    tracker = model._tracker
+    if tracker is None:
+        track_rows = _NO_TRACK_ROWS
+    else:
+        count = int(n_tracks)
+        track_rows = (tracker._rows[:count].copy(), tracker._covariance[:count].copy())
+    focus = None if focus < 0.0 else int(focus)
+    # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
+    # them, in order) directly
+    output = object.__new__(AttentionOutput)
+    vars(output).update(
+        t=t,
+        focus=focus,
+        fired=fired != 0.0,
+        origin=None if focus is None else (ORIGIN_TOP_DOWN if top_down else ORIGIN_BOTTOM_UP),
+        saliency=saliency,
+        F=F,
+        C=C,
+        C_BU=C_BU,
+        C_TD=C_TD,
+        origins=origins,
+        M=M,
+        L=L,
+        gain=model._gain,
+        goal_fulfilled=fulfilled,
+        directions=directions,
+        speeds_mps=region_speed,
+        distances_m=distances,
+        _sources=(model.grid, readings, valid, rates, nearest, region_slot, *track_rows),
     )
-    n_tracks = records["n_tracks"].tolist()
-    outputs = []
-    # zip over the (n, ...) arrays hands out each model's row views (faster than indexing each)
-    for model, t, (focus, saliency, fired, top_down), count, arrays in zip(
-        models, times, results, n_tracks, zip(*columns)
-    ):
-        (readings, valid, rates, region_slot, F, C_BU, C_TD, C, speed, distances, nearest, origins) = arrays[:12]
-        directions, fulfilled, M, L = arrays[12:]
-        tracker = model._tracker
-        if tracker is None:
-            track_rows = _NO_TRACK_ROWS
-        else:
-            track_rows = (tracker._rows[:count].copy(), tracker._covariance[:count].copy())
-        # the frozen dataclass's generated __init__ costs ~3 µs a step: fill its fields (all of
-        # them, in order) directly
-        output = object.__new__(AttentionOutput)
-        vars(output).update(
-            t=t,
-            focus=None if focus < 0 else focus,
-            fired=fired != 0,
-            origin=None if focus < 0 else (ORIGIN_TOP_DOWN if top_down else ORIGIN_BOTTOM_UP),
-            saliency=saliency,
-            F=F,
-            C=C,
-            C_BU=C_BU,
-            C_TD=C_TD,
-            origins=origins,
-            M=M,
-            L=L,
-            gain=model._gain,
-            goal_fulfilled=fulfilled,
-            directions=directions,
-            speeds_mps=speed,
-            distances_m=distances,
-            _sources=(model.grid, readings, valid, rates, nearest, region_slot, *track_rows),
-        )
-        outputs.append(output)
-    return outputs
+    return output
 
 
 def _slope_samples(config: AttentionConfig) -> int:

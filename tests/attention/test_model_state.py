@@ -64,3 +64,19 @@ def test_state_buffers_of_the_wrong_shape_are_refused():
     floats, ints, flags = layout.allocate(2)
     with pytest.raises(ValueError, match="C-contiguous"):
         ModelState(layout, (floats, ints[:1], flags[:1]))
+
+
+@pytest.mark.parametrize("grid", ["sonar", "laser"])
+def test_kept_outputs_keep_their_values_over_many_steps(grid):
+    """Outputs are views of step records allocated a block at a time: no later step writes
+    into an earlier one's."""
+    model = AttentionModel(AttentionConfig(grid=grid, range_noise_rel=0.05))
+    model.set_goals(Goal.smaller("distance", 3.0))
+    outputs, copies = [], []
+    for start in range(50):
+        outputs += _run(model, 1, start)
+        copies.append(copy.deepcopy(outputs[-1]))
+    _run(model, 20, 50)
+    assert all(out == kept for out, kept in zip(outputs, copies))
+    assert not np.shares_memory(outputs[0].F, outputs[1].F)
+    assert outputs[-1].F[:, :].any() and outputs[-1].goal_fulfilled.dtype == np.bool_

@@ -21,9 +21,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from attentive_gym.attention.compiled.records import ModelState
-from attentive_gym.attention.compiled.step_kernels import attend_many
+from attentive_gym.attention.compiled.records import ModelState, output_dtype
+from attentive_gym.attention.compiled.step_kernels import N_CHANNELS, attend_many
 from attentive_gym.attention.model import AttentionModel, AttentionOutput, outputs_of_records
+from attentive_gym.attention.regions import FRONT_SONARS
 
 __all__ = ["ModelBatch", "batching_problem"]
 
@@ -46,7 +47,7 @@ class ModelBatch:
             raise ValueError(problem)
         self.models = models
         self.config = models[0].config
-        self._record_dtype = models[0]._record_dtype
+        self._record_dtype = output_dtype(models[0].grid.n_regions, N_CHANNELS, FRONT_SONARS)
         self._bind_all()
 
     def __len__(self) -> int:

@@ -38,6 +38,7 @@ __all__ = [
     "STEP_COLUMNS",
     "output_dtype",
     "OUTPUT_ARRAYS",
+    "RESULTS",
 ]
 
 #: The model's own fields: the input row (196,) m (front sonars, beams, rear sonars), the
@@ -270,19 +271,16 @@ OUTPUT_ARRAYS = (
 )
 
 
+#: The results of a step in a record's ``results`` (float64, exact for the integers): the
+#: winner ``argmax L``, the focus (the winner when ``L[winner]`` reaches the threshold, else
+#: −1), the saliency ``L[winner]``, whether a course started (1.0), the winner's origin (1.0
+#: top-down) and the number of track rows written.
+RESULTS = ("winner", "focus", "saliency", "fired", "top_down", "n_tracks")
+
+
 def output_dtype(n_regions: int, n_channels: int, n_sonars: int) -> np.dtype:
-    """The record of one model's step: ``OUTPUT_ARRAYS`` (bool ones as uint8), then the
-    results ``winner`` (``argmax L``), ``focus`` (the winner when ``L[winner]`` reaches the
-    threshold, else −1), ``saliency`` (``L[winner]``), ``fired`` (a course started),
-    ``top_down`` (the winner's origin) and ``n_tracks`` (track rows written)."""
+    """The record of one model's step: ``OUTPUT_ARRAYS`` (bool ones as uint8) and
+    ``results`` ``(len(RESULTS),)``."""
     shapes = {"channels": (n_channels,), "sonars": (n_sonars,), "maps": (6, n_regions), "regions": (n_regions,)}
     fields = [(name, np.uint8 if dtype is np.bool_ else dtype, shapes[kind]) for name, dtype, kind in OUTPUT_ARRAYS]
-    fields += [
-        ("winner", np.int64),
-        ("focus", np.int64),
-        ("saliency", np.float64),
-        ("n_tracks", np.int64),
-        ("fired", np.uint8),
-        ("top_down", np.uint8),
-    ]
-    return np.dtype(fields, align=True)
+    return np.dtype([*fields, ("results", np.float64, (len(RESULTS),))], align=True)

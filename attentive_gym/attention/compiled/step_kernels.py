@@ -39,6 +39,7 @@ from attentive_gym.attention.compiled.records import (
     FLOAT_SCALARS,
     INT_SCALARS,
     OFFSET,
+    RESULTS,
     STATE_FIELDS,
 )
 from attentive_gym.attention.features import goal_knots
@@ -799,6 +800,9 @@ _BEAM_STEP, _MAX_SPEED, _EPSILON, _MATCH_M, _MATCH_SIGMAS, _NOISE_REL, _NOISE_FL
     )
 )
 _THRESHOLD = FLOAT_SCALARS.index("threshold")
+_WINNER, _FOCUS, _SALIENCY, _FIRED, _TOP_DOWN, _N_TRACKS = (
+    RESULTS.index(name) for name in ("winner", "focus", "saliency", "fired", "top_down", "n_tracks")
+)
 _SLOPE_SAMPLES, _TRACKED, _CONFIRM_HITS, _LASER_ONLY, _REQUIRE_TARGET = (
     INT_SCALARS.index(name) for name in ("slope_samples", "tracked", "confirm_hits", "laser_only", "require_target")
 )
@@ -932,12 +936,10 @@ def attend_record(table, constant_floats, constant_ints, floats, ints, flags, st
         M,
         L,
     )
-    out.winner = winner
-    out.saliency = L[winner]
-    out.focus = winner if L[winner] >= threshold else -1
-    out.top_down = origins[winner]
-    out.fired = fired
-    out.n_tracks = n_tracks
+    results = out.results
+    results[_WINNER], results[_FOCUS] = winner, (winner if L[winner] >= threshold else -1)
+    results[_SALIENCY], results[_FIRED], results[_TOP_DOWN] = L[winner], fired, origins[winner]
+    results[_N_TRACKS] = n_tracks
 
 
 @njit(cache=True, parallel=True)
