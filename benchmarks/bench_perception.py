@@ -521,7 +521,7 @@ def record_readings(seconds: float, seed: int = 0) -> tuple[list[tuple], Goal]:
 
 def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, float, float]:
     """Wall-clock µs per ``model.step`` over ``readings`` (the model is reset first); of it,
-    per call of the compiled step ``attend_one`` (timed in a second pass, so that timing it
+    per call of the compiled step ``attend_many`` (timed in a second pass, so that timing it
     does not slow the first); and per step of a separate ``Tracker`` of the same
     configuration fed the same readings (the model's tracker runs inside its one compiled
     step; 0 without a tracker)."""
@@ -560,11 +560,11 @@ def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, 
 
 
 def _compiled_step_us(model: AttentionModel, readings: list[tuple]) -> float:
-    """µs per call of the model's compiled step (``attend_one``, with numba's dispatch of its
+    """µs per call of the model's compiled step (``attend_many``, with numba's dispatch of its
     arguments) over ``readings``, the model reset first: the part of ``model.step`` that no
     Python around it can save."""
     model.reset()
-    with CallTimer(model_module, "attend_one") as compiled:
+    with CallTimer(model_module, "attend_many") as compiled:
         for t, sonar, laser, odometry in readings:
             model.step(t, sonar, laser, odometry)
     return compiled.seconds / len(readings) * 1e6
