@@ -10,10 +10,12 @@ numbers are those of its members stepped one by one, bit for bit:
 
 1. **actions**: every member's action goes down its wrappers' ``action`` hooks and becomes
    its robot's command (``StagedEnv.command``); all are checked before any world moves;
-2. **world**: every member's world advances under its command (``StagedEnv.move``);
+2. **world**: every member's world advances under its command, all in one compiled call
+   (``world.step_worlds`` of the members' ``StagedEnv.world``: what each ``move`` does);
 3. **perceive**: every member's sensors are read in one compiled, parallel call
-   (``SensorSuite.read_many`` of the members' ``StagedEnv.sensing_request``; each member
-   draws its noise from its own generator);
+   (``SensorSuite.read_batch`` over the members' stacked ``world.geometry_cache``: what each
+   ``sensors.read(*sensing_request())`` gives; each member draws its noise from its own
+   ``np_random``);
 4. **complete**: each member's reward, termination, info and raw observation
    (``StagedEnv.complete_step``);
 5. **attend**: when every member's innermost observation wrapper is a ``ModelStage``
@@ -39,9 +41,12 @@ import numba
 import numpy as np
 
 from attentive_gym.attention.compiled.batch import ModelBatch, batching_problem
+from attentive_gym.sensors import SceneStack
 from attentive_gym.vector.batching import stack_observations  # noqa: F401  (named by the old path envs.fleet)
 from attentive_gym.vector.protocol import ModelStage, ObservationStage, StagedEnv, StepResult
 from attentive_gym.vector.threads import default_threads, numba_threads
+from attentive_gym.world import step_worlds
+from attentive_gym.world.world import ROBOT_ID
 
 __all__ = ["Fleet"]
 
@@ -59,7 +64,7 @@ class Fleet:
     Raises:
         ValueError: for an empty list, a member whose core lacks the stages, a wrapper the
             fleet cannot step, members with different sensors, actions or observations, or
-            a thread count out of range.
+            a thread count out of range, or members whose steps ``dt`` differ.
     """
 
     def __init__(self, envs: Sequence[gym.Env], threads: int | None = None) -> None:
@@ -75,7 +80,8 @@ class Fleet:
             if not isinstance(base, StagedEnv):
                 raise ValueError(
                     f"env {i} is a {type(base).__name__}, which lacks the stages a fleet steps "
-                    "(attentive_gym.vector.protocol.StagedEnv: command, move, sensing_request, complete_step, sensors)"
+                    "(attentive_gym.vector.protocol.StagedEnv: command, move, sensing_request, complete_step, "
+                    "sensors, world, dt, np_random)"
                 )
             actions, stages = _hooks(env, i)
             self.bases.append(base)
@@ -86,6 +92,8 @@ class Fleet:
         for i, base in enumerate(self.bases[1:], start=1):
             if _sensor_settings(base.sensors) != _sensor_settings(first.sensors):
                 raise ValueError(f"env {i} has other sensors than env 0; a fleet's members share one sensor suite")
+            if base.dt != first.dt:
+                raise ValueError(f"env {i} steps {base.dt} s, env 0 {first.dt} s; a fleet's members share dt")
             if self.envs[i].action_space != self.envs[0].action_space:
                 raise ValueError(
                     f"env {i}'s action space {self.envs[i].action_space} differs from env 0's "
@@ -101,6 +109,7 @@ class Fleet:
         self.action_space: gym.spaces.Box = self.envs[0].action_space
         self.observation_space: gym.Space = self.envs[0].observation_space
         self.threads = default_threads(len(self.envs)) if threads is None else _check_threads(threads)
+        self._scenes = SceneStack([])  # the members' scenes, restacked when a reset gives one a new world
 
     def __len__(self) -> int:
         return len(self.envs)
@@ -159,12 +168,29 @@ class Fleet:
     def _move(self, indices: Sequence[int], commands: list[tuple[float, float]]) -> list[bool]:
         """The world stage: every member's world advances under its command; whether each robot
         touched anything."""
-        return [self.bases[i].move(linear, angular) for i, (linear, angular) in zip(indices, commands)]
+        if not indices:
+            return []
+        worlds = [self.bases[i].world for i in indices]
+        return step_worlds(worlds, self.bases[0].dt, np.array(commands, dtype=np.float64)).tolist()
 
     def _perceive(self, indices: Sequence[int]) -> list:
-        """The perceive stage: every member's sensors read in one compiled call; one
-        ``SensorReading`` per member."""
-        return self.bases[0].sensors.read_many([self.bases[i].sensing_request() for i in indices])
+        """The perceive stage: the sensors of the members ``indices`` read in one compiled
+        call (the others' rows, generators and scenes left alone); one ``SensorReading`` per
+        member."""
+        bases = self.bases
+        self._scenes = scenes = self._scenes.with_scenes([base.world.geometry_cache for base in bases])
+        body_poses = np.concatenate([base.world.moving_poses() for base in bases])
+        active = np.zeros(len(bases), np.bool_)
+        active[list(indices)] = True
+        readings = bases[0].sensors.read_batch(
+            body_poses[scenes.body_start[:-1]],  # each member's first moving body is its robot
+            scenes,
+            [base.np_random for base in bases],
+            ROBOT_ID,
+            body_poses=body_poses,
+            active=active,
+        )
+        return [readings.reading(i) for i in indices]
 
     def _observe(self, indices: Sequence[int], steps: list[StepResult]) -> list[StepResult]:
         """The completed ``steps`` of the members ``indices`` with their observations taken up
@@ -201,7 +227,7 @@ def _check_threads(threads) -> int:
 
 
 def _sensor_settings(sensors) -> tuple:
-    """What must be equal for two members' sensors to be read in one ``read_many`` call."""
+    """What must be equal for two members' sensors to be read in one ``read_batch`` call."""
     return (sensors.sonar_ring.config, sensors.laser_scanner.config, sensors.noise_model, sensors.noise_std)
 
 

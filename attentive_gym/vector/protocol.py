@@ -2,7 +2,8 @@
 
 - ``StagedEnv``: the environment at a member's core (``AttentiveRescueEnv``), stepped in stages:
   ``command`` (check an action, convert it to the robot's command), ``move`` (the world advances),
-  ``sensing_request`` (what a reading of its sensors needs), ``complete_step`` (reward,
+  ``sensing_request`` (what a reading of its sensors needs: a fleet reads the same from its
+  ``world`` and ``np_random`` for all members at once), ``complete_step`` (reward,
   termination, info and the observation of a fresh reading). Its ``step(action)`` is
   ``complete_step(move(*command(action)), sensors.read(*sensing_request()))``.
 - ``ObservationStage``: a wrapper whose observation of a step is ``observe_step(observation,
@@ -22,9 +23,11 @@ from __future__ import annotations
 from typing import Any, Protocol, runtime_checkable
 
 import gymnasium as gym
+import numpy as np
 
 from attentive_gym.attention import AttentionModel, AttentionOutput
 from attentive_gym.sensors import SensorReading, SensorSuite
+from attentive_gym.world import World
 
 __all__ = ["StagedEnv", "ObservationStage", "ModelStage", "StepResult"]
 
@@ -38,12 +41,21 @@ class StagedEnv(Protocol):
 
     Attributes:
         sensors: the robot's sensors; a fleet reads every member's at once with the first
-            member's ``sensors.read_many`` (so the members' sensors must be equal).
+            member's ``sensors.read_batch`` (so the members' sensors must be equal).
+        world: the ``World`` that ``move`` advances (None before the first ``reset``); a
+            fleet steps the members' worlds in one ``world.step_worlds`` call, and stacks
+            their ``world.geometry_cache`` for the batched sensor read.
+        dt: the step (s) ``move`` advances the world by; a fleet's members share it.
+        np_random: the generator the sensors' noise is drawn from (as ``sensing_request``
+            names it).
         action_space: the action space ``command`` checks against.
         observation_space: the space of ``complete_step``'s observation.
     """
 
     sensors: SensorSuite
+    world: World | None
+    dt: float
+    np_random: np.random.Generator
     action_space: gym.Space
     observation_space: gym.Space
 

@@ -214,6 +214,11 @@ class World:
             (0.7 m/s) moves under 2 cm per sub-step, far less than a wall's thickness,
             so it cannot tunnel through one.
 
+    Attributes:
+        geometry_cache: the ``GeometryCache`` of the robot, the movers, walls and rubble
+            (owners = entity ids), from which ``geometry()`` places the scene; a batched
+            sensor read stacks the members' caches (``sensors.SceneStack``).
+
     Raises:
         ValueError: if the robot or a mover starts overlapping another body.
     """
@@ -260,7 +265,7 @@ class World:
         for i, piece in enumerate(scenario.rubble):
             self._add_static(self._new_entity("rubble", f"rubble {i}"), _rubble_shape(self.space.static_body, piece))
         self._check_no_overlap()
-        self._geometry = GeometryCache(
+        self.geometry_cache = GeometryCache(
             [(ROBOT_ID, self.robot.body, [self.robot.shape])]
             + [(m.entity.id, m.body, [m.shape]) for m in self.movers]
             + [(entity.id, self.space.static_body, [shape]) for entity, shape in self.static]
@@ -397,7 +402,7 @@ class World:
     def geometry(self) -> SceneGeometry:
         """The scene's world-frame geometry after the last step, with owners = entity ids
         (its moving bodies at ``moving_poses()``)."""
-        return self._geometry.update(self.moving_poses())
+        return self.geometry_cache.update(self.moving_poses())
 
     def moving_poses(self) -> np.ndarray:
         """``(1 + M, 3)`` float64 (x m, y m, angle rad) of the robot and the movers after the

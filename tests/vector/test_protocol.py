@@ -37,6 +37,18 @@ class PublicOnly(gym.Env):
         self._env = env
         self.action_space, self.observation_space, self.sensors = env.action_space, env.observation_space, env.sensors
 
+    @property
+    def world(self):
+        return self._env.world
+
+    @property
+    def dt(self) -> float:
+        return self._env.dt
+
+    @property
+    def np_random(self):
+        return self._env.np_random
+
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         return self._env.reset(seed=seed, options=options)
 

@@ -45,8 +45,8 @@ def test_a_fleet_steps_on_its_threads_and_puts_the_callers_count_back():
         env.reset(seed=0)
     seen = []
     suite = fleet.bases[0].sensors
-    read_many = suite.read_many
-    suite.read_many = lambda requests: seen.append(numba.get_num_threads()) or read_many(requests)
+    read_batch = suite.read_batch
+    suite.read_batch = lambda *args, **kwargs: seen.append(numba.get_num_threads()) or read_batch(*args, **kwargs)
     previous = numba.get_num_threads()
     fleet.step([0, 1], np.zeros((2, 2)))
     assert seen == [1] and numba.get_num_threads() == previous

@@ -233,10 +233,10 @@ def test_a_copied_world_steps_its_own_bodies(duplicate, engine):
 def test_moving_poses_are_the_geometry_cache_s_bodies_after_the_step():
     world = World(mixed_scene())
     rough_drive(world, 50, seed=4)
-    bodies = world._geometry.moving_bodies
+    bodies = world.geometry_cache.moving_bodies
     expected = [[*b.position, b.angle] for b in bodies]
     assert world.moving_poses().tolist() == expected
-    from_pymunk = world._geometry.update()
+    from_pymunk = world.geometry_cache.update()
     geometry = world.geometry()
     for name in ("segments", "segment_owner", "circles", "circle_owner"):
         np.testing.assert_array_equal(getattr(geometry, name), getattr(from_pymunk, name))
