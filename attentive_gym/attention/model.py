@@ -35,6 +35,7 @@ from numba import njit
 from attentive_gym.attention.attentional_map import CourseBook, course_parameters, lateral_spread
 from attentive_gym.attention.compiled.records import (
     COURSE_FIELDS,
+    KEPT_OUTPUTS,
     MEMORY_FIELDS,
     OUTPUT_ARRAYS,
     ModelState,
@@ -577,7 +578,7 @@ class AttentionModel:
             np.array([step], np.float64),
             records,
         )
-        return _output(self, step[0], arrays)
+        return _output(self, step[0], arrays[:KEPT_OUTPUTS], arrays[-1].tolist())
 
     def _checked(self, t, sonar, laser, odometry, sonar_time_s, laser_time_s) -> tuple:
         """``step``'s arguments checked (``ValueError`` as ``step`` says), before anything
@@ -705,8 +706,6 @@ class AttentionModel:
             readings,
             valid,
             rates,
-            speeds,
-            moving,
             region_slot,
             F,
             C_BU,
@@ -720,6 +719,8 @@ class AttentionModel:
             fulfilled,
             M,
             L,
+            speeds,
+            moving,
             results,
         ) = arrays
         F.fill(0.0)  # inactive maps stay 0
@@ -818,7 +819,7 @@ class AttentionModel:
         )
         focus = winner if L[winner] >= cfg.threshold else -1
         results[:] = (winner, focus, L[winner], fired, origins[winner], n_tracks)  # records.RESULTS
-        return _output(self, t, arrays)
+        return _output(self, t, arrays[:KEPT_OUTPUTS], results.tolist())
 
     # --- input checks and ego-motion -----------------------------------------------------
     def _check_time(self, t) -> float:
@@ -969,17 +970,21 @@ def outputs_of_records(records: np.ndarray, models, times) -> list[AttentionOutp
 
     The outputs' arrays are views of ``records``.
     """
+    kept = record_arrays(records)[:KEPT_OUTPUTS]
     # zip over the (n, ...) fields hands out each model's row views (faster than indexing each)
-    return [_output(model, t, arrays) for model, t, arrays in zip(models, times, zip(*record_arrays(records)))]
+    return [
+        _output(model, t, arrays, results)
+        for model, t, arrays, results in zip(models, times, zip(*kept), records["results"].tolist())
+    ]
 
 
-def _output(model: AttentionModel, t: float, arrays) -> AttentionOutput:
-    """The ``AttentionOutput`` of ``model``'s step at ``t`` (s) from its record's ``arrays``
-    (``record_arrays`` without the record axis); the tracks are copied from the model's
-    tracker."""
-    readings, valid, rates, _, _, region_slot, F, C_BU, C_TD, C = arrays[:10]
-    region_speed, distances, nearest, origins, directions, fulfilled, M, L, results = arrays[10:]
-    _, focus, saliency, fired, top_down, n_tracks = results.tolist()  # records.RESULTS
+def _output(model: AttentionModel, t: float, arrays, results: list[float]) -> AttentionOutput:
+    """The ``AttentionOutput`` of ``model``'s step at ``t`` (s) from its record's first
+    ``KEPT_OUTPUTS`` arrays (``record_arrays`` without the record axis) and results (the
+    floats of ``records.RESULTS``); the tracks are copied from the model's tracker."""
+    readings, valid, rates, region_slot, F, C_BU, C_TD, C = arrays[:8]
+    region_speed, distances, nearest, origins, directions, fulfilled, M, L = arrays[8:]
+    _, focus, saliency, fired, top_down, n_tracks = results
     tracker = model._tracker
     if tracker is None:
         track_rows = _NO_TRACK_ROWS

@@ -38,6 +38,7 @@ __all__ = [
     "STEP_COLUMNS",
     "output_dtype",
     "OUTPUT_ARRAYS",
+    "KEPT_OUTPUTS",
     "RESULTS",
 ]
 
@@ -245,16 +246,15 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     return array
 
 
-#: The outputs of one step, in ``attend_one``'s order, with their dtype and shape (J the
-#: regions): clipped readings, echo flags, range rates, speeds, moving flags (188,); the
+#: The outputs of one step, with their dtype and shape (J the regions); first those an
+#: ``AttentionOutput`` keeps: clipped readings, echo flags, range rates (188,); the
 #: tracker's slot behind each front sonar (8,); F (6, J); C_BU, C_TD, C, region speeds,
-#: distances, nearest readings (J,); origins, directions (J,) int8; goal flags (J,); M, L.
+#: distances, nearest readings (J,); origins, directions (J,) int8; goal flags (J,); M, L;
+#: then the channels' speeds and moving flags (188,).
 OUTPUT_ARRAYS = (
     ("readings", np.float64, "channels"),
     ("valid", np.bool_, "channels"),
     ("rates", np.float64, "channels"),
-    ("speeds", np.float64, "channels"),
-    ("moving", np.bool_, "channels"),
     ("region_slot", np.int64, "sonars"),
     ("F", np.float64, "maps"),
     ("C_BU", np.float64, "regions"),
@@ -268,7 +268,11 @@ OUTPUT_ARRAYS = (
     ("fulfilled", np.bool_, "regions"),
     ("M", np.float64, "regions"),
     ("L", np.float64, "regions"),
+    ("speeds", np.float64, "channels"),
+    ("moving", np.bool_, "channels"),
 )
+#: How many of ``OUTPUT_ARRAYS`` an ``AttentionOutput`` keeps (the first ones).
+KEPT_OUTPUTS = 16
 
 
 #: The results of a step in a record's ``results`` (float64, exact for the integers): the
