@@ -15,7 +15,9 @@ stopped), as a real robot or person would, instead of crushing it against rubble
 
 The world's control state (the robot's command and ramp, the clock, the movers' laws and
 stops, the poses read back after each step) lives in numpy records, ``world.state``
-(``world.state`` module); ``Robot`` and ``Mover`` read their attributes from them.
+(``world.state`` module); ``Robot`` and ``Mover`` read their attributes from them. A body
+moved by hand through ``world.space`` shows in them (poses, velocities, ``geometry()``) after
+the next step, or at once after ``world.read_back()``.
 ``World.step`` runs ``world.compiled.step_worlds`` for this one world: a compiled step, or
 the pure-Python one (``World._step_python``) where pymunk's internals are not the tested
 ones.
