@@ -275,9 +275,36 @@ def test_one_bad_reading_among_many_raises_before_any_model_changes(many_reading
             _solo_step(solo[i], many_readings[i][step])
     readings = [run[5] for run in many_readings]
     readings[member] = change(readings[member])
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ValueError, match=f"^model {member}: {message}"):
         batch.step(readings)
     for step in range(5, 12):
         outputs = batch.step([run[step] for run in many_readings])
         for i in range(MANY):
             _assert_same(_solo_step(solo[i], many_readings[i][step]), outputs[i])
+
+
+def _reform(reading: tuple, form: int) -> tuple:
+    """``reading`` in another accepted form: 0 as recorded, 1 float64 arrays, 2 lists and a
+    tuple odometry, 3 front sonars only and the scan times given."""
+    t, sonar, laser, odometry, _, _ = reading
+    if form == 1:
+        return t, sonar.astype(np.float64), laser.astype(np.float64), odometry.astype(np.float64), None, None
+    if form == 2:
+        return t, sonar.tolist(), laser.tolist(), tuple(odometry.tolist()), None, None
+    if form == 3:
+        return t, sonar[:8], laser, odometry, t, t - 0.01
+    return reading
+
+
+@pytest.mark.parametrize("forms", [(0,), (1,), (0, 1, 2, 3)])
+def test_readings_of_every_accepted_form_give_each_models_own_numbers(many_readings, forms):
+    """Arrays of either float type, lists, front sonars only, scan times, mixed within a
+    step: each model's numbers as its own step gives them."""
+    config = AttentionConfig(range_noise_rel=0.05)
+    solo, team = [AttentionModel(config) for _ in range(4)], [AttentionModel(config) for _ in range(4)]
+    batch = ModelBatch(team)
+    for step in range(60):
+        readings = [_reform(run[step], forms[i % len(forms)]) for i, run in enumerate(many_readings[:4])]
+        outputs = batch.step(readings)
+        for i in range(4):
+            _assert_same(_solo_step(solo[i], readings[i]), outputs[i])

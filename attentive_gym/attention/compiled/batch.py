@@ -94,8 +94,8 @@ class ModelBatch:
 
         Raises:
             ValueError: for readings that do not match ``members``, or as
-                ``AttentionModel.step`` raises it for any model's reading; no model changes
-                then.
+                ``AttentionModel.step`` raises it for a model's reading, the message
+                prefixed with the model's index ("model 3: ..."); no model changes then.
         """
         members = range(len(self.models)) if members is None else members
         if len(readings) != len(members):
@@ -103,7 +103,12 @@ class ModelBatch:
         if len(set(members)) != len(members) or not all(0 <= i < len(self.models) for i in members):
             raise ValueError(f"members must be distinct indices in [0, {len(self.models)}), got {list(members)}")
         models = [self.models[i] for i in members]
-        checked = [model._checked(*reading) for model, reading in zip(models, readings)]
+        checked = []
+        for i, model, reading in zip(members, models, readings):
+            try:
+                checked.append(model._checked(*reading))
+            except ValueError as error:
+                raise ValueError(f"model {i}: {error}") from None
         self._bind_moved(members)
         steps = [model._advance(*inputs) for model, inputs in zip(models, checked)]
         if not steps:
