@@ -400,6 +400,12 @@ class AttentionModel:
         return self._gain
 
     @property
+    def tracker(self) -> Tracker | None:
+        """The model's ``Tracker`` (``kinematics="tracker"``), None in the other modes; its
+        arrays are views of ``model_state`` (read it afresh after a copy or a batch step)."""
+        return self._tracker
+
+    @property
     def odometry_pose(self) -> np.ndarray | None:
         """``(3,)`` copy of the robot's dead-reckoned pose (x m, y m, heading rad) in the
         frame that odometry keeps fixed to the world since ``reset``, in which the tracks

@@ -80,3 +80,11 @@ def test_kept_outputs_keep_their_values_over_many_steps(grid):
     assert all(out == kept for out, kept in zip(outputs, copies))
     assert not np.shares_memory(outputs[0].F, outputs[1].F)
     assert outputs[-1].F[:, :].any() and outputs[-1].goal_fulfilled.dtype == np.bool_
+
+
+def test_the_tracker_is_public_and_lives_in_the_state():
+    model = AttentionModel()
+    _run(model, 6)
+    assert model.tracker is not None and model.model_state.holds(model.tracker.cv_P)
+    assert model.tracker.hits.max() > 0
+    assert AttentionModel(AttentionConfig(kinematics="window")).tracker is None
