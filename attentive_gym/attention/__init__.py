@@ -17,7 +17,8 @@ Its parts:
   ``AttentionModel`` that steps them) and ``_numerics`` (the compiled arithmetic they share);
 - ``tracking``: the tracker of the ``tracker`` mode (§10): segmentation, association,
   Kalman filters, and the tracks' regions;
-- ``compiled``: a whole step as compiled kernels (``step_kernels``), and ``batch``
+- ``compiled``: a whole step as compiled kernels (``step_kernels``) over the records of
+  ``records`` (the model's state in flat buffers, ``ModelState``), and ``batch``
   (``ModelBatch``) for many models at once;
 - ``io``: sensor logs and their replay (``sensor_log``, ``replay``), ROS bags
   (``rosbag``, ``ros_readings``) and recorded traces (``trace``).

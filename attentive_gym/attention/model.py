@@ -328,6 +328,12 @@ class AttentionModel:
     the sonar's range rate; the direction label is the sonar channel's when it is moving,
     else the majority label of the region's laser beams; the distance is the nearest
     valid sonar or laser reading.
+
+    State: everything a step reads and writes besides its inputs lives in one
+    ``ModelState`` (``model_state``: three flat buffers, ``compiled.records``), which the
+    model's memory, course book and tracker are views of. On the sonar grid a step is one
+    compiled call over it (``step_kernels.attend_many``). A ``ModelBatch`` batches models by
+    handing each its rows of shared buffers (``bind_state``).
     """
 
     def __init__(self, config: AttentionConfig | None = None) -> None:
