@@ -21,7 +21,8 @@ from gymnasium import spaces
 from attentive_gym import _pymunk_access
 from attentive_gym._optional import require
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
-from attentive_gym.envs.reward import RewardConfig, rescue_reward
+from attentive_gym.envs.completion import complete_resets, complete_steps
+from attentive_gym.envs.reward import RewardConfig
 from attentive_gym.sensors import LaserConfig, ScanHold, SensorReading, SensorSuite, SonarConfig, resolve_sensor_profile
 from attentive_gym.world.arena import ArenaConfig, generate_arena
 from attentive_gym.world.builtin import BUILTIN_SCENARIOS, builtin_scenario
@@ -280,7 +281,6 @@ class AttentiveRescueEnv(gym.Env):
         self._goal_cache: tuple = (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none")  # goal, encoding, text
         self._renderer = None
         self._reading = None
-        self._odometry = (0.0, 0.0)  # the robot's (linear m/s, angular rad/s) at the last observation
         #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
         #: ``AttentionWrapper`` to show the focus); None draws nothing more. In human mode an
         #: env with an overlay leaves each step's frame to the overlay's owner, who draws it
@@ -324,11 +324,10 @@ class AttentiveRescueEnv(gym.Env):
         self.scenario, self.goal = scenario, goal
         self.world = World(scenario, self.robot_config)
         self._target_index = scenario.target_index
-        self._distance = self._target_distance()
         self._limit_s = self.time_limit_s or (scenario.task.time_limit_s if scenario.task else scenario.duration_s)
         self._scans.reset()
-        observation = self._observe(self.sensors.read(*self.sensing_request()))
-        info = self._info(collided=False, success=False)
+        completed = complete_resets([self], _one_row(self.sensors.read(*self.sensing_request())))
+        observation, info = completed.observations()[0], completed.infos()[0]
         if self.render_mode == "human" and self.render_overlay is None:
             self.render()
         return observation, info
@@ -366,17 +365,16 @@ class AttentiveRescueEnv(gym.Env):
         """The step's ``(observation, reward, terminated, truncated, info)`` once the world has
         moved (``touched``: ``move``'s result), from the fresh sensor reading ``reading`` (a
         ``sensors.read`` of ``sensing_request()``'s arguments, taken after the move)."""
-        observation = self._observe(reading)
-        distance = self._target_distance()
-        if self._target_index is None:
-            reward, success = 0.0, False
-        else:
-            reward, success = rescue_reward(self.reward_config, self.dt, self._distance, distance, touched)
-        self._distance = distance
-        truncated = self.world.time_s >= self._limit_s - 1e-9 and not success
+        completed = complete_steps([self], (touched,), _one_row(reading))
         if self.render_mode == "human" and self.render_overlay is None:
             self.render()
-        return observation, float(reward), bool(success), bool(truncated), self._info(touched, success)
+        return (
+            completed.observations()[0],
+            completed.reward.item(),
+            completed.terminated.item(),
+            completed.truncated.item(),
+            completed.infos()[0],
+        )
 
     # --- helpers ------------------------------------------------------------------
     def _goal_option(self, options: dict[str, Any] | None) -> Goal | None:
@@ -403,24 +401,6 @@ class AttentiveRescueEnv(gym.Env):
         linear, angular = np.clip(checked_action(action, (2,), "(linear, angular)"), -1.0, 1.0).tolist()
         return linear, angular
 
-    def _observe(self, fresh: SensorReading) -> dict[str, np.ndarray]:
-        world = self.world
-        body = world.robot.body
-        self._reading = reading = self._scans.update(fresh, world.time_s)
-        # world.robot.odometry in plain floats (kept for the info), clipped to the observation space's bounds
-        vx, vy = _pymunk_access.velocity(body)
-        heading = body.angle
-        linear, angular = vx * math.cos(heading) + vy * math.sin(heading), body.angular_velocity
-        self._odometry = (linear, angular)
-        linear_limit, angular_limit = self._odometry_limit
-        odometry = (min(max(linear, -linear_limit), linear_limit), min(max(angular, -angular_limit), angular_limit))
-        return {
-            "sonar": reading.sonar.astype(np.float32),
-            "laser": reading.laser.astype(np.float32),
-            "odometry": np.array(odometry, dtype=np.float32),
-            "goal": self._goal_cached()[1].copy(),
-        }
-
     def _goal_cached(self) -> tuple:
         """``(goal, goal.encode(), str(goal))`` of the current goal, computed once per goal."""
         if self._goal_cache[0] is not self.goal:
@@ -431,33 +411,6 @@ class AttentiveRescueEnv(gym.Env):
                 else (goal, goal.encode(), str(goal))
             )
         return self._goal_cache
-
-    def _target_distance(self) -> float:
-        if self._target_index is None:
-            return math.inf
-        target = _pymunk_access.position(self.world.movers[self._target_index].body)
-        robot = _pymunk_access.position(self.world.robot.body)
-        return math.hypot(target[0] - robot[0], target[1] - robot[1])
-
-    def _info(self, collided: bool, success: bool) -> dict[str, Any]:
-        world = self.world
-        return {
-            "time_s": world.time_s,
-            "robot_pose": world.robot.pose,
-            "robot_velocity": np.array(self._odometry),  # world.robot.odometry, read by _observe
-            "mover_positions": world.mover_positions(),
-            "mover_velocities": world.mover_velocities(),
-            "mover_names": world.mover_names,
-            "target_index": -1 if self._target_index is None else self._target_index,
-            "target_distance_m": self._distance,
-            "collision": collided,
-            "success": success,
-            "goal": self._goal_cached()[2],
-            "sonar_hits": self._reading.sonar_owner.copy(),
-            "laser_hits": self._reading.laser_owner.copy(),
-            "sonar_time_s": self._scans.sonar_time_s,
-            "laser_time_s": self._scans.laser_time_s,
-        }
 
     # --- rendering ----------------------------------------------------------------
     def render(self):
@@ -493,6 +446,11 @@ class AttentiveRescueEnv(gym.Env):
         state = self.__dict__.copy()
         state["_renderer"] = None  # pygame surfaces do not pickle; a new one is made on demand
         return state
+
+
+def _one_row(reading: SensorReading) -> SensorReading:
+    """``reading`` as (1, ·) blocks (views), the form ``complete_steps`` takes."""
+    return SensorReading(reading.sonar[None], reading.laser[None], reading.sonar_owner[None], reading.laser_owner[None])
 
 
 def _with_goal(scenario: Scenario, goal: Goal) -> Scenario:

@@ -69,6 +69,28 @@ class ScanHold:
         self.reading: SensorReading | None = None
         self.sonar_time_s = self.laser_time_s = -math.inf
 
+    def scans(self, now_s: float) -> tuple[bool, bool]:
+        """Whether the sonar and the laser scan at world time ``now_s`` (s); the scan times of
+        those that do become ``now_s``. The caller then stores the reading it composed from
+        the fresh and the held rows as ``reading`` (``update`` does both for one reading; a
+        batched step composes many members' readings at once).
+
+        Example:
+            >>> hold = ScanHold(sonar_scan_interval_s=0.2)
+            >>> hold.scans(0.0), hold.scans(0.1), hold.sonar_time_s
+            ((True, True), (False, True), 0.0)
+        """
+        if self._every_step:
+            self.sonar_time_s = self.laser_time_s = now_s
+            return True, True
+        sonar_scans = scan_due(now_s, self.sonar_time_s, self.sonar_scan_interval_s)
+        laser_scans = scan_due(now_s, self.laser_time_s, self.laser_scan_interval_s)
+        if sonar_scans:
+            self.sonar_time_s = now_s
+        if laser_scans:
+            self.laser_time_s = now_s
+        return sonar_scans, laser_scans
+
     def update(self, fresh: SensorReading, now_s: float) -> SensorReading:
         """The reading at world time ``now_s`` (s), given ``fresh``, a new reading of both sensors.
 
@@ -76,16 +98,7 @@ class ScanHold:
         neither does, and otherwise a new ``SensorReading`` with the scanning sensor's
         ranges and owners from ``fresh`` and the other's held arrays, unchanged.
         """
-        if self._every_step:
-            self.sonar_time_s = self.laser_time_s = now_s
-            self.reading = fresh
-            return fresh
-        sonar_scans = scan_due(now_s, self.sonar_time_s, self.sonar_scan_interval_s)
-        laser_scans = scan_due(now_s, self.laser_time_s, self.laser_scan_interval_s)
-        if sonar_scans:
-            self.sonar_time_s = now_s
-        if laser_scans:
-            self.laser_time_s = now_s
+        sonar_scans, laser_scans = self.scans(now_s)
         if sonar_scans != laser_scans:
             sonar, laser = (fresh, self.reading) if sonar_scans else (self.reading, fresh)
             self.reading = SensorReading(sonar.sonar, laser.laser, sonar.sonar_owner, laser.laser_owner)
