@@ -4,6 +4,7 @@
   space as new ``(N, ...)`` arrays.
 - ``batch_infos``: the members' ``info`` dicts as one batched info with ``_key`` masks
   (what ``VectorEnv._add_info`` builds, member by member).
+- ``batch_step_infos``: the same for a step of every member, from the completed steps' arrays.
 """
 
 from __future__ import annotations
@@ -14,7 +15,9 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-__all__ = ["batch_infos", "stack_observations"]
+from attentive_gym.envs.completion import CompletedSteps
+
+__all__ = ["batch_infos", "batch_step_infos", "stack_observations"]
 
 
 def stack_observations(space: gym.Space, observations: Sequence[Any], out: Any | None = None) -> Any | None:
@@ -75,6 +78,36 @@ def batch_infos(infos: Sequence[tuple[int, dict[str, Any]]], num_envs: int) -> d
             mask = np.zeros(num_envs, np.bool_)
             mask[indices] = True
             batched[f"_{key}"] = mask
+    return batched
+
+
+def batch_step_infos(infos: Sequence[dict[str, Any]], completed: CompletedSteps | None) -> dict[str, Any]:
+    """``batch_infos`` of a step of every member (``infos[i]``: member i's info), built from
+    ``completed``'s arrays (row i for member i) where they hold a key.
+
+    The env's own keys come from ``completed.info`` (its (N,) and (N, ...) arrays as they
+    are, its lists batched as ``batch_infos`` batches them); keys that the members' wrappers
+    added (e.g. ``"attention"``) from ``infos``. A wrapper may add keys to the env's info but
+    must not replace the env's own. Without ``completed``, or when the members' infos differ in
+    their keys, it is ``batch_infos`` itself. The result equals ``batch_infos(list(enumerate(infos)),
+    len(infos))`` in keys, order, values and dtypes.
+    """
+    num_envs = len(infos)
+    keys = tuple(infos[0]) if infos else ()
+    if completed is None or not all(tuple(info) == keys for info in infos):
+        return batch_infos(list(enumerate(infos)), num_envs)
+    everyone = np.ones(num_envs, np.bool_)
+    everyone.flags.writeable = False
+    every = list(range(num_envs))
+    batched: dict[str, Any] = {}
+    for key in keys:
+        values = completed.info.get(key)
+        if isinstance(values, np.ndarray):
+            batched[key] = values
+        else:
+            values = [info[key] for info in infos] if values is None else values
+            batched[key] = _batch_values(key, values, every, num_envs, True)
+        batched[f"_{key}"] = everyone
     return batched
 
 

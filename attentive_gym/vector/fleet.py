@@ -16,8 +16,9 @@ numbers are those of its members stepped one by one, bit for bit:
    (``SensorSuite.read_batch`` over the members' stacked ``world.geometry_cache``: what each
    ``sensors.read(*sensing_request())`` gives; each member draws its noise from its own
    ``np_random``);
-4. **complete**: each member's reward, termination, info and raw observation
-   (``StagedEnv.complete_step``);
+4. **complete**: the members' rewards, terminations, infos and raw observations in one call
+   over arrays (``envs.completion.complete_steps``: what each ``StagedEnv.complete_step``
+   returns; member by member for a core that is not an ``AttentiveRescueEnv``);
 5. **attend**: when every member's innermost observation wrapper is a ``ModelStage``
    (``AttentionWrapper``) and their models can form a ``ModelBatch`` (one configuration, the
    sonar grid: ``attention.compiled.batch.batching_problem``), the models of the stepped
@@ -41,7 +42,9 @@ import numba
 import numpy as np
 
 from attentive_gym.attention.compiled.batch import ModelBatch, batching_problem
-from attentive_gym.sensors import SceneStack
+from attentive_gym.envs.completion import CompletedSteps, complete_steps
+from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+from attentive_gym.sensors import SceneStack, SensorReading
 from attentive_gym.vector.batching import stack_observations  # noqa: F401  (named by the old path envs.fleet)
 from attentive_gym.vector.protocol import ModelStage, ObservationStage, StagedEnv, StepResult
 from attentive_gym.vector.threads import default_threads, numba_threads
@@ -110,6 +113,7 @@ class Fleet:
         self.observation_space: gym.Space = self.envs[0].observation_space
         self.threads = default_threads(len(self.envs)) if threads is None else _check_threads(threads)
         self._scenes = SceneStack([])  # the members' scenes, restacked when a reset gives one a new world
+        self._completes_together = all(isinstance(base, AttentiveRescueEnv) for base in self.bases)
 
     def __len__(self) -> int:
         return len(self.envs)
@@ -140,19 +144,21 @@ class Fleet:
             raise ValueError(f"actions must be finite; env(s) {bad[:10].tolist()} got {batch[bad[0]].tolist()}")
         return batch
 
-    def step(self, indices: Sequence[int], actions: np.ndarray) -> list[StepResult]:
+    def step(self, indices: Sequence[int], actions: np.ndarray) -> tuple[list[StepResult], CompletedSteps | None]:
         """Step the members ``indices`` with their rows of ``actions`` (checked by ``check_actions``).
 
         Returns:
             One ``(observation, reward, terminated, truncated, info)`` per index, as each
-            member's ``step`` would return it.
+            member's ``step`` would return it, and the completed steps as arrays (row j for
+            ``indices[j]``: the rewards, terminations, truncations and the core's info
+            entries; None when no member steps or a member's core is not an ``AttentiveRescueEnv``).
         """
         with numba_threads(self.threads):
             commands = self._commands(indices, actions)
             touched = self._move(indices, commands)
             readings = self._perceive(indices)
-            steps = [self.bases[i].complete_step(hit, reading) for i, hit, reading in zip(indices, touched, readings)]
-            return self._observe(indices, steps)
+            steps, completed = self._complete(indices, touched, readings)
+            return self._observe(indices, steps), completed
 
     def _commands(self, indices: Sequence[int], actions: np.ndarray) -> list[tuple[float, float]]:
         """The robots' commands (linear m/s, angular rad/s) of the members ``indices``: each
@@ -173,10 +179,10 @@ class Fleet:
         worlds = [self.bases[i].world for i in indices]
         return step_worlds(worlds, self.bases[0].dt, np.array(commands, dtype=np.float64)).tolist()
 
-    def _perceive(self, indices: Sequence[int]) -> list:
+    def _perceive(self, indices: Sequence[int]) -> SensorReading:
         """The perceive stage: the sensors of the members ``indices`` read in one compiled
-        call (the others' rows, generators and scenes left alone); one ``SensorReading`` per
-        member."""
+        call (the others' rows, generators and scenes left alone); their readings as
+        ``(len(indices), ·)`` blocks, row j for member ``indices[j]``."""
         bases = self.bases
         self._scenes = scenes = self._scenes.with_scenes([base.world.geometry_cache for base in bases])
         body_poses = np.concatenate([base.world.moving_poses() for base in bases])
@@ -190,7 +196,40 @@ class Fleet:
             body_poses=body_poses,
             active=active,
         )
-        return [readings.reading(i) for i in indices]
+        rows = slice(None) if len(indices) == len(bases) and list(indices) == list(range(len(bases))) else indices
+        return SensorReading(
+            readings.sonar[rows], readings.laser[rows], readings.sonar_owner[rows], readings.laser_owner[rows]
+        )
+
+    def _complete(
+        self, indices: Sequence[int], touched: list[bool], readings: SensorReading
+    ) -> tuple[list[StepResult], CompletedSteps | None]:
+        """The complete stage: each member's ``(observation, reward, terminated, truncated, info)``
+        from its reading (row j of ``readings`` for ``indices[j]``), all in one
+        ``envs.completion.complete_steps`` call with the completed steps as arrays when every
+        core is an ``AttentiveRescueEnv``; else member by member through ``StagedEnv.complete_step``
+        (and no arrays)."""
+        bases = [self.bases[i] for i in indices]
+        if not bases:
+            return [], None
+        if not self._completes_together:
+            blocks = (readings.sonar, readings.laser, readings.sonar_owner, readings.laser_owner)
+            rows = [SensorReading(*(block[j] for block in blocks)) for j in range(len(bases))]
+            return [base.complete_step(hit, row) for base, hit, row in zip(bases, touched, rows)], None
+        completed = complete_steps(bases, touched, readings)
+        for base in bases:
+            if base.render_mode == "human" and base.render_overlay is None:
+                base.render()
+        steps = list(
+            zip(
+                completed.observations(),
+                completed.reward.tolist(),
+                completed.terminated.tolist(),
+                completed.truncated.tolist(),
+                completed.infos(),
+            )
+        )
+        return steps, completed
 
     def _observe(self, indices: Sequence[int], steps: list[StepResult]) -> list[StepResult]:
         """The completed ``steps`` of the members ``indices`` with their observations taken up

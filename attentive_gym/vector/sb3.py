@@ -88,14 +88,20 @@ class NativeVecEnv(VecEnv):
 
     def step_wait(self):
         batch = self._fleet.check_actions(self._actions)
-        rewards = np.zeros(self.num_envs, np.float32)
-        dones = np.zeros(self.num_envs, np.bool_)
+        results, completed = self._fleet.step(self._all, batch)
+        if completed is None:
+            terminations = np.array([result[2] for result in results], np.bool_)
+            truncations = np.array([result[3] for result in results], np.bool_)
+            rewards = np.array([result[1] for result in results], np.float32)
+        else:
+            terminations, truncations = completed.terminated, completed.truncated
+            rewards = completed.reward.astype(np.float32)
+        dones = terminations | truncations
+        time_limited = (truncations & ~terminations).tolist()
         infos = []
-        for i, (observation, reward, terminated, truncated, info) in enumerate(self._fleet.step(self._all, batch)):
-            rewards[i] = reward
-            dones[i] = terminated or truncated
+        for i, (observation, reward, _, _, info) in enumerate(results):
             self._episode_rewards[i].append(float(reward))
-            info["TimeLimit.truncated"] = truncated and not terminated
+            info["TimeLimit.truncated"] = time_limited[i]
             if dones[i]:
                 info["episode"] = self._episode_record(i, info)
                 info["terminal_observation"] = observation

@@ -24,7 +24,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array
 
-from attentive_gym.vector.batching import batch_infos, stack_observations
+from attentive_gym.vector.batching import batch_infos, batch_step_infos, stack_observations
 from attentive_gym.vector.fleet import Fleet
 from attentive_gym.wrappers.variants import make_env
 
@@ -160,38 +160,60 @@ class AttentiveRescueVectorEnv(VectorEnv):
                 f"env(s) {ended} ended; with autoreset disabled, reset them "
                 "(reset(options={'reset_mask': mask})) before stepping"
             )
-        infos = []
         if self.autoreset_mode == AutoresetMode.NEXT_STEP:  # those that ended at the previous step restart
             stepping = np.flatnonzero(~self._autoreset_envs).tolist()
         else:
             stepping = list(range(self.num_envs))
-        results = dict(zip(stepping, self._fleet.step(stepping, batch)))
-        for i in range(self.num_envs):
-            if i not in results:  # NEXT_STEP: ended at the previous step, reset now
-                self._env_obs[i], info = self.envs[i].reset()
-                self._rewards[i], self._terminations[i], self._truncations[i] = 0.0, False, False
-                self._elapsed_steps[i] = 0
-            else:
-                observation, reward, terminated, truncated, info = results[i]
-                self._elapsed_steps[i] += 1
-                truncated = truncated or (
-                    self.max_episode_steps is not None and self._elapsed_steps[i] >= self.max_episode_steps
-                )
-                self._rewards[i], self._terminations[i], self._truncations[i] = reward, terminated, truncated
-                self._env_obs[i] = observation
-                if self.autoreset_mode == AutoresetMode.SAME_STEP and (terminated or truncated):
-                    infos.append((i, {"final_obs": observation, "final_info": info}))
-                    self._env_obs[i], info = self.envs[i].reset()
-                    self._elapsed_steps[i] = 0
-            infos.append((i, info))
+        results, completed = self._fleet.step(stepping, batch)
+        if completed is None:
+            rewards = np.array([result[1] for result in results], np.float64)
+            terminations = np.array([result[2] for result in results], np.bool_)
+            truncations = np.array([result[3] for result in results], np.bool_)
+        else:
+            rewards, terminations, truncations = completed.reward, completed.terminated, completed.truncated
+        self._elapsed_steps[stepping] += 1
+        if self.max_episode_steps is not None:
+            truncations = truncations | (self._elapsed_steps[stepping] >= self.max_episode_steps)
+        self._rewards[stepping], self._terminations[stepping], self._truncations[stepping] = (
+            rewards,
+            terminations,
+            truncations,
+        )
+        for i, result in zip(stepping, results):
+            self._env_obs[i] = result[0]
+        ended = self.autoreset_mode == AutoresetMode.SAME_STEP and bool(terminations.any() or truncations.any())
+        if len(stepping) == self.num_envs and not ended:  # every member stepped, none reset: infos from arrays
+            infos = batch_step_infos([result[4] for result in results], completed)
+        else:
+            infos = batch_infos(self._step_infos(stepping, results), self.num_envs)
         self._autoreset_envs = self._terminations | self._truncations
         return (
             self._batched_observations(),
             self._rewards.copy(),
             self._terminations.copy(),
             self._truncations.copy(),
-            batch_infos(infos, self.num_envs),
+            infos,
         )
+
+    def _step_infos(self, stepping: list[int], results: list) -> list[tuple[int, dict[str, Any]]]:
+        """The ``(index, info)`` pairs of a step in which members reset: NEXT_STEP resets those
+        not ``stepping`` (their reset's info), SAME_STEP resets those that ended (their final
+        observation and info first); the others' step info."""
+        infos = []
+        info_of = {i: result[4] for i, result in zip(stepping, results)}
+        for i in range(self.num_envs):
+            if i not in info_of:  # NEXT_STEP: ended at the previous step, reset now
+                self._env_obs[i], info = self.envs[i].reset()
+                self._rewards[i], self._terminations[i], self._truncations[i] = 0.0, False, False
+                self._elapsed_steps[i] = 0
+            else:
+                info = info_of[i]
+                if self.autoreset_mode == AutoresetMode.SAME_STEP and (self._terminations[i] or self._truncations[i]):
+                    infos.append((i, {"final_obs": self._env_obs[i], "final_info": info}))
+                    self._env_obs[i], info = self.envs[i].reset()
+                    self._elapsed_steps[i] = 0
+            infos.append((i, info))
+        return infos
 
     def _batched_observations(self):
         """The members' observations batched: into new arrays (``copy``) or into the env's buffer."""
