@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -149,11 +149,74 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput
     ) -> dict[str, np.ndarray]:
         """The attended observation of a step's ``raw`` one, given the model's ``output`` on it
-        (a fleet steps its members' models together, then calls this)."""
-        observation = self._use(raw, info, output)
-        if self.render_mode == "human":
-            self.env.render()  # the step's one frame (the base env leaves it to its overlay's owner)
-        return observation
+        (``info`` gains ``"attention"``): ``observe_outputs`` of this one wrapper."""
+        return self.observe_outputs([self], [raw], [info], [output])[0]
+
+    @classmethod
+    def observe_outputs(
+        cls,
+        wrappers: Sequence[AttentionWrapper],
+        raws: Sequence[dict[str, np.ndarray]],
+        infos: Sequence[dict[str, Any]],
+        outputs: Sequence[AttentionOutput],
+    ) -> list[dict[str, np.ndarray]]:
+        """The attended observations of k wrappers' steps at once (a fleet steps its members'
+        models together, then calls this; ``observe_output`` is the case k = 1).
+
+        Each wrapper keeps its model's output (``last_output``, ``info["attention"]``), picks
+        its region (its own random draw for ``selection="random"``) and writes its working
+        memory; then one call of the shared encoder writes all k observations into one block
+        (``encoders``' ``encode_many``), the numbers each wrapper alone would give.
+
+        Args:
+            wrappers: k distinct ``AttentionWrapper`` of one observation (the same mode and
+                encoder settings).
+            raws, infos, outputs: each wrapper's raw observation, info and model output.
+
+        Returns:
+            The k observations, in order.
+
+        Raises:
+            ValueError: for lists of different lengths, something that is not an
+                ``AttentionWrapper``, a wrapper listed twice, or wrappers whose observations differ.
+        """
+        count = len(wrappers)
+        if not len(raws) == len(infos) == len(outputs) == count:
+            raise ValueError(
+                f"observe_outputs takes one raw observation, info and output per wrapper ({count}), "
+                f"got {len(raws)}, {len(infos)} and {len(outputs)}"
+            )
+        if count == 0:
+            return []
+        first = wrappers[0]
+        if not isinstance(first, AttentionWrapper):
+            raise ValueError(f"wrapper 0 is a {type(first).__name__}, not an AttentionWrapper")
+        for i, wrapper in enumerate(wrappers[1:], start=1):
+            if not isinstance(wrapper, AttentionWrapper):
+                raise ValueError(f"wrapper {i} is a {type(wrapper).__name__}, not an AttentionWrapper")
+            if wrapper._encoder.settings != first._encoder.settings:
+                raise ValueError(
+                    f"wrapper {i}'s observation ({wrapper.mode!r}) differs from wrapper 0's ({first.mode!r}); "
+                    "the observations of one call share their mode and encoder settings"
+                )
+        if count > 1 and len({id(wrapper) for wrapper in wrappers}) != count:
+            raise ValueError("observe_outputs takes each wrapper once")
+        for wrapper, info, output in zip(wrappers, infos, outputs):
+            wrapper.last_output = info["attention"] = output
+        if first.mode == "focus":
+            regions, events, memories = [], [], []
+            for wrapper, output in zip(wrappers, outputs):
+                region, event = wrapper._attended(output)
+                regions.append(region)
+                events.append(event)
+                memories.append(wrapper._remember(output, region))
+            observations = first._encoder.encode_many(raws, outputs, regions, events, memories)
+        else:
+            observations = first._encoder.encode_many(raws, outputs)
+        for wrapper in wrappers:
+            if wrapper.render_mode == "human":
+                wrapper.env.render()  # the step's one frame (the base env leaves it to its overlay's owner)
+        return observations
 
     @staticmethod
     def model_reading(raw: dict[str, np.ndarray], info: dict[str, Any]) -> tuple:
@@ -167,15 +230,6 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             info.get("sonar_time_s"),
             info.get("laser_time_s"),
         )
-
-    def _use(self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput) -> dict[str, np.ndarray]:
-        """Keep ``output`` (``last_output``, ``info["attention"]``) and encode the observation."""
-        self.last_output = output
-        info["attention"] = output
-        if self.mode != "focus":
-            return self._encoder.encode(raw, output)
-        region, event = self._attended(output)
-        return self._encoder.encode_region(raw, output, region, event, self._remember(output, region))
 
     def _attended(self, output: AttentionOutput) -> tuple[int | None, tuple[bool, bool, bool]]:
         """The attended region (None: no focus) and the step's (fired, bottom-up, top-down) event."""

@@ -1,11 +1,15 @@
 """Observation encoders: an ``AttentionOutput`` and the raw readings → an agent's observation.
 
 One encoder per observation mode of ``AttentionWrapper``; each has an exact
-``space`` (a ``gymnasium.spaces.Dict`` of float32 ``Box`` es) and ``encode(raw, output)``,
-where ``raw`` is the base environment's observation (``"sonar"`` (16,), ``"laser"``
-(180,), ``"odometry"`` (2,), ``"goal"`` (13,)) and ``output`` the model's step (the focus
-encoder takes the attended region's ``FocusView`` instead, so that the region can be
-chosen otherwise: at random, or from the privileged state).
+``space`` (a ``gymnasium.spaces.Dict`` of float32 ``Box`` es), ``encode(raw, output)``
+and ``encode_many(raws, outputs, ...)``, the observations of k steps at once (k members of
+a fleet, or k = 1), written into ``(k, ...)`` blocks whose rows each observation's entries
+are views of. ``raw`` is the base environment's observation (``"sonar"`` (16,),
+``"laser"`` (180,), ``"odometry"`` (2,), ``"goal"`` (13,)) and ``output`` the model's step
+(the focus encoder is also told the attended region, so that the region can be chosen
+otherwise: at random, or from the privileged state with a ``FocusView``). Encoders with
+equal ``settings`` (a tuple of what decides their numbers) encode alike, so one of them
+can encode the others' steps.
 
 - ``FocusEncoder`` (``"focus"``): only the attended region's sub-representation and a
   working memory of the last attended bodies, 64 numbers (layout in its docstring).
@@ -17,6 +21,7 @@ chosen otherwise: at random, or from the privileged state).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from gymnasium import spaces
@@ -24,6 +29,7 @@ from numba import njit
 
 from attentive_gym.attention import AttentionConfig, AttentionOutput, FocusView, Grid
 from attentive_gym.attention.regions import FRONT_SONARS, SONAR_RING
+from attentive_gym.attention.working_memory import MEMORY_FIELDS
 
 __all__ = ["ENCODERS", "NO_EVENT", "FocusEncoder", "MaskedEncoder", "SaliencyEncoder", "LASER_BINS", "map_ceilings"]
 
@@ -135,9 +141,21 @@ class FocusEncoder:
         self._beam_bounds = np.array([(s.start, s.stop) for s in self.grid.beam_slices], np.int64)
         offsets = np.cumsum([0] + [space.shape[0] for space in self.space.values()])
         self._parts = {key: slice(a, b) for key, a, b in zip(self.space, offsets[:-1], offsets[1:])}
+        self._keys, self._slices = tuple(self._parts), tuple(self._parts.values())
+        self._empty_memory = np.zeros((memory_slots, len(MEMORY_FIELDS)), _F32)  # an empty memory reads as zeros
         self._starts = {key: int(a) for key, a in zip(self.space, offsets[:-1])}
         self._at = np.array([self._starts[key] for key in _REGION_KEYS], np.int64)
+        # where the odometry, goal and memory start (the memory's start is unused without memory)
+        self._tail = np.array([self._starts[key] for key in ("odometry", "goal")] + [self._starts.get("memory", 0)])
         self._size = int(offsets[-1])
+        self.settings = (
+            "focus",
+            self.grid.name,
+            self._max_speed,
+            self._max_distance,
+            tuple(self._memory_high.tolist()),
+            tuple((key, part.start, part.stop) for key, part in self._parts.items()),
+        )
 
     def encode(
         self,
@@ -154,27 +172,29 @@ class FocusEncoder:
             event: (fired, origin bottom-up, origin top-down) of the attention step.
             memory: ``(K, 6)`` rows of ``WorkingMemory.read``; None: every slot empty.
         """
-        flat, obs = self._blank(raw, memory)
+        block = np.zeros((1, self._size), _F32)
+        flat = block[0]
+        _write_common(flat, self._tail, raw["odometry"], raw["goal"], self._memory_rows([memory])[0], self._memory_high)
         if view is None:
             flat[self._at[0] + self.grid.n_regions] = 1.0
-            return obs
-        _write_focus(
-            flat,
-            self._at,
-            view.region,
-            *event,
-            view.sonar_range_m,
-            view.sonar_echo,
-            view.laser_ranges_m,
-            self._bin_starts[view.region],
-            math.inf if view.distance_m is None else view.distance_m,
-            self._max_distance,
-            view.range_rate_mps,
-            self._max_speed,
-            int(view.direction),
-            view.features,
-        )
-        return obs
+        else:
+            _write_focus(
+                flat,
+                self._at,
+                view.region,
+                *event,
+                view.sonar_range_m,
+                view.sonar_echo,
+                view.laser_ranges_m,
+                self._bin_starts[view.region],
+                math.inf if view.distance_m is None else view.distance_m,
+                self._max_distance,
+                view.range_rate_mps,
+                self._max_speed,
+                int(view.direction),
+                view.features,
+            )
+        return self._views(block)[0]
 
     def encode_region(
         self,
@@ -185,43 +205,119 @@ class FocusEncoder:
         memory: np.ndarray | None = None,
     ) -> dict[str, np.ndarray]:
         """``encode(raw, output.view_of(region), event, memory)`` (None: no focus), the same
-        numbers, without building the ``FocusView``: one compiled call reads the region
-        from the output's arrays."""
-        flat, obs = self._blank(raw, memory)
-        if region is None:
-            flat[self._at[0] + self.grid.n_regions] = 1.0
-            return obs
-        grid, readings, valid, rates, nearest = output._sources[:5]
-        if grid.name != self.grid.name:
-            raise ValueError(f"the output is on the {grid.name!r} grid; the 'focus' observation needs the 'sonar' grid")
-        _write_output_focus(
-            flat,
-            self._at,
-            region,
-            *event,
-            readings,
-            valid,
-            rates,
-            nearest,
-            output.F,
-            output.directions,
-            self.grid.region_sonar,
-            self._beam_bounds,
-            self._bin_starts,
-            self._max_distance,
-            self._max_speed,
-        )
-        return obs
+        numbers, without building the ``FocusView``: ``encode_many`` of one step."""
+        return self.encode_many([raw], [output], [region], [event], [memory])[0]
 
-    def _blank(self, raw: dict[str, np.ndarray], memory: np.ndarray | None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """A new observation without its region entries: its flat float32 buffer ``(size,)``
-        and the dict of views into it, with the odometry, goal and memory written."""
-        flat = np.zeros(self._size, _F32)  # every entry's view below shares this buffer
-        obs = dict(zip(self._parts, map(flat.__getitem__, self._parts.values())))
-        obs["odometry"][:], obs["goal"][:] = raw["odometry"], raw["goal"]
-        if memory is not None and "memory" in obs:
-            np.minimum(memory.reshape(-1), self._memory_high, out=obs["memory"])
-        return flat, obs
+    def encode_many(
+        self,
+        raws: Sequence[dict[str, np.ndarray]],
+        outputs: Sequence[AttentionOutput],
+        regions: Sequence[int | None],
+        events: Sequence[tuple[bool, bool, bool]],
+        memories: Sequence[np.ndarray | None],
+    ) -> list[dict[str, np.ndarray]]:
+        """The observations of k steps at once, each ``encode_region`` of its own arguments
+        (the same numbers), written into one ``(k, size)`` float32 block by one compiled call.
+
+        Args:
+            raws: k base observations.
+            outputs: their models' steps (on the sonar grid).
+            regions: the attended region of each step (an index in ``[0, J)``), None: no focus.
+            events: each step's (fired, origin bottom-up, origin top-down).
+            memories: each step's ``(K, 6)`` working-memory rows, None: every slot empty.
+
+        Returns:
+            k observations; each one's entries are views of its row of the block.
+
+        Raises:
+            ValueError: for lists of different lengths, an output on another grid, a region
+                out of range, an event that is not three flags, or memory rows of another shape.
+        """
+        count = len(raws)
+        if not len(outputs) == len(regions) == len(events) == len(memories) == count:
+            raise ValueError(
+                f"encode_many takes one output, region, event and memory per raw observation ({count}), got "
+                f"{len(outputs)}, {len(regions)}, {len(events)} and {len(memories)}"
+            )
+        if count == 0:
+            return []
+        # per step: the grid, the clipped readings, their echo flags, the range rates, the
+        # nearest reading per region (AttentionOutput's sources), F, the direction labels
+        grids, readings, valid, rates, nearest, F, directions = zip(
+            *[(*output._sources[:5], output.F, output.directions) for output in outputs]
+        )
+        if any(grid.name != self.grid.name for grid in grids):
+            raise ValueError("every output must be on the 'sonar' grid, as the 'focus' observation needs")
+        n_regions = self.grid.n_regions
+        if any(region is not None and not 0 <= region < n_regions for region in regions):
+            raise ValueError(f"regions must be indices in [0, {n_regions}) or None (no focus), got {list(regions)}")
+        if any(len(event) != 3 for event in events):
+            raise ValueError(f"events must be (fired, bottom-up, top-down) triples of bools, got {list(events)}")
+        block = np.zeros((count, self._size), _F32)
+        constants = (self.grid.region_sonar, self._beam_bounds, self._bin_starts, self._max_distance, self._max_speed)
+        if count == 1:  # the single step: its arrays as they are
+            (raw,), (region,), (event,) = raws, regions, events
+            _write_focus_row(
+                block[0],
+                self._at,
+                self._tail,
+                -1 if region is None else region,
+                *event,
+                raw["odometry"],
+                raw["goal"],
+                self._memory_rows(memories)[0],
+                self._memory_high,
+                readings[0],
+                valid[0],
+                rates[0],
+                nearest[0],
+                F[0],
+                directions[0],
+                *constants,
+            )
+            return self._views(block)
+        choices = np.array([(-1 if r is None else r, *e) for r, e in zip(regions, events)], np.int64)
+        _write_focus_rows(
+            block,
+            self._at,
+            self._tail,
+            choices,
+            _rows([raw["odometry"] for raw in raws]),
+            _rows([raw["goal"] for raw in raws]),
+            self._memory_rows(memories),
+            self._memory_high,
+            _rows(readings),
+            _rows(valid),
+            _rows(rates),
+            _rows(nearest),
+            _rows(F),
+            _rows(directions),
+            *constants,
+        )
+        return self._views(block)
+
+    def _memory_rows(self, memories: Sequence[np.ndarray | None]) -> np.ndarray:
+        """The steps' memory rows ``(k, K, 6)`` (zeros for None: an empty memory reads as
+        zeros); ``(k, 0, 6)`` when the observation has no memory."""
+        empty = self._empty_memory
+        if not empty.shape[0] or all(memory is None for memory in memories):
+            return np.zeros((len(memories), *empty.shape), _F32)
+        rows = _rows([empty if memory is None else memory for memory in memories])
+        if rows.shape[1:] != empty.shape:
+            raise ValueError(f"memory rows must have shape {empty.shape} (slots, MEMORY_FIELDS), got {rows.shape[1:]}")
+        return rows
+
+    def _views(self, block: np.ndarray) -> list[dict[str, np.ndarray]]:
+        """The observations of ``block``'s rows: per row, each key's entries as a view."""
+        if len(block) == 1:
+            return [dict(zip(self._keys, map(block[0].__getitem__, self._slices)))]
+        columns = [block[:, part] for part in self._slices]
+        return [dict(zip(self._keys, entries)) for entries in zip(*columns)]
+
+
+def _rows(arrays: Sequence[np.ndarray]) -> np.ndarray:
+    """``arrays`` (equal shapes) stacked: ``(k, *shape)`` (a view for one array: the single-step case)."""
+    return arrays[0][None] if len(arrays) == 1 else np.array(arrays)
 
 
 #: The keys of ``FocusEncoder``'s region entries, in the order of ``_write_focus``'s offsets ``at``.
@@ -318,6 +414,132 @@ def _write_output_focus(
     )
 
 
+@njit(cache=True)
+def _write_common(flat, tail, odometry, goal, memory, memory_high):
+    """Write an observation's entries outside its region into ``flat`` (float32): the
+    odometry ``(2,)`` and goal ``(13,)`` at ``tail[0]`` and ``tail[1]``, and the memory rows
+    ``(K, 6)`` at ``tail[2]``, each clipped to ``memory_high`` ``(K · 6,)`` (as ``np.minimum``)."""
+    for c in range(odometry.shape[0]):
+        flat[tail[0] + c] = odometry[c]
+    for c in range(goal.shape[0]):
+        flat[tail[1] + c] = goal[c]
+    m = 0
+    for slot in range(memory.shape[0]):
+        for f in range(memory.shape[1]):
+            value, high = memory[slot, f], memory_high[m]
+            flat[tail[2] + m] = value if (value < high or value != value) else high
+            m += 1
+
+
+@njit(cache=True)
+def _write_focus_row(
+    flat,
+    at,
+    tail,
+    region,
+    fired,
+    bottom_up,
+    top_down,
+    odometry,
+    goal,
+    memory,
+    memory_high,
+    readings,
+    valid,
+    rates,
+    nearest,
+    F,
+    directions,
+    region_sonar,
+    beam_bounds,
+    bin_starts,
+    max_distance_m,
+    max_speed_mps,
+):
+    """One observation into ``flat`` ``(size,)`` (float32, zeros): ``_write_common`` of the
+    ``odometry``, ``goal`` and ``memory`` rows ``(K, 6)``, and ``_write_output_focus`` of
+    ``region`` (−1: no focus, the one-hot's last slot set) with the event flags, from its
+    model's arrays (``readings``, ``valid``, ``rates`` ``(188,)``, ``nearest`` ``(J,)``, ``F``
+    ``(6, J)``, ``directions`` ``(J,)``)."""
+    _write_common(flat, tail, odometry, goal, memory, memory_high)
+    if region < 0:
+        flat[at[0] + region_sonar.shape[0]] = 1.0
+        return
+    _write_output_focus(
+        flat,
+        at,
+        region,
+        fired,
+        bottom_up,
+        top_down,
+        readings,
+        valid,
+        rates,
+        nearest,
+        F,
+        directions,
+        region_sonar,
+        beam_bounds,
+        bin_starts,
+        max_distance_m,
+        max_speed_mps,
+    )
+
+
+@njit(cache=True)
+def _write_focus_rows(
+    block,
+    at,
+    tail,
+    choices,
+    odometry,
+    goal,
+    memory,
+    memory_high,
+    readings,
+    valid,
+    rates,
+    nearest,
+    F,
+    directions,
+    region_sonar,
+    beam_bounds,
+    bin_starts,
+    max_distance_m,
+    max_speed_mps,
+):
+    """``_write_focus_row`` of k observations into the rows of ``block`` ``(k, size)``: row i
+    attends the region ``choices[i, 0]`` with the event flags ``choices[i, 1:4]`` (nonzero:
+    set), from row i of every other array (``odometry`` ``(k, 2)``, ``goal`` ``(k, 13)``,
+    ``memory`` ``(k, K, 6)``, ``readings``, ``valid``, ``rates`` ``(k, 188)``, ``nearest`` and
+    ``directions`` ``(k, J)``, ``F`` ``(k, 6, J)``)."""
+    for i in range(block.shape[0]):
+        _write_focus_row(
+            block[i],
+            at,
+            tail,
+            choices[i, 0],
+            choices[i, 1] != 0,
+            choices[i, 2] != 0,
+            choices[i, 3] != 0,
+            odometry[i],
+            goal[i],
+            memory[i],
+            memory_high,
+            readings[i],
+            valid[i],
+            rates[i],
+            nearest[i],
+            F[i],
+            directions[i],
+            region_sonar,
+            beam_bounds,
+            bin_starts,
+            max_distance_m,
+            max_speed_mps,
+        )
+
+
 class SaliencyEncoder:
     """The raw readings plus the saliency ``"L"`` (J,) and attentional map ``"M"`` (J,).
 
@@ -328,16 +550,27 @@ class SaliencyEncoder:
     def __init__(self, config: AttentionConfig, base: spaces.Dict, gain: float) -> None:
         j = Grid.make(config.grid).n_regions
         self._m_high, self._l_high = map_ceilings(config, gain)
+        self.settings = ("saliency", j, self._m_high, self._l_high)
         self.space = spaces.Dict(
             {**base.spaces, "L": _box(0.0, self._l_high, (j,)), "M": _box(0.0, self._m_high, (j,))}
         )
 
     def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
-        return {
-            **raw,
-            "L": np.minimum(output.L, self._l_high).astype(_F32),
-            "M": np.minimum(output.M, self._m_high).astype(_F32),
-        }
+        """The observation of one step: ``encode_many`` of it."""
+        return self.encode_many([raw], [output])[0]
+
+    def encode_many(
+        self, raws: Sequence[dict[str, np.ndarray]], outputs: Sequence[AttentionOutput]
+    ) -> list[dict[str, np.ndarray]]:
+        """The observations of k steps: each raw observation with its output's L and M
+        clipped to their ceilings, from two ``(k, J)`` float32 blocks (each row a view)."""
+        if len(raws) != len(outputs):
+            raise ValueError(f"encode_many takes one output per raw observation ({len(raws)}), got {len(outputs)}")
+        if not raws:
+            return []
+        saliency = np.minimum(_rows([output.L for output in outputs]), self._l_high).astype(_F32)
+        attention = np.minimum(_rows([output.M for output in outputs]), self._m_high).astype(_F32)
+        return [{**raw, "L": L, "M": M} for raw, L, M in zip(raws, saliency, attention)]
 
 
 class MaskedEncoder:
@@ -362,24 +595,37 @@ class MaskedEncoder:
         self.space = spaces.Dict(
             {**base.spaces, "sonar_mask": _box(0.0, 1.0, (SONAR_RING,)), "laser_mask": _box(0.0, 1.0, (n_beams,))}
         )
-        self._masks = []
-        for region in range(self.grid.n_regions):
-            sonar_mask = np.zeros(SONAR_RING, _F32)
-            sonar_mask[int(self.grid.region_sonar[region])] = 1.0
-            laser_mask = np.zeros(n_beams, _F32)
-            laser_mask[self.grid.beam_slices[region]] = 1.0
-            self._masks.append((sonar_mask, laser_mask))
-        self._empty = (np.zeros(SONAR_RING, _F32), np.zeros(n_beams, _F32))
+        # the masks of each region (rows 0..J−1) and of no focus (row J): (J + 1, 16) and (J + 1, 180)
+        j = self.grid.n_regions
+        self._sonar_masks = np.zeros((j + 1, SONAR_RING), _F32)
+        self._laser_masks = np.zeros((j + 1, n_beams), _F32)
+        for region in range(j):
+            self._sonar_masks[region, int(self.grid.region_sonar[region])] = 1.0
+            self._laser_masks[region, self.grid.beam_slices[region]] = 1.0
+        self.settings = ("masked", self.grid.name, float(self._sonar_max), float(self._laser_max), n_beams)
 
     def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
-        sonar_mask, laser_mask = self._empty if output.focus is None else self._masks[output.focus]
-        return {
-            **raw,
-            "sonar": np.where(sonar_mask > 0, raw["sonar"], self._sonar_max),
-            "laser": np.where(laser_mask > 0, raw["laser"], self._laser_max),
-            "sonar_mask": sonar_mask.copy(),
-            "laser_mask": laser_mask.copy(),
-        }
+        """The observation of one step: ``encode_many`` of it."""
+        return self.encode_many([raw], [output])[0]
+
+    def encode_many(
+        self, raws: Sequence[dict[str, np.ndarray]], outputs: Sequence[AttentionOutput]
+    ) -> list[dict[str, np.ndarray]]:
+        """The observations of k steps: each raw observation masked by its output's focus,
+        from ``(k, 16)`` and ``(k, 180)`` float32 blocks of readings and masks (each row a view)."""
+        if len(raws) != len(outputs):
+            raise ValueError(f"encode_many takes one output per raw observation ({len(raws)}), got {len(outputs)}")
+        if not raws:
+            return []
+        no_focus = self.grid.n_regions
+        focus = np.array([no_focus if output.focus is None else output.focus for output in outputs], np.intp)
+        sonar_masks, laser_masks = self._sonar_masks[focus], self._laser_masks[focus]
+        sonar = np.where(sonar_masks > 0, _rows([raw["sonar"] for raw in raws]), self._sonar_max)
+        laser = np.where(laser_masks > 0, _rows([raw["laser"] for raw in raws]), self._laser_max)
+        return [
+            {**raw, "sonar": s, "laser": b, "sonar_mask": sm, "laser_mask": bm}
+            for raw, s, b, sm, bm in zip(raws, sonar, laser, sonar_masks, laser_masks)
+        ]
 
 
 #: Observation mode → encoder class.
