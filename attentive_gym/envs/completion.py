@@ -1,17 +1,18 @@
 """The completion of a step (or a reset) of k rescue environments at once, over arrays.
 
 - ``INFO_KEYS``: the keys of ``AttentiveRescueEnv``'s info, in order.
-- ``CompletedSteps``: k members' raw observations, rewards, terminations, truncations and info
-  entries, each an array (or a list) with a leading member axis, and each member's own
-  observation and info as views of those rows.
+- ``CompletedSteps``: k members' raw observations as (k, ·) blocks, their rewards,
+  terminations, truncations and info entries (blocks, or lists of the members' values), and
+  each member's own observation and info (views of the blocks' rows).
 - ``complete_steps``: what ``AttentiveRescueEnv.complete_step`` returns, for k members in one
   pass; the single env's ``complete_step`` (k = 1) and a fleet's complete stage are this call.
 - ``complete_resets``: the same for the members' first observation and info after a reset.
 
-The numbers are those of one member computed alone, bit for bit: the reward's arithmetic runs
-elementwise in the same order, and the target distance and the odometry's projection use
-``math.hypot``, ``math.cos`` and ``math.sin`` member by member (NumPy's vectorised versions may
-round differently).
+The numbers are those of one member computed alone, bit for bit: the scalars (odometry's
+projection, target distance, reward, success, truncation) are computed member by member in
+Python floats with ``math``'s functions (NumPy's vectorised ``cos`` or ``hypot`` may round
+differently), the blocks (readings under the scan holds, float32 observations, hits) once for
+all members.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from attentive_gym.envs.reward import rescue_rewards
+from attentive_gym.envs.reward import rescue_reward
 from attentive_gym.sensors import SensorReading
 
 if TYPE_CHECKING:
@@ -49,43 +50,43 @@ INFO_KEYS = (
     "sonar_time_s",
     "laser_time_s",
 )
-#: Info keys whose member value is a Python scalar: one number per member.
-_SCALAR_KEYS = ("time_s", "target_index", "target_distance_m", "collision", "success", "sonar_time_s", "laser_time_s")
 #: Info keys whose member value is a row of a ``(k, ...)`` block.
 _ROW_KEYS = ("robot_pose", "robot_velocity", "sonar_hits", "laser_hits")
-#: Info keys whose member values are kept as a list (their shapes may differ between members).
-_LIST_KEYS = ("mover_positions", "mover_velocities", "mover_names", "goal")
+#: Info keys kept as a list of the members' values, in ``INFO_KEYS``'s order.
+_LIST_KEYS = tuple(key for key in INFO_KEYS if key not in _ROW_KEYS)
 #: s: the slack on "the time limit is reached" (world time is a product that can land below it).
 _LIMIT_TOLERANCE_S = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
 class CompletedSteps:
-    """k members' completed steps, row j for member j.
+    """k members' completed steps, entry j for member j.
 
     Attributes:
         observation: the raw observations as float32 blocks: ``"sonar"`` (k, 16) m,
             ``"laser"`` (k, R) m, ``"odometry"`` (k, 2) (m/s, rad/s, clipped to the
             observation space), ``"goal"`` (k, G) (``Goal.encode()``).
-        reward: (k,) float64 rewards (0 for a reset).
-        terminated: (k,) bool: the target was reached.
-        truncated: (k,) bool: the time limit was reached without success.
-        info: every key of ``INFO_KEYS``: ``time_s``, ``target_index`` (int64),
-            ``target_distance_m``, ``collision``, ``success``, ``sonar_time_s`` and
-            ``laser_time_s`` as (k,) arrays; ``robot_pose`` (k, 3), ``robot_velocity`` (k, 2)
-            float64 and ``sonar_hits`` (k, 16), ``laser_hits`` (k, R) int64 blocks;
-            ``mover_positions`` and ``mover_velocities`` (lists of (M, 2) float64 arrays),
-            ``mover_names`` (tuples) and ``goal`` (texts) as lists of k.
+        rewards: k rewards (floats; 0 for a reset or a member without a task).
+        terminations: k flags: the target was reached.
+        truncations: k flags: the time limit was reached without success.
+        info: every key of ``INFO_KEYS``: ``robot_pose`` (k, 3), ``robot_velocity`` (k, 2)
+            float64 and ``sonar_hits`` (k, 16), ``laser_hits`` (k, R) int64 blocks; the
+            others lists of k member values as the single env's info has them (Python
+            numbers and flags, ``(M, 2)`` arrays, name tuples, goal texts).
+
+    The per-member numbers stay Python scalars: for the fleets this project runs (k ≤ a
+    few dozen) a list is cheaper to fill and to read back per member than an array, and
+    ``vector.batching`` makes the arrays a batched info needs in one call per key.
     """
 
     observation: dict[str, np.ndarray]
-    reward: np.ndarray
-    terminated: np.ndarray
-    truncated: np.ndarray
+    rewards: list[float]
+    terminations: list[bool]
+    truncations: list[bool]
     info: dict[str, Any]
 
     def __len__(self) -> int:
-        return len(self.reward)
+        return len(self.rewards)
 
     def observations(self) -> list[dict[str, np.ndarray]]:
         """Each member's observation dict, its entries views of the blocks' rows."""
@@ -97,152 +98,147 @@ class CompletedSteps:
 
     def infos(self) -> list[dict[str, Any]]:
         """Each member's info dict, with ``AttentiveRescueEnv``'s types: Python scalars for the
-        numbers and flags, views of the blocks' rows for the arrays."""
+        numbers and flags, views of the blocks' rows for the robot's and the readings' arrays."""
         info = self.info
-        time_s, index, distance, collision, success, sonar_time, laser_time = (
-            info[key].tolist() for key in _SCALAR_KEYS
-        )
         pose, velocity, sonar_hits, laser_hits = (info[key] for key in _ROW_KEYS)
-        positions, velocities, names, goal = (info[key] for key in _LIST_KEYS)
         return [
             {
-                "time_s": time_s[j],
+                "time_s": time_s,
                 "robot_pose": pose[j],
                 "robot_velocity": velocity[j],
-                "mover_positions": positions[j],
-                "mover_velocities": velocities[j],
-                "mover_names": names[j],
-                "target_index": index[j],
-                "target_distance_m": distance[j],
-                "collision": collision[j],
-                "success": success[j],
-                "goal": goal[j],
+                "mover_positions": positions,
+                "mover_velocities": velocities,
+                "mover_names": names,
+                "target_index": index,
+                "target_distance_m": distance,
+                "collision": collision,
+                "success": success,
+                "goal": goal,
                 "sonar_hits": sonar_hits[j],
                 "laser_hits": laser_hits[j],
-                "sonar_time_s": sonar_time[j],
-                "laser_time_s": laser_time[j],
+                "sonar_time_s": sonar_time,
+                "laser_time_s": laser_time,
             }
-            for j in range(len(self))
+            for j, (
+                time_s,
+                positions,
+                velocities,
+                names,
+                index,
+                distance,
+                collision,
+                success,
+                goal,
+                sonar_time,
+                laser_time,
+            ) in enumerate(zip(*(info[key] for key in _LIST_KEYS)))
         ]
 
 
-def complete_steps(
-    envs: Sequence[AttentiveRescueEnv], touched: Sequence[bool] | np.ndarray, fresh: SensorReading
-) -> CompletedSteps:
+def complete_steps(envs: Sequence[AttentiveRescueEnv], touched: Sequence[bool], fresh: SensorReading) -> CompletedSteps:
     """The steps of ``envs`` completed once their worlds have moved: what each member's
-    ``complete_step(touched[j], reading j)`` returns, as arrays.
+    ``complete_step(touched[j], reading j)`` returns.
 
     Args:
         envs: k ≥ 1 reset environments whose worlds have just stepped.
-        touched: (k,) whether each robot touched anything during its step (``move``'s result).
+        touched: k flags: whether each robot touched anything during its step (``move``'s result).
         fresh: the new readings after the move as (k, ·) blocks: ``sonar`` (k, 16) and
             ``laser`` (k, R) float64 ranges (m), ``sonar_owner`` and ``laser_owner`` int64.
 
     Updates each member's scan hold, held reading and target distance.
 
     Raises:
-        ValueError: for ``touched`` or ``fresh`` blocks without one row per member.
+        ValueError: for ``touched`` or ``fresh`` without one entry or row per member.
     """
-    collided = np.asarray(touched, dtype=np.bool_)
-    if collided.shape != (len(envs),):
-        raise ValueError(f"touched must have one flag per env, shape ({len(envs)},); got shape {collided.shape}")
-    previous = np.array([env._distance for env in envs])
-    completed = _complete(envs, fresh, collided)
-    distance = completed.info["target_distance_m"]
-    has_task = completed.info["target_index"] >= 0
-    reward, success = completed.reward, completed.info["success"]
-    rows = slice(None) if has_task.all() else np.flatnonzero(has_task)
-    reward[rows], success[rows] = rescue_rewards(
-        [envs[j].reward_config for j in np.arange(len(envs))[rows]],
-        np.array([env.dt for env in envs])[rows],
-        previous[rows],
-        distance[rows],
-        collided[rows],
-    )
-    limit = np.array([env._limit_s for env in envs])
-    completed.terminated[:] = success
-    completed.truncated[:] = (completed.info["time_s"] >= limit - _LIMIT_TOLERANCE_S) & ~success
-    return completed
+    if len(touched) != len(envs):
+        raise ValueError(f"touched must have one flag per env ({len(envs)}), got {len(touched)}")
+    return _complete(envs, fresh, touched, stepped=True)
 
 
 def complete_resets(envs: Sequence[AttentiveRescueEnv], fresh: SensorReading) -> CompletedSteps:
     """The first observation and info of ``envs`` after their reset (no collision, no success,
     reward 0), from ``fresh`` as in ``complete_steps``; each member's scan hold scans."""
-    return _complete(envs, fresh, np.zeros(len(envs), np.bool_))
+    return _complete(envs, fresh, [False] * len(envs), stepped=False)
 
 
-def _complete(envs: Sequence[AttentiveRescueEnv], fresh: SensorReading, collided: np.ndarray) -> CompletedSteps:
-    """Observations and info of ``envs`` now (reward 0, success False until the caller sets them)."""
+def _complete(
+    envs: Sequence[AttentiveRescueEnv], fresh: SensorReading, touched: Sequence[bool], stepped: bool
+) -> CompletedSteps:
+    """``complete_steps`` (``stepped``) or ``complete_resets`` of ``envs``."""
     k = len(envs)
     for name in ("sonar", "laser", "sonar_owner", "laser_owner"):
-        rows = getattr(fresh, name).shape[0] if getattr(fresh, name).ndim == 2 else -1
-        if rows != k:
-            raise ValueError(f"fresh.{name} must be a (k, ·) block with k = {k} rows (one per env), got {rows}")
-    worlds = [env.world for env in envs]
-    records = np.concatenate([world.state.world for world in worlds])
-    now = np.ascontiguousarray(records["time_s"])
-    pose = np.ascontiguousarray(records["robot_pose"])
-    velocity = records["robot_velocity"]
-    movers = np.concatenate([world.state.movers for world in worlds])
-    ends = np.cumsum([len(world.state.movers) for world in worlds]).tolist()
-    starts = [0, *ends[:-1]]
-
-    odometry = np.empty((k, 2))
-    odometry[:, 1] = velocity[:, 2]
-    linear, distance, target_index, sonar_scans, laser_scans, holds = [], [], [], [], [], []
-    for env, (vx, vy), (x, y, heading), start, now_s in zip(
-        envs, velocity[:, :2].tolist(), pose.tolist(), starts, now.tolist()
-    ):
-        linear.append(vx * math.cos(heading) + vy * math.sin(heading))
+        block = getattr(fresh, name)
+        if block.ndim != 2 or block.shape[0] != k:
+            raise ValueError(f"fresh.{name} must be a (k, ·) block with k = {k} rows (one per env), got {block.shape}")
+    columns: dict[str, list] = {key: [] for key in _LIST_KEYS}
+    time_s, positions, velocities, names, indices, distances, collisions, successes, goals, _, _ = columns.values()
+    poses, odometry, observed, rewards, terminations, truncations, holds, encodings = [], [], [], [], [], [], [], []
+    sonar_scans, laser_scans = [], []
+    for env, collided in zip(envs, touched):  # member by member: Python floats, as one env alone computes them
+        world = env.world
+        state = world.state
+        record = state.world
+        now_s = record["time_s"].item(0)
+        pose = record["robot_pose"][0]
+        x, y, heading = pose.tolist()
+        vx, vy, angular = record["robot_velocity"][0].tolist()
+        linear = vx * math.cos(heading) + vy * math.sin(heading)
+        linear_limit, angular_limit = env._odometry_limit  # the observation space's float32 bounds
+        mover_xy = state.movers["pose"][:, :2].copy()
         target = env._target_index
+        reward, success = 0.0, False
         if target is None:
-            distance.append(math.inf)
-            target_index.append(-1)
+            distance = math.inf
         else:
-            tx, ty = movers["pose"][start + target, :2].tolist()
-            distance.append(math.hypot(tx - x, ty - y))
-            target_index.append(target)
+            tx, ty = mover_xy[target].tolist()
+            distance = math.hypot(tx - x, ty - y)
+            if stepped:
+                reward, success = rescue_reward(env.reward_config, env.dt, env._distance, distance, collided)
+        env._distance = distance
         hold = env._scans
         sonar_scan, laser_scan = hold.scans(now_s)
+        goal = env._goal_cached()
+        time_s.append(now_s)
+        poses.append(pose)
+        odometry.append((linear, angular))
+        observed.append(
+            (min(max(linear, -linear_limit), linear_limit), min(max(angular, -angular_limit), angular_limit))
+        )
+        positions.append(mover_xy)
+        velocities.append(state.movers["velocity"].copy())
+        names.append(world.mover_names)
+        indices.append(-1 if target is None else target)
+        distances.append(distance)
+        collisions.append(bool(collided))
+        successes.append(bool(success))
+        goals.append(goal[2])
+        encodings.append(goal[1])
+        rewards.append(float(reward))
+        terminations.append(bool(success))
+        truncations.append(bool(stepped and now_s >= env._limit_s - _LIMIT_TOLERANCE_S and not success))
         sonar_scans.append(sonar_scan)
         laser_scans.append(laser_scan)
         holds.append(hold)
-    odometry[:, 0] = linear
-    limits = np.array([env._odometry_limit for env in envs])
-    observed_odometry = np.minimum(np.maximum(odometry, -limits), limits).astype(np.float32)
-
     sonar, sonar_owner = _held(fresh.sonar, fresh.sonar_owner, sonar_scans, holds, "sonar")
     laser, laser_owner = _held(fresh.laser, fresh.laser_owner, laser_scans, holds, "laser")
     for j, (env, hold) in enumerate(zip(envs, holds)):
         env._reading = hold.reading = SensorReading(sonar[j], laser[j], sonar_owner[j], laser_owner[j])
-        env._distance = distance[j]
-    goals = [env._goal_cached() for env in envs]
-    positions = np.ascontiguousarray(movers["pose"][:, :2])
-    velocities = np.ascontiguousarray(movers["velocity"])
+    columns["sonar_time_s"] = [hold.sonar_time_s for hold in holds]
+    columns["laser_time_s"] = [hold.laser_time_s for hold in holds]
     info = {
-        "time_s": now,
-        "robot_pose": pose,
-        "robot_velocity": odometry,
-        "mover_positions": [positions[a:b] for a, b in zip(starts, ends)],
-        "mover_velocities": [velocities[a:b] for a, b in zip(starts, ends)],
-        "mover_names": [world.mover_names for world in worlds],
-        "target_index": np.array(target_index, dtype=np.int64),
-        "target_distance_m": np.array(distance),
-        "collision": collided,
-        "success": np.zeros(k, np.bool_),
-        "goal": [goal[2] for goal in goals],
+        **columns,
+        "robot_pose": np.array(poses),
+        "robot_velocity": np.array(odometry),
         "sonar_hits": sonar_owner.copy(),
         "laser_hits": laser_owner.copy(),
-        "sonar_time_s": np.array([hold.sonar_time_s for hold in holds]),
-        "laser_time_s": np.array([hold.laser_time_s for hold in holds]),
     }
     observation = {
         "sonar": sonar.astype(np.float32),
         "laser": laser.astype(np.float32),
-        "odometry": observed_odometry,
-        "goal": np.array([goal[1] for goal in goals], dtype=np.float32),
+        "odometry": np.array(observed, dtype=np.float32),
+        "goal": np.array(encodings, dtype=np.float32),
     }
-    return CompletedSteps(observation, np.zeros(k), np.zeros(k, np.bool_), np.zeros(k, np.bool_), info)
+    return CompletedSteps(observation, rewards, terminations, truncations, {key: info[key] for key in INFO_KEYS})
 
 
 def _held(

@@ -370,9 +370,9 @@ class AttentiveRescueEnv(gym.Env):
             self.render()
         return (
             completed.observations()[0],
-            completed.reward.item(),
-            completed.terminated.item(),
-            completed.truncated.item(),
+            completed.rewards[0],
+            completed.terminations[0],
+            completed.truncations[0],
             completed.infos()[0],
         )
 

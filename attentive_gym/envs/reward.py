@@ -1,7 +1,7 @@
 """Reward of the rescue task.
 
 - ``RewardConfig``: the weights, in units that do not depend on the step size.
-- ``rescue_rewards``: k members' rewards from progress, collision, success and time, as arrays.
+- ``rescue_reward``: one step's reward from progress, collision, success and time.
 
 Per step of ``dt`` seconds::
 
@@ -14,12 +14,9 @@ Per step of ``dt`` seconds::
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
-
-__all__ = ["RewardConfig", "rescue_rewards"]
+__all__ = ["RewardConfig", "rescue_reward"]
 
 
 @dataclass(frozen=True)
@@ -48,34 +45,15 @@ class RewardConfig:
             raise ValueError(f"RewardConfig.success_radius_m must be > 0, got {self.success_radius_m}")
 
 
-def rescue_rewards(
-    configs: Sequence[RewardConfig],
-    dt_s: np.ndarray,
-    previous_distance_m: np.ndarray,
-    distance_m: np.ndarray,
-    collided: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """k members' step rewards, (k,) float64, and whether each reached its target, (k,) bool.
-
-    Args:
-        configs: each member's weights (k of them).
-        dt_s: (k,) step lengths (s).
-        previous_distance_m: (k,) robot-to-target distances (m) before the step.
-        distance_m: (k,) the distances after it.
-        collided: (k,) bool: the robot touched anything during the step.
-
-    Member j's numbers equal the formula above evaluated in Python floats for it alone, bit
-    for bit (the same operations, elementwise, in the same order).
-    """
-    weights = np.array(
-        [(c.progress_per_m, c.collision_per_s, c.time_per_s, c.success, c.success_radius_m) for c in configs]
-    ).reshape(-1, 5)
-    progress, collision, time, bonus, radius = weights.T
-    success = distance_m <= radius
+def rescue_reward(
+    config: RewardConfig, dt_s: float, previous_distance_m: float, distance_m: float, collided: bool
+) -> tuple[float, bool]:
+    """The step's reward and whether the target was reached."""
+    success = distance_m <= config.success_radius_m
     reward = (
-        progress * (previous_distance_m - distance_m)
-        - collision * dt_s * collided.astype(np.float64)
-        - time * dt_s
-        + bonus * success.astype(np.float64)
+        config.progress_per_m * (previous_distance_m - distance_m)
+        - config.collision_per_s * dt_s * float(collided)
+        - config.time_per_s * dt_s
+        + config.success * float(success)
     )
     return reward, success

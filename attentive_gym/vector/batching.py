@@ -85,9 +85,9 @@ def batch_step_infos(infos: Sequence[dict[str, Any]], completed: CompletedSteps 
     """``batch_infos`` of a step of every member (``infos[i]``: member i's info), built from
     ``completed``'s arrays (row i for member i) where they hold a key.
 
-    The env's own keys come from ``completed.info`` (its (N,) and (N, ...) arrays as they
-    are, its lists batched as ``batch_infos`` batches them); keys that the members' wrappers
-    added (e.g. ``"attention"``) from ``infos``. A wrapper may add keys to the env's info but
+    The env's own keys come from ``completed.info`` (its (N, ...) blocks as they are, its
+    lists of member values batched as ``batch_infos`` batches them); keys that the members'
+    wrappers added (e.g. ``"attention"``) from ``infos``. A wrapper may add keys to the env's info but
     must not replace the env's own. Without ``completed``, or when the members' infos differ in
     their keys, it is ``batch_infos`` itself. The result equals ``batch_infos(list(enumerate(infos)),
     len(infos))`` in keys, order, values and dtypes.

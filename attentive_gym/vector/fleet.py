@@ -223,9 +223,9 @@ class Fleet:
         steps = list(
             zip(
                 completed.observations(),
-                completed.reward.tolist(),
-                completed.terminated.tolist(),
-                completed.truncated.tolist(),
+                completed.rewards,
+                completed.terminations,
+                completed.truncations,
                 completed.infos(),
             )
         )

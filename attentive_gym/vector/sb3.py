@@ -90,26 +90,22 @@ class NativeVecEnv(VecEnv):
         batch = self._fleet.check_actions(self._actions)
         results, completed = self._fleet.step(self._all, batch)
         if completed is None:
-            terminations = np.array([result[2] for result in results], np.bool_)
-            truncations = np.array([result[3] for result in results], np.bool_)
-            rewards = np.array([result[1] for result in results], np.float32)
+            rewards, terminations, truncations = zip(*[result[1:4] for result in results])
         else:
-            terminations, truncations = completed.terminated, completed.truncated
-            rewards = completed.reward.astype(np.float32)
-        dones = terminations | truncations
-        time_limited = (truncations & ~terminations).tolist()
+            rewards, terminations, truncations = completed.rewards, completed.terminations, completed.truncations
+        dones = np.logical_or(terminations, truncations)
         infos = []
-        for i, (observation, reward, _, _, info) in enumerate(results):
+        for i, (observation, reward, terminated, truncated, info) in enumerate(results):
             self._episode_rewards[i].append(float(reward))
-            info["TimeLimit.truncated"] = time_limited[i]
-            if dones[i]:
+            info["TimeLimit.truncated"] = truncated and not terminated
+            if terminated or truncated:
                 info["episode"] = self._episode_record(i, info)
                 info["terminal_observation"] = observation
                 observation, self.reset_infos[i] = self.envs[i].reset()
                 self._episode_rewards[i] = []
             self._observations[i] = observation
             infos.append(info)
-        return self._stacked(), rewards, dones, infos
+        return self._stacked(), np.array(rewards, np.float32), dones, infos
 
     def _episode_record(self, i: int, info: dict[str, Any]) -> dict[str, Any]:
         """``Monitor``'s record of member ``i``'s episode that has just ended."""

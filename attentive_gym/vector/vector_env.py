@@ -166,11 +166,10 @@ class AttentiveRescueVectorEnv(VectorEnv):
             stepping = list(range(self.num_envs))
         results, completed = self._fleet.step(stepping, batch)
         if completed is None:
-            rewards = np.array([result[1] for result in results], np.float64)
-            terminations = np.array([result[2] for result in results], np.bool_)
-            truncations = np.array([result[3] for result in results], np.bool_)
+            rewards, terminations, truncations = zip(*[result[1:4] for result in results]) if results else ((),) * 3
         else:
-            rewards, terminations, truncations = completed.reward, completed.terminated, completed.truncated
+            rewards, terminations, truncations = completed.rewards, completed.terminations, completed.truncations
+        terminations, truncations = np.array(terminations, np.bool_), np.array(truncations, np.bool_)
         self._elapsed_steps[stepping] += 1
         if self.max_episode_steps is not None:
             truncations = truncations | (self._elapsed_steps[stepping] >= self.max_episode_steps)

@@ -8,7 +8,7 @@ import pytest
 from attentive_gym.attention.goals import Goal
 from attentive_gym.envs.completion import INFO_KEYS, complete_resets, complete_steps
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
-from attentive_gym.envs.reward import RewardConfig, rescue_rewards
+from attentive_gym.envs.reward import RewardConfig
 from attentive_gym.sensors import SensorReading
 
 #: Members of one batch that differ in everything the completion reads: scan intervals
@@ -65,17 +65,16 @@ def test_a_batch_of_members_completes_as_each_member_alone():
         got = list(
             zip(
                 completed.observations(),
-                completed.reward.tolist(),
-                completed.terminated.tolist(),
-                completed.truncated.tolist(),
+                completed.rewards,
+                completed.terminations,
+                completed.truncations,
                 completed.infos(),
             )
         )
         assert _typed(got) == _typed(expected)
         assert list(completed.infos()[0]) == list(INFO_KEYS)
         touched_any |= any(touched)
-        times = completed.info["laser_time_s"]
-        scanned_apart |= bool(np.any(times != completed.info["time_s"]))
+        scanned_apart |= completed.info["laser_time_s"] != completed.info["time_s"]
         for j, (_, _, terminated, truncated, _) in enumerate(expected):
             if terminated or truncated:
                 ended["terminated" if terminated else "truncated"] += 1
@@ -96,7 +95,7 @@ def test_a_batched_reset_gives_each_members_first_observation_and_info():
         twin._scans.reset()
     completed = complete_resets(twins, fresh)
     assert _typed(list(zip(completed.observations(), completed.infos()))) == _typed(expected)
-    assert not completed.reward.any() and not completed.terminated.any() and not completed.truncated.any()
+    assert not any(completed.rewards) and not any(completed.terminations) and not any(completed.truncations)
 
 
 def test_bad_blocks_are_refused_naming_what_was_wrong():
@@ -104,26 +103,8 @@ def test_bad_blocks_are_refused_naming_what_was_wrong():
     for env in envs:
         env.reset(seed=0)
     reading = _stacked([env.sensors.read(*env.sensing_request()) for env in envs])
-    with pytest.raises(ValueError, match=r"touched must have one flag per env, shape \(2,\)"):
+    with pytest.raises(ValueError, match=r"touched must have one flag per env \(2\), got 1"):
         complete_steps(envs, [False], reading)
     one = SensorReading(reading.sonar[:1], reading.laser, reading.sonar_owner, reading.laser_owner)
-    with pytest.raises(ValueError, match=r"fresh.sonar must be a \(k, ·\) block with k = 2 rows"):
+    with pytest.raises(ValueError, match=r"fresh.sonar must be a \(k, ·\) block with k = 2 rows .*got \(1, 16\)"):
         complete_steps(envs, [False, False], one)
-
-
-def test_rewards_are_the_formula_in_python_floats():
-    configs = [RewardConfig(), RewardConfig(progress_per_m=2.5, success=3, time_per_s=0.3, success_radius_m=0.5)]
-    rng = np.random.default_rng(0)
-    for _ in range(200):
-        dt, previous, distance = rng.uniform(0.01, 0.5, 2), rng.uniform(0, 9, 2), rng.uniform(0, 9, 2)
-        collided = rng.random(2) < 0.5
-        reward, success = rescue_rewards(configs, dt, previous, distance, collided)
-        for j, c in enumerate(configs):
-            hit = float(distance[j]) <= c.success_radius_m
-            expected = (
-                c.progress_per_m * (float(previous[j]) - float(distance[j]))
-                - c.collision_per_s * float(dt[j]) * float(collided[j])
-                - c.time_per_s * float(dt[j])
-                + c.success * float(hit)
-            )
-            assert reward[j] == expected and success[j] == hit
