@@ -149,8 +149,17 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self, raw: dict[str, np.ndarray], info: dict[str, Any], output: AttentionOutput
     ) -> dict[str, np.ndarray]:
         """The attended observation of a step's ``raw`` one, given the model's ``output`` on it
-        (``info`` gains ``"attention"``): ``observe_outputs`` of this one wrapper."""
-        return self.observe_outputs([self], [raw], [info], [output])[0]
+        (``info`` gains ``"attention"``): ``observe_outputs`` of this one wrapper, whose
+        encoder encodes the one step directly (``encode_many``'s case k = 1)."""
+        self.last_output = info["attention"] = output
+        if self.mode != "focus":
+            observation = self._encoder.encode(raw, output)
+        else:
+            region, event = self._attended(output)
+            observation = self._encoder.encode_region(raw, output, region, event, self._remember(output, region))
+        if self.render_mode == "human":
+            self.env.render()  # the step's one frame (the base env leaves it to its overlay's owner)
+        return observation
 
     @classmethod
     def observe_outputs(
@@ -161,7 +170,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         outputs: Sequence[AttentionOutput],
     ) -> list[dict[str, np.ndarray]]:
         """The attended observations of k wrappers' steps at once (a fleet steps its members'
-        models together, then calls this; ``observe_output`` is the case k = 1).
+        models together, then calls this), each the one ``observe_output`` would give.
 
         Each wrapper keeps its model's output (``last_output``, ``info["attention"]``), picks
         its region (its own random draw for ``selection="random"``) and writes its working
@@ -191,6 +200,8 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         first = wrappers[0]
         if not isinstance(first, AttentionWrapper):
             raise ValueError(f"wrapper 0 is a {type(first).__name__}, not an AttentionWrapper")
+        if count == 1:
+            return [first.observe_output(raws[0], infos[0], outputs[0])]
         for i, wrapper in enumerate(wrappers[1:], start=1):
             if not isinstance(wrapper, AttentionWrapper):
                 raise ValueError(f"wrapper {i} is a {type(wrapper).__name__}, not an AttentionWrapper")
@@ -199,7 +210,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
                     f"wrapper {i}'s observation ({wrapper.mode!r}) differs from wrapper 0's ({first.mode!r}); "
                     "the observations of one call share their mode and encoder settings"
                 )
-        if count > 1 and len({id(wrapper) for wrapper in wrappers}) != count:
+        if len({id(wrapper) for wrapper in wrappers}) != count:
             raise ValueError("observe_outputs takes each wrapper once")
         for wrapper, info, output in zip(wrappers, infos, outputs):
             wrapper.last_output = info["attention"] = output

@@ -172,8 +172,7 @@ class FocusEncoder:
             event: (fired, origin bottom-up, origin top-down) of the attention step.
             memory: ``(K, 6)`` rows of ``WorkingMemory.read``; None: every slot empty.
         """
-        block = np.zeros((1, self._size), _F32)
-        flat = block[0]
+        flat = np.zeros(self._size, _F32)
         _write_common(flat, self._tail, raw["odometry"], raw["goal"], self._memory_rows([memory])[0], self._memory_high)
         if view is None:
             flat[self._at[0] + self.grid.n_regions] = 1.0
@@ -194,19 +193,7 @@ class FocusEncoder:
                 int(view.direction),
                 view.features,
             )
-        return self._views(block)[0]
-
-    def encode_region(
-        self,
-        raw: dict[str, np.ndarray],
-        output: AttentionOutput,
-        region: int | None,
-        event: tuple[bool, bool, bool],
-        memory: np.ndarray | None = None,
-    ) -> dict[str, np.ndarray]:
-        """``encode(raw, output.view_of(region), event, memory)`` (None: no focus), the same
-        numbers, without building the ``FocusView``: ``encode_many`` of one step."""
-        return self.encode_many([raw], [output], [region], [event], [memory])[0]
+        return self._observation(flat)
 
     def encode_many(
         self,
@@ -217,7 +204,8 @@ class FocusEncoder:
         memories: Sequence[np.ndarray | None],
     ) -> list[dict[str, np.ndarray]]:
         """The observations of k steps at once, each ``encode_region`` of its own arguments
-        (the same numbers), written into one ``(k, size)`` float32 block by one compiled call.
+        (the same numbers), written into one ``(k, size)`` float32 block by one compiled call
+        (``encode_region`` itself for k = 1).
 
         Args:
             raws: k base observations.
@@ -241,47 +229,26 @@ class FocusEncoder:
             )
         if count == 0:
             return []
+        if count == 1:
+            return [self.encode_region(raws[0], outputs[0], regions[0], events[0], memories[0])]
         # per step: the grid, the clipped readings, their echo flags, the range rates, the
         # nearest reading per region (AttentionOutput's sources), F, the direction labels
         grids, readings, valid, rates, nearest, F, directions = zip(
             *[(*output._sources[:5], output.F, output.directions) for output in outputs]
         )
-        if any(grid.name != self.grid.name for grid in grids):
-            raise ValueError("every output must be on the 'sonar' grid, as the 'focus' observation needs")
         n_regions = self.grid.n_regions
+        if any(grid.name != self.grid.name for grid in grids):
+            raise ValueError(_WRONG_GRID)
         if any(region is not None and not 0 <= region < n_regions for region in regions):
-            raise ValueError(f"regions must be indices in [0, {n_regions}) or None (no focus), got {list(regions)}")
+            raise ValueError(_wrong_regions(n_regions, regions))
         if any(len(event) != 3 for event in events):
-            raise ValueError(f"events must be (fired, bottom-up, top-down) triples of bools, got {list(events)}")
+            raise ValueError(_wrong_events(events))
         block = np.zeros((count, self._size), _F32)
-        constants = (self.grid.region_sonar, self._beam_bounds, self._bin_starts, self._max_distance, self._max_speed)
-        if count == 1:  # the single step: its arrays as they are
-            (raw,), (region,), (event,) = raws, regions, events
-            _write_focus_row(
-                block[0],
-                self._at,
-                self._tail,
-                -1 if region is None else region,
-                *event,
-                raw["odometry"],
-                raw["goal"],
-                self._memory_rows(memories)[0],
-                self._memory_high,
-                readings[0],
-                valid[0],
-                rates[0],
-                nearest[0],
-                F[0],
-                directions[0],
-                *constants,
-            )
-            return self._views(block)
-        choices = np.array([(-1 if r is None else r, *e) for r, e in zip(regions, events)], np.int64)
         _write_focus_rows(
             block,
             self._at,
             self._tail,
-            choices,
+            np.array([(-1 if r is None else r, *e) for r, e in zip(regions, events)], np.int64),
             _rows([raw["odometry"] for raw in raws]),
             _rows([raw["goal"] for raw in raws]),
             self._memory_rows(memories),
@@ -292,9 +259,61 @@ class FocusEncoder:
             _rows(nearest),
             _rows(F),
             _rows(directions),
-            *constants,
+            self.grid.region_sonar,
+            self._beam_bounds,
+            self._bin_starts,
+            self._max_distance,
+            self._max_speed,
         )
         return self._views(block)
+
+    def encode_region(
+        self,
+        raw: dict[str, np.ndarray],
+        output: AttentionOutput,
+        region: int | None,
+        event: tuple[bool, bool, bool],
+        memory: np.ndarray | None = None,
+    ) -> dict[str, np.ndarray]:
+        """``encode(raw, output.view_of(region), event, memory)`` (None: no focus), the same
+        numbers, without building the ``FocusView``: one compiled call reads the region from
+        the output's arrays (``encode_many`` of one step; ``ValueError`` as it raises)."""
+        grid, readings, valid, rates, nearest = output._sources[:5]
+        if grid.name != self.grid.name:
+            raise ValueError(_WRONG_GRID)
+        if region is not None and not 0 <= region < self.grid.n_regions:
+            raise ValueError(_wrong_regions(self.grid.n_regions, [region]))
+        if len(event) != 3:
+            raise ValueError(_wrong_events([event]))
+        empty = self._empty_memory
+        if memory is None or not empty.shape[0]:
+            memory = empty
+        elif memory.shape != empty.shape:
+            raise ValueError(_wrong_memory(empty.shape, memory.shape))
+        flat = np.zeros(self._size, _F32)
+        _write_focus_row(
+            flat,
+            self._at,
+            self._tail,
+            -1 if region is None else region,
+            *event,
+            raw["odometry"],
+            raw["goal"],
+            memory,
+            self._memory_high,
+            readings,
+            valid,
+            rates,
+            nearest,
+            output.F,
+            output.directions,
+            self.grid.region_sonar,
+            self._beam_bounds,
+            self._bin_starts,
+            self._max_distance,
+            self._max_speed,
+        )
+        return self._observation(flat)
 
     def _memory_rows(self, memories: Sequence[np.ndarray | None]) -> np.ndarray:
         """The steps' memory rows ``(k, K, 6)`` (zeros for None: an empty memory reads as
@@ -304,15 +323,32 @@ class FocusEncoder:
             return np.zeros((len(memories), *empty.shape), _F32)
         rows = _rows([empty if memory is None else memory for memory in memories])
         if rows.shape[1:] != empty.shape:
-            raise ValueError(f"memory rows must have shape {empty.shape} (slots, MEMORY_FIELDS), got {rows.shape[1:]}")
+            raise ValueError(_wrong_memory(empty.shape, rows.shape[1:]))
         return rows
+
+    def _observation(self, flat: np.ndarray) -> dict[str, np.ndarray]:
+        """The observation whose entries are views of ``flat`` ``(size,)``."""
+        return dict(zip(self._keys, map(flat.__getitem__, self._slices)))
 
     def _views(self, block: np.ndarray) -> list[dict[str, np.ndarray]]:
         """The observations of ``block``'s rows: per row, each key's entries as a view."""
-        if len(block) == 1:
-            return [dict(zip(self._keys, map(block[0].__getitem__, self._slices)))]
         columns = [block[:, part] for part in self._slices]
         return [dict(zip(self._keys, entries)) for entries in zip(*columns)]
+
+
+_WRONG_GRID = "every output must be on the 'sonar' grid, as the 'focus' observation needs"
+
+
+def _wrong_regions(n_regions: int, regions: Sequence) -> str:
+    return f"regions must be indices in [0, {n_regions}) or None (no focus), got {list(regions)}"
+
+
+def _wrong_events(events: Sequence) -> str:
+    return f"events must be (fired, bottom-up, top-down) triples of bools, got {list(events)}"
+
+
+def _wrong_memory(expected: tuple[int, ...], got: tuple[int, ...]) -> str:
+    return f"memory rows must have shape {expected} (slots, MEMORY_FIELDS), got {got}"
 
 
 def _rows(arrays: Sequence[np.ndarray]) -> np.ndarray:
@@ -556,18 +592,22 @@ class SaliencyEncoder:
         )
 
     def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
-        """The observation of one step: ``encode_many`` of it."""
-        return self.encode_many([raw], [output])[0]
+        """The raw observation with the output's L and M clipped to their ceilings."""
+        return {
+            **raw,
+            "L": np.minimum(output.L, self._l_high).astype(_F32),
+            "M": np.minimum(output.M, self._m_high).astype(_F32),
+        }
 
     def encode_many(
         self, raws: Sequence[dict[str, np.ndarray]], outputs: Sequence[AttentionOutput]
     ) -> list[dict[str, np.ndarray]]:
-        """The observations of k steps: each raw observation with its output's L and M
-        clipped to their ceilings, from two ``(k, J)`` float32 blocks (each row a view)."""
+        """The observations of k steps, each ``encode`` of its own (the same numbers), from
+        two ``(k, J)`` float32 blocks (each row a view; ``encode`` itself for k = 1)."""
         if len(raws) != len(outputs):
             raise ValueError(f"encode_many takes one output per raw observation ({len(raws)}), got {len(outputs)}")
-        if not raws:
-            return []
+        if len(raws) <= 1:
+            return [self.encode(raw, output) for raw, output in zip(raws, outputs)]
         saliency = np.minimum(_rows([output.L for output in outputs]), self._l_high).astype(_F32)
         attention = np.minimum(_rows([output.M for output in outputs]), self._m_high).astype(_F32)
         return [{**raw, "L": L, "M": M} for raw, L, M in zip(raws, saliency, attention)]
@@ -605,18 +645,27 @@ class MaskedEncoder:
         self.settings = ("masked", self.grid.name, float(self._sonar_max), float(self._laser_max), n_beams)
 
     def encode(self, raw: dict[str, np.ndarray], output: AttentionOutput) -> dict[str, np.ndarray]:
-        """The observation of one step: ``encode_many`` of it."""
-        return self.encode_many([raw], [output])[0]
+        """The raw observation masked by the output's focus."""
+        focus = self.grid.n_regions if output.focus is None else output.focus
+        sonar_mask, laser_mask = self._sonar_masks[focus], self._laser_masks[focus]
+        return {
+            **raw,
+            "sonar": np.where(sonar_mask > 0, raw["sonar"], self._sonar_max),
+            "laser": np.where(laser_mask > 0, raw["laser"], self._laser_max),
+            "sonar_mask": sonar_mask.copy(),
+            "laser_mask": laser_mask.copy(),
+        }
 
     def encode_many(
         self, raws: Sequence[dict[str, np.ndarray]], outputs: Sequence[AttentionOutput]
     ) -> list[dict[str, np.ndarray]]:
-        """The observations of k steps: each raw observation masked by its output's focus,
-        from ``(k, 16)`` and ``(k, 180)`` float32 blocks of readings and masks (each row a view)."""
+        """The observations of k steps, each ``encode`` of its own (the same numbers), from
+        ``(k, 16)`` and ``(k, 180)`` float32 blocks of readings and masks (each row a view;
+        ``encode`` itself for k = 1)."""
         if len(raws) != len(outputs):
             raise ValueError(f"encode_many takes one output per raw observation ({len(raws)}), got {len(outputs)}")
-        if not raws:
-            return []
+        if len(raws) <= 1:
+            return [self.encode(raw, output) for raw, output in zip(raws, outputs)]
         no_focus = self.grid.n_regions
         focus = np.array([no_focus if output.focus is None else output.focus for output in outputs], np.intp)
         sonar_masks, laser_masks = self._sonar_masks[focus], self._laser_masks[focus]
