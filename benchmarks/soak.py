@@ -100,6 +100,7 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
     from attentive_gym.attention import AttentionConfig, AttentionModel
     from attentive_gym.envs.invariants import InvariantChecker
     from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+    from attentive_gym.world import compiled
 
     label, kwargs = CONFIGS[config_index]
     env = AttentiveRescueEnv(**_env_kwargs(kwargs))
@@ -147,6 +148,7 @@ def run_chunk(task: tuple[int, int, int]) -> dict[str, Any]:
         "max_penetration_m": checker.max_penetration_m,
         "track_rows": track_rows,
         "max_live_tracks": most_tracks,
+        "world_engine": compiled.engine(),
     }
 
 
@@ -217,6 +219,7 @@ def soak(
         "max_penetration_m": max(c["max_penetration_m"] for c in per_config.values()),
         "track_rows": sum(r["track_rows"] for r in results),
         "max_live_tracks": max(r["max_live_tracks"] for r in results),
+        "world_engines": sorted({r["world_engine"] for r in results}),
         "per_config": per_config,
     }
 
@@ -246,6 +249,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"wall        {summary['wall_s']:.1f} s on {summary['workers']} workers")
     print(f"steps/s     {summary['steps_per_s']:.0f} (env + model + invariants)")
     print(f"deepest wall/rubble overlap: {summary['max_penetration_m']:.4f} m")
+    print(f"world step  {', '.join(summary['world_engines'])} (attentive_gym.world.compiled.engine())")
     print(f"tracks      {summary['track_rows']} track rows checked, at most {summary['max_live_tracks']} live at once")
     for label, c in summary["per_config"].items():
         print(
