@@ -22,8 +22,9 @@ numbers are those of its members stepped one by one, bit for bit:
 5. **attend**: when every member's innermost observation wrapper is a ``ModelStage``
    (``AttentionWrapper``) and their models can form a ``ModelBatch`` (one configuration, the
    sonar grid: ``attention.compiled.batch.batching_problem``), the models of the stepped
-   members run in one compiled, parallel call (``ModelStage.model_reading`` in,
-   ``ModelStage.observe_output`` out: the wrapper encodes its model's output);
+   members run in one compiled, parallel call (``ModelStage.model_reading`` in), and their
+   outputs are encoded in one call (``ModelStage.observe_outputs``: each wrapper's
+   observation of its model's output, written into one block);
 6. **observe**: the observation goes up the remaining wrappers (``ObservationStage.observe_step``,
    or a ``gymnasium.ObservationWrapper``'s ``observation``).
 
@@ -241,10 +242,9 @@ class Fleet:
                 stage.model_reading(observation, info) for stage, (observation, _, _, _, info) in zip(stages, steps)
             ]
             outputs = self._models.step(model_readings, list(indices))
-            steps = [
-                (stage.observe_output(raw, info, output), reward, terminated, truncated, info)
-                for stage, output, (raw, reward, terminated, truncated, info) in zip(stages, outputs, steps)
-            ]
+            observe = type(stages[0]).observe_outputs if stages else lambda *_: []
+            observations = observe(stages, [step[0] for step in steps], [step[4] for step in steps], outputs)
+            steps = [(observation, *step[1:]) for observation, step in zip(observations, steps)]
             hooks = [member_hooks[1:] for member_hooks in hooks]
         results = []
         for member_hooks, (observation, reward, terminated, truncated, info) in zip(hooks, steps):

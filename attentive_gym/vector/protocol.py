@@ -10,7 +10,8 @@
   info)`` of the observation and info below it (``OracleFocus``; ``AttentionWrapper``).
 - ``ModelStage``: an ``ObservationStage`` that runs an ``AttentionModel`` (``AttentionWrapper``):
   ``observe_step`` is ``observe_output(observation, info, model.step(*model_reading(observation,
-  info)))``, so a fleet can step the members' models together (``ModelBatch``) between the two.
+  info)))``, so a fleet can step the members' models together (``ModelBatch``) between the two,
+  then encode the members' observations together (``observe_outputs``).
 
 Gymnasium's own ``ActionWrapper`` and ``ObservationWrapper`` (those that keep their ``step``) are
 stepped through their public ``action`` and ``observation``; they need no protocol of their own.
@@ -20,6 +21,7 @@ names exist, not their signatures).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, Protocol, runtime_checkable
 
 import gymnasium as gym
@@ -100,3 +102,14 @@ class ModelStage(ObservationStage, Protocol):
 
     def observe_output(self, observation: Any, info: dict[str, Any], output: AttentionOutput) -> Any:
         """This wrapper's observation of a step, given its model's ``output`` on it."""
+
+    @classmethod
+    def observe_outputs(
+        cls,
+        stages: Sequence[Any],
+        observations: Sequence[Any],
+        infos: Sequence[dict[str, Any]],
+        outputs: Sequence[AttentionOutput],
+    ) -> list[Any]:
+        """``observe_output`` of each of k stages (distinct, one observation's settings) on its
+        step's observation, info and output, all in one call; the same observations."""
