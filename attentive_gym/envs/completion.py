@@ -58,7 +58,7 @@ _LIST_KEYS = tuple(key for key in INFO_KEYS if key not in _ROW_KEYS)
 _LIMIT_TOLERANCE_S = 1e-9
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(eq=False)
 class CompletedSteps:
     """k members' completed steps, entry j for member j.
 
@@ -170,8 +170,7 @@ def _complete(
         block = getattr(fresh, name)
         if block.ndim != 2 or block.shape[0] != k:
             raise ValueError(f"fresh.{name} must be a (k, ·) block with k = {k} rows (one per env), got {block.shape}")
-    columns: dict[str, list] = {key: [] for key in _LIST_KEYS}
-    time_s, positions, velocities, names, indices, distances, collisions, successes, goals, _, _ = columns.values()
+    time_s, positions, velocities, names, indices, distances, collisions, successes, goals = ([] for _ in range(9))
     poses, odometry, observed, rewards, terminations, truncations, holds, encodings = [], [], [], [], [], [], [], []
     sonar_scans, laser_scans = [], []
     for env, collided in zip(envs, touched):  # member by member: Python floats, as one env alone computes them
@@ -223,14 +222,22 @@ def _complete(
     laser, laser_owner = _held(fresh.laser, fresh.laser_owner, laser_scans, holds, "laser")
     for j, (env, hold) in enumerate(zip(envs, holds)):
         env._reading = hold.reading = SensorReading(sonar[j], laser[j], sonar_owner[j], laser_owner[j])
-    columns["sonar_time_s"] = [hold.sonar_time_s for hold in holds]
-    columns["laser_time_s"] = [hold.laser_time_s for hold in holds]
-    info = {
-        **columns,
+    info = {  # in INFO_KEYS's order
+        "time_s": time_s,
         "robot_pose": np.array(poses),
         "robot_velocity": np.array(odometry),
+        "mover_positions": positions,
+        "mover_velocities": velocities,
+        "mover_names": names,
+        "target_index": indices,
+        "target_distance_m": distances,
+        "collision": collisions,
+        "success": successes,
+        "goal": goals,
         "sonar_hits": sonar_owner.copy(),
         "laser_hits": laser_owner.copy(),
+        "sonar_time_s": [hold.sonar_time_s for hold in holds],
+        "laser_time_s": [hold.laser_time_s for hold in holds],
     }
     observation = {
         "sonar": sonar.astype(np.float32),
@@ -238,7 +245,7 @@ def _complete(
         "odometry": np.array(observed, dtype=np.float32),
         "goal": np.array(encodings, dtype=np.float32),
     }
-    return CompletedSteps(observation, rewards, terminations, truncations, {key: info[key] for key in INFO_KEYS})
+    return CompletedSteps(observation, rewards, terminations, truncations, info)
 
 
 def _held(

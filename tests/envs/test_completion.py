@@ -72,7 +72,7 @@ def test_a_batch_of_members_completes_as_each_member_alone():
             )
         )
         assert _typed(got) == _typed(expected)
-        assert list(completed.infos()[0]) == list(INFO_KEYS)
+        assert list(completed.infos()[0]) == list(completed.info) == list(INFO_KEYS)
         touched_any |= any(touched)
         scanned_apart |= completed.info["laser_time_s"] != completed.info["time_s"]
         for j, (_, _, terminated, truncated, _) in enumerate(expected):
