@@ -533,7 +533,7 @@ def time_model_us(model: AttentionModel, readings: list[tuple]) -> tuple[float, 
     if model.config.kinematics != "tracker":
         return elapsed / len(readings) * 1e6, compiled, 0.0
     tracker = Tracker(model.config)
-    wanted_speed = model._wanted_speed
+    wanted_speed = model.model_state.field("wanted_speed")
     channels = outputs[0]._sources[1].shape[0]
     rates, speeds, moving = np.empty(channels), np.empty(channels), np.empty(channels, np.bool_)
     inside, previous_t = 0.0, None

@@ -212,7 +212,7 @@ def check_invariants(
         violations.extend(_check_track_table(output.tracks))
 
     # --- 5. tracker --------------------------------------------------------------------
-    tracker = getattr(model, "_tracker", None)
+    tracker = None if model is None else model.tracker
     if tracker is not None:
         violations.extend(check_tracker(tracker, None if output is None else output.tracks))
     return violations

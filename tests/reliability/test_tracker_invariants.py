@@ -27,13 +27,13 @@ def _tracked_model(steps: int = 12):
 
 
 def _live(model) -> np.ndarray:
-    return np.flatnonzero(model._tracker.alive)
+    return np.flatnonzero(model.tracker.alive)
 
 
 def test_a_tracked_run_satisfies_the_tracker_invariants():
     model, output = _tracked_model()
     assert len(output.tracks) == 2 and output.tracks.confirmed.all()
-    assert check_tracker(model._tracker, output.tracks) == []
+    assert check_tracker(model.tracker, output.tracks) == []
 
 
 @pytest.mark.parametrize(
@@ -52,7 +52,7 @@ def test_a_tracked_run_satisfies_the_tracker_invariants():
 )
 def test_planted_tracker_faults_are_reported(fault, expected):
     model, output = _tracked_model()
-    tracker, tracks = model._tracker, output.tracks
+    tracker, tracks = model.tracker, output.tracks
     k, other = _live(model)
     if fault == "nan_cv_x":
         tracker.cv_x[k, 2] = np.nan
@@ -82,14 +82,14 @@ def test_planted_tracker_faults_are_reported(fault, expected):
 
 def test_too_many_live_tracks_are_reported():
     model, _ = _tracked_model(steps=1)
-    tracker = model._tracker
+    tracker = model.tracker
     tracker.alive[:] = True  # every slot live: 64 tentative tracks after a scan of 2 segments
     tracker.ids[:] = np.arange(tracker.alive.size)
     tracker.counters[0] = tracker.alive.size
     violations = check_tracker(tracker)
     assert any("64 tentative tracks but the last scan had 2 segments" in v for v in violations), violations
     model, _ = _tracked_model()
-    tracker = model._tracker
+    tracker = model.tracker
     tracker.config = dataclasses.replace(tracker.config, max_tracks=1)  # 2 live tracks, 1 allowed
     assert check_tracker(tracker) == ["tracker has 2 live tracks, more than max_tracks=1"]
 
@@ -105,7 +105,7 @@ def test_check_invariants_runs_the_tracker_checks_with_the_model():
         assert checker.check(env, obs, output, info, model=model) == []
     live = _live(model)
     assert live.size > 0  # the arena's walls and rubble give tracks
-    model._tracker.cv_P[live[0]] = -np.eye(4)
+    model.tracker.cv_P[live[0]] = -np.eye(4)
     assert any("not positive definite" in v for v in check_invariants(env, obs, output, model=model))
     assert check_invariants(env, obs, output) == []  # without the model: the tracker is not checked
     broken = dataclasses.replace(output.tracks, speed_mps=np.full(len(output.tracks), np.nan))
@@ -120,5 +120,5 @@ def test_a_model_without_tracker_has_nothing_to_check():
     obs, _ = env.reset(seed=0)
     model = AttentionModel(AttentionConfig(kinematics="window"))
     output = model.step(0.0, obs["sonar"], obs["laser"], obs["odometry"])
-    assert model._tracker is None and len(output.tracks) == 0
+    assert model.tracker is None and len(output.tracks) == 0
     assert check_invariants(env, obs, output, model=model) == []
