@@ -176,7 +176,10 @@ class AttentiveRescueEnv(gym.Env):
       ``SonarConfig()``, ``LaserConfig()``; the procedural arena of 10 m with 3
       distractors, 6 rubble pieces per 100 m², movers up to 1 m/s and the task goals
       speed in [0.5, 0.9] or [0.15, 0.45] m/s with a 40 s limit; for the attended
-      variants, ``AttentionConfig()`` and a working memory of 3 bodies.
+      variants, ``AttentionConfig()`` and a working memory of 3 bodies. After 0.1.0,
+      pursuing and evading movers measure their distance as ``sqrt(dx*dx + dy*dy)``, not
+      ``math.hypot``: the defaults' episodes are unchanged, but arenas with a direction goal
+      can follow other trajectories from the same seed (docs/environment.md).
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 20}

@@ -1,14 +1,15 @@
 """Many rescue environments in one process, stepped as one: Gymnasium's and SB3's vector envs.
 
 - ``fleet``: ``Fleet``, the core: N environments stepped stage by stage, each stage one call
-  over the members (the sensors in one compiled call, the attentional models in another).
+  over the members (the worlds, the sensors and the attentional models each in one compiled call).
 - ``protocol``: the public names a fleet steps its members through (``StagedEnv``,
   ``ObservationStage``, ``ModelStage``).
 - ``vector_env``: ``AttentiveRescueVectorEnv`` (Gymnasium's ``VectorEnv``) and
   ``make_vector_env``, every registered id's ``vector_entry_point``.
 - ``sb3``: ``NativeVecEnv``, the fleet as SB3's ``VecEnv`` (needs the ``agents`` extra; imported
   on first use of the name).
-- ``batching``: ``stack_observations``, ``batch_infos``: the members' results with a leading axis.
+- ``batching``: ``stack_observations``, ``batch_infos``, ``batch_step_infos``: the members'
+  results with a leading axis (a step's infos straight from the completed steps' arrays).
 - ``threads``: how many numba threads the compiled stages run on (``default_threads``).
 
 This layer stands above ``envs`` and ``wrappers``: it builds its members with
