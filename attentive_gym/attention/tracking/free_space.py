@@ -1,0 +1,264 @@
+"""Free-space evidence of motion (docs/model.md §10): a laser echo where an earlier scan saw through.
+
+A static world never puts a surface inside space the laser has seen to be free. So an echo
+that lies, by more than the range noise, short of where an earlier scan's beams passed
+freely must come from a body that moved there, and a point an earlier scan hit that the
+current scan now sees through must belong to a body that left. Both tests need no velocity
+estimate, so they see a start at once, where a tracker must first estimate a velocity.
+
+The scans are compared in the odometry frame (``Tracker``'s): each stored scan keeps the
+laser's pose at its time, so the robot's own motion is compensated by the poses.
+
+- ``ScanHistory``: a short ring buffer of past scans and their laser poses.
+- ``remember_scan``: store a scan, at most one per ``spacing_s``.
+- ``past_scan``: the stored scan closest to a lag before now.
+- ``violations``: for each echo of one scan, by how many σ it lies inside the space another
+  scan saw as free (along that scan's nearest beam, conservatively the minimum over it and
+  its two neighbours, so that depth edges and grazing surfaces give none).
+- ``evidence_runs``: runs of neighbouring beams whose scores pass a threshold each and, over
+  the run, a combined one: the beams with moving evidence.
+- ``scan_evidence``: one scan's evidence against the past scans at several lags: the
+  echoes that appeared in free space (``violations`` of the current scan against each).
+- ``seen_through``: the vacated test of one point (a track's earlier position): by how much
+  the current scan sees past it. It is a test per body, not per beam: a beam that now
+  passes a body's old place may end on the body itself (it moved away along the beam) or
+  on the background behind it, and one beam cannot tell which.
+
+Units: seconds, metres, radians. Beam ``j`` of an ``n``-beam scan spans the bearings
+``first + j·step`` to ``first + (j + 1)·step`` (rad, laser frame, counter-clockwise from
+its forward axis); a range at or above ``no_echo_m`` is no echo (free as far as it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "PARAMETERS",
+    "evidence_parameters",
+    "ScanHistory",
+    "remember_scan",
+    "past_scan",
+    "violations",
+    "evidence_runs",
+    "scan_evidence",
+    "seen_through",
+]
+
+#: Slots of ``ScanHistory.counters``: the row the next scan goes to, and how many are stored.
+_NEXT, _STORED = 0, 1
+#: The tests' parameters, in the order of their vector (``evidence_parameters``).
+PARAMETERS = ("first_rad", "step_rad", "no_echo_m", "noise_rel", "noise_floor_m", "margin_m", "width_m")
+_FIRST, _STEP, _NO_ECHO, _NOISE_REL, _NOISE_FLOOR, _MARGIN, _WIDTH = range(len(PARAMETERS))
+
+
+def evidence_parameters(
+    first_rad: float,
+    step_rad: float,
+    no_echo_m: float,
+    noise_rel: float,
+    noise_floor_m: float,
+    margin_m: float,
+    width_m: float,
+) -> np.ndarray:
+    """The parameter vector ``(7,)`` of ``violations``, ``scan_evidence`` and ``seen_through``.
+
+    Args:
+        first_rad, step_rad: the beams' geometry (module docstring).
+        no_echo_m: ranges at or above it are no echo (m): nothing to test, free that far.
+        noise_rel, noise_floor_m: a range's σ is ``max(noise_rel · r, noise_floor_m)`` (m).
+        margin_m: how far (m) an echo must lie inside free space beyond the noise.
+        width_m: the width (m) across the other scan's beams around an echo that it must have
+            seen free (at least the beam the echo falls in and its two neighbours), so that
+            thin structure seen edge-on, which rays can pass beside, gives no evidence.
+    """
+    values = (first_rad, step_rad, no_echo_m, noise_rel, noise_floor_m, margin_m, width_m)
+    if not all(math.isfinite(v) for v in values) or step_rad <= 0.0 or min(values[2:]) < 0.0:
+        raise ValueError(f"evidence parameters must be finite, step_rad > 0 and the others after it >= 0; got {values}")
+    return np.array(values, np.float64)
+
+
+@dataclass(frozen=True, eq=False)
+class ScanHistory:
+    """A ring buffer of the last ``capacity`` stored scans.
+
+    Attributes:
+        times: ``(K,)`` each stored scan's time (s).
+        poses: ``(K, 3)`` the laser's pose at that time in the odometry frame (x m, y m,
+            heading rad).
+        ranges: ``(K, n)`` the scan's ranges (m).
+        counters: ``(2,)`` int64: the row the next scan is written to, and how many rows
+            hold a scan.
+    """
+
+    times: np.ndarray
+    poses: np.ndarray
+    ranges: np.ndarray
+    counters: np.ndarray
+
+    @classmethod
+    def empty(cls, capacity: int, n_beams: int) -> ScanHistory:
+        """A history with room for ``capacity`` scans of ``n_beams`` beams, holding none."""
+        if capacity < 1 or n_beams < 3:
+            raise ValueError(f"a scan history needs capacity >= 1 and >= 3 beams, got {capacity} and {n_beams}")
+        return cls(np.zeros(capacity), np.zeros((capacity, 3)), np.zeros((capacity, n_beams)), np.zeros(2, np.int64))
+
+    def clear(self) -> None:
+        """Forget every stored scan."""
+        self.counters[:] = 0
+
+
+@njit(cache=True)
+def remember_scan(t_s, ranges, pose, spacing_s, times, poses, past, counters):
+    """Store the scan ``ranges`` ``(n,)`` taken at ``t_s`` (s) from the laser pose ``pose``
+    ``(3,)`` in the history's arrays (``ScanHistory``'s fields), unless the newest stored scan
+    is less than ``spacing_s`` (s) older; whether it was stored."""
+    stored = counters[_STORED]
+    capacity = times.shape[0]
+    if stored > 0:
+        newest = (counters[_NEXT] - 1) % capacity
+        if t_s - times[newest] < spacing_s:
+            return False
+    row = counters[_NEXT]
+    times[row] = t_s
+    poses[row, 0], poses[row, 1], poses[row, 2] = pose[0], pose[1], pose[2]
+    past[row, :] = ranges
+    counters[_NEXT] = (row + 1) % capacity
+    counters[_STORED] = min(stored + 1, capacity)
+    return True
+
+
+@njit(cache=True)
+def past_scan(t_s, lag_s, times, counters):
+    """The row of the stored scan whose age at ``t_s`` is closest to ``lag_s`` (s), among those
+    whose age lies within ``[lag_s / 2, 3 lag_s / 2]``; −1 for none."""
+    best, best_gap = -1, 0.5 * lag_s
+    capacity = times.shape[0]
+    for k in range(counters[_STORED]):
+        row = (counters[_NEXT] - 1 - k) % capacity
+        gap = abs((t_s - times[row]) - lag_s)
+        if gap <= best_gap:
+            best, best_gap = row, gap
+    return best
+
+
+@njit(cache=True)
+def _range_sigma(r, noise_rel, noise_floor_m):
+    return max(noise_rel * r, noise_floor_m)
+
+
+@njit(cache=True)
+def _to_frame(r, beam, pose, frame):
+    """The echo at range ``r`` (m) on beam ``beam`` of a laser at ``pose`` ``(3,)``, seen from
+    a laser at ``frame`` ``(3,)`` (both in the odometry frame): its range (m) and bearing
+    (rad, in ``(−π, π]``)."""
+    bearing = pose[2] + beam
+    dx = pose[0] + r * math.cos(bearing) - frame[0]
+    dy = pose[1] + r * math.sin(bearing) - frame[1]
+    phi = (math.atan2(dy, dx) - frame[2] + math.pi) % (2.0 * math.pi) - math.pi
+    return math.sqrt(dx * dx + dy * dy), phi
+
+
+@njit(cache=True)
+def _free_score(rho, j, free, params):
+    """By how many σ a point at ``rho`` (m) in beam ``j`` of the scan ``free`` lies inside its
+    free space (``violations``); 0 where the beams within ``width_m / 2`` of it leave the
+    field of view."""
+    step, no_echo = params[_STEP], params[_NO_ECHO]
+    half = max(1, int(math.ceil(0.5 * params[_WIDTH] / (max(rho, 1e-6) * step))))
+    if j - half < 0 or j + half > free.shape[0] - 1:
+        return 0.0
+    f = no_echo
+    for i in range(j - half, j + half + 1):
+        f = min(f, free[i])
+    noise_rel, noise_floor = params[_NOISE_REL], params[_NOISE_FLOOR]
+    sigma = math.hypot(_range_sigma(rho, noise_rel, noise_floor), _range_sigma(f, noise_rel, noise_floor))
+    return max(0.0, (f - rho - params[_MARGIN]) / sigma)
+
+
+@njit(cache=True)
+def violations(hits, hit_pose, free, free_pose, params, scores):
+    """By how many σ each echo of scan A lies inside the space scan B saw as free.
+
+    Args:
+        hits: ``(n,)`` scan A's ranges (m); hit_pose: ``(3,)`` its laser pose (odometry frame).
+        free: ``(m,)`` scan B's ranges (m); free_pose: ``(3,)`` its laser pose.
+        params: ``(7,)`` ``evidence_parameters``; both scans share the beams' geometry.
+        scores: ``(n,)`` output, in σ: each A echo's ``max(0, (f − ρ − margin) / σ)``, with
+            ρ its distance from B's laser, f the smallest of B's ranges on the beams within
+            ``width_m / 2`` of it (at ρ) and at least the neighbours of the beam it falls
+            in, and σ the noise of the difference; 0 where those beams leave B's field of
+            view, and at no echo.
+    """
+    first, step = params[_FIRST], params[_STEP]
+    for b in range(hits.shape[0]):
+        scores[b] = 0.0
+        r = hits[b]
+        if r >= params[_NO_ECHO]:
+            continue
+        rho, phi = _to_frame(r, first + (b + 0.5) * step, hit_pose, free_pose)
+        scores[b] = _free_score(rho, int(math.floor((phi - first) / step)), free, params)
+
+
+@njit(cache=True)
+def evidence_runs(scores, beam_threshold, run_threshold, min_beams, flags):
+    """Flag ``flags`` ``(n,)`` the beams of the runs of neighbouring beams whose ``scores``
+    ``(n,)`` (σ) each reach ``beam_threshold``, where a run holds at least ``min_beams`` beams
+    and its combined score ``Σ scores / √beams`` reaches ``run_threshold`` (σ: the noise of
+    one beam's test averages out over a body's beams); returns how many beams are flagged."""
+    n = scores.shape[0]
+    flags[:] = False
+    flagged, start, total = 0, -1, 0.0
+    for b in range(n + 1):
+        passing = b < n and scores[b] >= beam_threshold
+        if passing:
+            if start < 0:
+                start, total = b, 0.0
+            total += scores[b]
+        elif start >= 0:
+            beams = b - start
+            if beams >= min_beams and total / math.sqrt(beams) >= run_threshold:
+                flags[start:b] = True
+                flagged += beams
+            start = -1
+    return flagged
+
+
+@njit(cache=True)
+def scan_evidence(t_s, ranges, pose, lags_s, times, poses, past, counters, params, appeared):
+    """The moving evidence of the scan ``ranges`` ``(n,)`` taken at ``t_s`` (s) from the laser
+    pose ``pose`` ``(3,)``: ``appeared`` ``(n,)`` (σ) is, per beam, by how much its echo lies
+    inside the free space of the stored scans (``ScanHistory``'s arrays) closest to the lags
+    ``lags_s`` ``(L,)`` (s) before it (``violations``' scores, the maximum over the lags;
+    ``past_scan``, each stored scan used once). Returns how many past scans were compared."""
+    appeared[:] = 0.0
+    scores = np.empty(ranges.shape[0])
+    used = np.full(lags_s.shape[0], -1, np.int64)
+    compared = 0
+    for k in range(lags_s.shape[0]):
+        row = past_scan(t_s, lags_s[k], times, counters)
+        if row < 0 or t_s - times[row] <= 0.0 or row in used[:compared]:
+            continue
+        used[compared] = row
+        compared += 1
+        violations(ranges, pose, past[row], poses[row], params, scores)
+        for b in range(ranges.shape[0]):
+            appeared[b] = max(appeared[b], scores[b])
+    return compared
+
+
+@njit(cache=True)
+def seen_through(x, y, ranges, pose, params):
+    """By how many σ the scan ``ranges`` ``(n,)`` taken from the laser pose ``pose`` ``(3,)``
+    sees past the point ``(x, y)`` (m, odometry frame): ``violations``' score of an echo at
+    that point (0 outside the field of view). A body's earlier point seen through has left
+    (the vacated test)."""
+    first, step = params[_FIRST], params[_STEP]
+    dx, dy = x - pose[0], y - pose[1]
+    rho = math.sqrt(dx * dx + dy * dy)
+    phi = (math.atan2(dy, dx) - pose[2] + math.pi) % (2.0 * math.pi) - math.pi
+    return _free_score(rho, int(math.floor((phi - first) / step)), ranges, params)
