@@ -14,6 +14,10 @@ package's cached kernels, so numba compiles them afresh from the current source.
 elsewhere (the agents, the CLI) keep the cache. The package calls it once, at import,
 before any kernel runs.
 
+``announce_compilation`` says so, once, when a kernel is compiled rather than loaded from
+the cache (a fresh install, a cleared cache, or sources changed since): the command line
+calls it, since the first run then spends about a minute compiling before any output.
+
 Only the caches inside the package are checked (numba writes there whenever the package
 folder is writable, as in an editable install); a cache that numba had to put elsewhere
 (``NUMBA_CACHE_DIR``, or a user-wide folder for a read-only install) is left alone.
@@ -23,11 +27,12 @@ from __future__ import annotations
 
 import hashlib
 import re
+import sys
 from pathlib import Path
 
 from attentive_gym._atomic import atomic_file
 
-__all__ = ["kernel_sources", "source_fingerprint", "discard_stale_kernels", "FINGERPRINT_FILE"]
+__all__ = ["kernel_sources", "source_fingerprint", "discard_stale_kernels", "announce_compilation", "FINGERPRINT_FILE"]
 
 #: The file, in the package's top ``__pycache__``, that holds the fingerprint of the
 #: source the cached kernels were compiled from.
@@ -132,3 +137,36 @@ def _write_atomically(path: Path, text: str) -> None:
             file.write(text)
     except OSError:
         pass
+
+
+#: The notice ``announce_compilation`` prints.
+COMPILE_NOTICE = (
+    "attentive-gym: compiling the numba kernels (none cached for this version yet): about a minute, "
+    "once; later runs load them from the cache"
+)
+#: Whether this process has the compile notice's listener installed, and has printed it.
+_announcing = False
+_announced = False
+
+
+def announce_compilation() -> None:
+    """Print ``COMPILE_NOTICE`` on ``sys.stderr``, once per process, when numba first
+    compiles a kernel instead of loading it from its cache (numba's ``numba:compile`` event
+    fires on a cache miss only). Calling it again does nothing."""
+    global _announcing
+    if _announcing:
+        return
+    from numba.core import event
+
+    class CompileNotice(event.Listener):
+        def on_start(self, _event) -> None:
+            global _announced
+            if not _announced:
+                _announced = True
+                print(COMPILE_NOTICE, file=sys.stderr, flush=True)
+
+        def on_end(self, _event) -> None:
+            pass
+
+    event.register("numba:compile", CompileNotice())
+    _announcing = True

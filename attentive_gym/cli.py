@@ -3,14 +3,20 @@
 Subcommands (one small function each, registered in ``_SUBCOMMANDS``):
 
 - ``attend LOG --out DIR``: replay readings logged from a robot (CSV or NPZ, formats in
-  ``attentive_gym.attention.io.replay``) through the attentional model and write
-  ``DIR/trace.npz`` and ``DIR/trace.png``.
+  ``attentive_gym.attention.io.replay``, or a ROS bag, ``attentive_gym.attention.io.rosbag``)
+  through the attentional model and write ``DIR/trace.npz`` and ``DIR/trace.png``. A bag's
+  reader prints what it used and assumed (topics and rates, dropped scans, the laser's
+  mount and its source, masked beams, missing odometry), one line each.
 - ``experiment NAME|all [--noise S] [--seed N] [--out DIR]``: reproduce the paper's
   experiments and print docs/model.md §9's checks (``attentive_gym.experiments.cli``).
 - ``train [--variant V] [--algo ppo|sac] [--steps N] [--seed S] [--n-envs K] [--out DIR]``,
   ``evaluate MODEL [--episodes N] [--video DIR]`` and ``compare --variants A,B --seeds N
   --steps N --out DIR [--backend process|ray] [--workers W] [--quick]``: SB3 agents on the
   observation variants (``attentive_gym.agents.cli``; needs the ``agents`` extra).
+
+Every command prints one line on stderr when numba compiles kernels rather than loading
+them from its cache (``_kernel_cache.announce_compilation``): the first run after an
+install or an update spends about a minute there.
 
 Errors in the user's input (a malformed log, an invalid goal, map list or configuration)
 print one line on stderr and exit with status 2. Ctrl-C (and SIGTERM for ``train`` and
@@ -27,6 +33,7 @@ import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from attentive_gym._kernel_cache import announce_compilation
 from attentive_gym._optional import MissingExtraError, require
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.agents.config import QUICK, RunSpec
@@ -98,13 +105,40 @@ def _add_attend(subparsers) -> None:
         "that are not the P2AT ring: each stands in for the nearest front sonar, the laser "
         "for the others",
     )
+    bag.add_argument(
+        "--laser-mount",
+        metavar="X,Y,YAW_DEG",
+        help="where the laser sits on the robot (m, robot frame: x forward, y left) and where its "
+        "beam at angle 0 points (deg, counter-clockwise from the heading; 180: facing backwards) "
+        "(default: from the bag's TF, else the configuration's 0.16,0,0)",
+    )
+    bag.add_argument(
+        "--laser-upside-down",
+        action="store_true",
+        help="the laser is mounted upside down: its beam angles run clockwise seen from above (default: from TF)",
+    )
+    bag.add_argument(
+        "--min-range", metavar="M", help="echoes nearer than M metres read as no echo (the robot's own parts)"
+    )
+    bag.add_argument(
+        "--mask-angles",
+        metavar="A:B[,C:D]",
+        help="bearings (deg, robot frame, counter-clockwise from the heading, -180..180) whose beams read "
+        "as no echo, e.g. 120:180,-180:-120",
+    )
+    bag.add_argument(
+        "--keep-self-returns",
+        action="store_true",
+        help="keep the beams that hold a constant echo nearer than 0.5 m through the whole bag "
+        "(by default they are taken for the robot's own structure and masked)",
+    )
     parser.set_defaults(handler=_run_attend)
 
 
 def _run_attend(args: argparse.Namespace) -> int:
     from attentive_gym._atomic import refuse_existing
     from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
-    from attentive_gym.attention.io.rosbag import parse_bag_topics
+    from attentive_gym.attention.io.rosbag import is_bag_path, parse_bag_topics, parse_scan_options
     from attentive_gym.attention.io.trace import save_trace
 
     if args.out.exists() and not args.out.is_dir():
@@ -119,14 +153,27 @@ def _run_attend(args: argparse.Namespace) -> int:
         if not text.lstrip().startswith("{"):
             text = Path(text).read_text()
         config = AttentionConfig.from_json(text)
+    goals = [parse_goal(spec) for spec in args.goal]
+    weights = parse_maps(args.maps) if args.maps else None
+    topics = parse_bag_topics(args.laser_topic, args.sonar_topics, args.odom_topic, args.sonar_bearings)
+    scan_options = parse_scan_options(
+        args.laser_mount, args.laser_upside_down, args.min_range, args.mask_angles, args.keep_self_returns
+    )
+    if is_bag_path(args.log):
+        log, config = _open_bag(args.log, topics, config, scan_options)
+    elif scan_options is not None:
+        raise ValueError(
+            f"{args.log}: --laser-mount, --laser-upside-down, --min-range, --mask-angles and --keep-self-returns "
+            "apply to ROS bags only (a CSV or NPZ log's laser is already on the model's beams)"
+        )
+    else:
+        log = load_log(args.log, topics=topics, config=config)
     model = AttentionModel(config)
-    model.set_goals(*(parse_goal(spec) for spec in args.goal))
-    if args.maps:
-        model.set_weights(parse_maps(args.maps))
+    model.set_goals(*goals)
+    if weights is not None:
+        model.set_weights(weights)
     if args.state:
         model.set_state(_parse_state_arg(args.state))
-    topics = parse_bag_topics(args.laser_topic, args.sonar_topics, args.odom_topic, args.sonar_bearings)
-    log = load_log(args.log, topics=topics, config=config)
     trace = replay_log(log, model)
     args.out.mkdir(parents=True, exist_ok=True)
     trace_path = save_trace(trace, args.out / "trace.npz")
@@ -138,6 +185,27 @@ def _run_attend(args: argparse.Namespace) -> int:
         plot_trace(trace, path=figure_path)
         print(f"wrote {figure_path}")
     return 0
+
+
+def _open_bag(path: Path, topics, config, scan_options):
+    """A bag's log and the model's configuration with the laser mount it was read with;
+    prints the reader's notes (topics, rates, drops, mount, masks, odometry), one per line."""
+    import dataclasses
+
+    from attentive_gym.attention.io.rosbag import open_bag
+
+    replay = open_bag(path, topics, config, scan_options)
+    for note in replay.notes:
+        print(note)
+    mount = replay.mount
+    config = dataclasses.replace(
+        config,
+        laser_mount_x_m=mount.x_m,
+        laser_mount_y_m=mount.y_m,
+        laser_mount_yaw_deg=mount.yaw_deg,
+        laser_upside_down=mount.upside_down,
+    )
+    return replay.log, config
 
 
 def _parse_state_arg(text: str) -> str | float:
@@ -184,6 +252,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 ok, 2 invalid input, 128 + signal number when stopped)."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    announce_compilation()
     try:
         return args.handler(args)
     except (ValueError, OSError, json.JSONDecodeError, MissingExtraError) as err:

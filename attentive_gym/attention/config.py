@@ -190,8 +190,15 @@ class AttentionConfig:
 
     Attributes:
         laser_mount_x_m, laser_mount_y_m: where the laser sits on the robot (robot frame,
-            m; it faces forward); the tracker places its echoes with it (the env's
-            P2AT-like robot: 0.16 m ahead of its centre).
+            m); the tracker places its echoes with it (the env's P2AT-like robot: 0.16 m
+            ahead of its centre).
+        laser_mount_yaw_deg: the direction the laser's beam at angle 0 points (deg,
+            counter-clockwise from the robot's heading, -360..360; 180: facing backwards).
+        laser_upside_down: the laser is mounted upside down (its beam angles run
+            clockwise seen from above). This and the yaw are applied where a ROS bag's
+            scan is placed onto the model's robot-frame bearings
+            (``attention.io.rosbag``); the model takes laser readings already on those
+            bearings (as a CSV or NPZ log's are), seen from ``laser_mount_x_m, _y_m``.
         sonar_max_range_m, sonar_min_range_m: sonar range (m).
         laser_max_range_m: laser saturation ``mr`` (m).
         no_echo_epsilon_m: a reading within this of its sensor's maximum range means
@@ -276,6 +283,8 @@ class AttentionConfig:
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
     laser_mount_y_m: float = 0.0
+    laser_mount_yaw_deg: float = 0.0
+    laser_upside_down: bool = False
     sonar_max_range_m: float = 5.0
     sonar_min_range_m: float = 0.15
     laser_max_range_m: float = 20.0
@@ -371,6 +380,8 @@ class AttentionConfig:
         )
         for name in ("laser_mount_x_m", "laser_mount_y_m"):
             _check_number(name, getattr(self, name), "m", low=-_MAX_MOUNT_M, low_inclusive=True, high=_MAX_MOUNT_M)
+        yaw = self.laser_mount_yaw_deg
+        _check_number("laser_mount_yaw_deg", yaw, "deg", low=-360.0, low_inclusive=True, high=360.0)
         non_negative = (
             ("direction_epsilon_mps", "m/s"),
             ("range_noise_rel", "fraction of the range"),
@@ -416,7 +427,7 @@ class AttentionConfig:
             raise ValueError(
                 f"AttentionConfig.sonar_ego_model must be one of {SONAR_EGO_MODELS}, got {self.sonar_ego_model!r}"
             )
-        for name in ("laser_only", "td_require_target", "normalise_combined", "balance_groups"):
+        for name in ("laser_only", "td_require_target", "normalise_combined", "balance_groups", "laser_upside_down"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")
         try:

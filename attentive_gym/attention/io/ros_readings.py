@@ -6,6 +6,12 @@
 - ``front_sonars_from_laser``: the 8 front sonars read from the laser scan.
 - ``front_sonar_slot``: the front sonar that a range sensor at some bearing stands in for.
 - ``latest_at_or_before``: each sample held until the next one, read on another time base.
+- ``LaserMount``: where and how the laser sits on the robot; turns a scan's beam angles
+  into robot-frame bearings.
+- ``bearings_in_intervals``, ``constant_near_beams``: the scan beams that angle masks and
+  the robot's own structure hide.
+- ``share_of_scans_changing_together``: how often most of the scan changes at once (the
+  robot moving, seen without odometry).
 
 "No echo" is the model's convention (``AttentionConfig``, and the env's sensors): the
 sensor's maximum range, ``laser_max_range_m`` or ``sonar_max_range_m``.
@@ -34,6 +40,13 @@ __all__ = [
     "front_sonars_from_laser",
     "front_sonar_slot",
     "latest_at_or_before",
+    "LaserMount",
+    "bearings_in_intervals",
+    "constant_near_beams",
+    "share_of_scans_changing_together",
+    "SELF_RETURN_NEAR_M",
+    "SELF_RETURN_SPREAD_M",
+    "SELF_RETURN_MIN_SCANS",
 ]
 
 #: Two beams overlap when they share more than this fraction of the narrower one: beams
@@ -179,3 +192,108 @@ def latest_at_or_before(times: np.ndarray, sample_times: np.ndarray, samples: np
     if index.size and index.min() < 0:
         raise ValueError("latest_at_or_before: a time precedes the first sample")
     return samples[index]
+
+
+@dataclass(frozen=True)
+class LaserMount:
+    """Where and how a laser sits on the robot (robot frame: x forward, y left).
+
+    Attributes:
+        x_m, y_m: the laser's origin (m).
+        yaw_deg: the direction its beam at angle 0 points (deg, counter-clockwise from
+            the robot's heading; 180: a laser facing backwards).
+        upside_down: mounted upside down (rolled 180° about its forward axis): its beam
+            angles run clockwise seen from above.
+    """
+
+    x_m: float = 0.16
+    y_m: float = 0.0
+    yaw_deg: float = 0.0
+    upside_down: bool = False
+
+    def robot_frame_angles(self, angle_min_rad: float, angle_increment_rad: float) -> tuple[float, float]:
+        """A scan's ``(angle_min, angle_increment)`` (rad) as robot-frame bearings from the
+        laser's origin: a beam at laser angle ``a`` points at ``yaw ± a`` (``-`` upside down)."""
+        sign = -1.0 if self.upside_down else 1.0
+        return float(np.radians(self.yaw_deg) + sign * angle_min_rad), sign * angle_increment_rad
+
+    def describe(self) -> str:
+        """``x 0.16 m, y 0 m, yaw 0°, upright``."""
+        side = "upside down" if self.upside_down else "upright"
+        return f"x {self.x_m:g} m, y {self.y_m:g} m, yaw {self.yaw_deg:g}°, {side}"
+
+
+def bearings_in_intervals(bearings_rad: np.ndarray, intervals_deg) -> np.ndarray:
+    """Whether each bearing lies in one of the closed intervals ``[(a, b), ...]`` (deg,
+    -180 <= a < b <= 180); bearings (rad, any turn) are wrapped to [-180°, 180°)."""
+    wrapped = np.mod(np.degrees(np.asarray(bearings_rad, dtype=np.float64)) + 180.0, 360.0) - 180.0
+    inside = np.zeros(wrapped.shape, dtype=bool)
+    for low, high in intervals_deg:
+        inside |= (wrapped >= low) & (wrapped <= high)
+    return inside
+
+
+#: A beam whose echo stays nearer than this (m) through a whole bag is the robot's own structure...
+SELF_RETURN_NEAR_M = 0.5
+#: ... when its echoes spread over less than this (m) ...
+SELF_RETURN_SPREAD_M = 0.05
+#: ... and the bag has at least this many scans (a shorter one cannot tell structure from
+#: something standing still beside the robot).
+SELF_RETURN_MIN_SCANS = 20
+#: The share of scans in which such a beam must hold its echo (the rest may drop out).
+_SELF_RETURN_HELD = 0.95
+
+
+def constant_near_beams(ranges: np.ndarray) -> np.ndarray:
+    """The scan beams that hold a constant near echo through every scan: the robot's own
+    posts, bumpers or cables (``SELF_RETURN_*``).
+
+    Args:
+        ranges: ``(M, N)`` ranges (m) of M scans of N beams, "no echo" already a range
+            beyond ``SELF_RETURN_NEAR_M`` (``ranges_or_no_echo``).
+
+    Returns:
+        ``(N,)`` bool, all False for fewer than ``SELF_RETURN_MIN_SCANS`` scans.
+    """
+    ranges = np.asarray(ranges, dtype=np.float64)
+    if ranges.shape[0] < SELF_RETURN_MIN_SCANS:
+        return np.zeros(ranges.shape[1], dtype=bool)
+    near = ranges < SELF_RETURN_NEAR_M
+    held = near.mean(axis=0) >= _SELF_RETURN_HELD
+    nearest = np.where(near, ranges, np.inf).min(axis=0)
+    farthest = np.where(near, ranges, -np.inf).max(axis=0)
+    return held & (farthest - nearest < SELF_RETURN_SPREAD_M)
+
+
+#: A beam "changes" when its range moves by more than this (m) over ``_CHANGE_INTERVAL_S``...
+_CHANGE_M = 0.1
+_CHANGE_INTERVAL_S = 1.0
+#: ... and a scan changes "together" when more than this share of its echoing beams do.
+_TOGETHER_SHARE = 0.5
+
+
+def share_of_scans_changing_together(laser: np.ndarray, t: np.ndarray, no_echo_m: float) -> float:
+    """The share of scans in which most beams changed since the scan about 1 s before: a
+    moving robot changes nearly every range at once, people walking past a still one only
+    a few beams.
+
+    Args:
+        laser: ``(T, B)`` ranges (m), no echo as ``no_echo_m``.
+        t: ``(T,)`` times (s), increasing.
+        no_echo_m: the no-echo reading (m); beams without an echo in either scan are
+            left out.
+
+    Returns:
+        The share in [0, 1]; 0 for a log shorter than the interval.
+    """
+    laser, t = np.asarray(laser, dtype=np.float64), np.asarray(t, dtype=np.float64)
+    earlier = np.searchsorted(t, t - _CHANGE_INTERVAL_S, side="right") - 1
+    compared = np.flatnonzero(earlier >= 0)
+    if compared.size == 0:
+        return 0.0
+    now, before = laser[compared], laser[earlier[compared]]
+    echo = (now < no_echo_m) & (before < no_echo_m)
+    changed = echo & (np.abs(now - before) > _CHANGE_M)
+    counted = echo.sum(axis=1)
+    together = changed.sum(axis=1) > _TOGETHER_SHARE * np.maximum(counted, 1)
+    return float(together.mean())

@@ -2,7 +2,11 @@
 
 - ``is_bag_path``: whether a path names a bag (``.bag``, ``.db3``, ``.mcap`` or a folder).
 - ``BagTopics`` / ``parse_bag_topics``: which topics hold what, from the command line's flags.
-- ``read_bag``: the bag's laser, sonars and odometry on one time base.
+- ``ScanOptions`` / ``parse_scan_options``: the laser's mount, minimum range and masks,
+  from the command line's flags.
+- ``open_bag``: the bag's laser, sonars and odometry on one time base, with the mount
+  used and one line per assumption, drop or finding for the user (``BagReplay``);
+  ``read_bag``: its readings alone.
 
 Bags: ROS 1 ``.bag`` files; ROS 2 bag folders (``metadata.yaml`` beside ``.db3`` or
 ``.mcap`` storage files) or one storage file itself (its folder is opened when it holds
@@ -12,8 +16,14 @@ extra), imported only when a bag is read.
 Messages (ROS 2 names; ROS 1's ``sensor_msgs/LaserScan`` etc. are the same):
 
 - ``sensor_msgs/msg/LaserScan``: one topic, the time base: every scan is one step. Its
-  beams are resampled onto the model's 180 beams over the front 180°
+  beams are turned into robot-frame bearings with the laser's mount (yaw, upside down)
+  and resampled onto the model's 180 beams over the front 180°
   (``ros_readings.ScanResampler``: nearest echo of the overlapping scan beams).
+- ``tf2_msgs/msg/TFMessage`` (ROS 1 ``tf/tfMessage`` too), optional: the transforms from
+  the scans' ``header.frame_id`` up to the base frame (the Odometry's ``child_frame_id``,
+  else ``base_link`` or ``base_footprint``) give the laser's mount where ``ScanOptions``
+  does not; ``odom -> base`` transforms give the odometry where no Odometry topic is
+  logged (``ros_tf``). Without either, the configuration's mount applies.
 - ``sensor_msgs/msg/Range``: sonars, one topic per transducer. By default 16 topics are
   the P2AT ring's sonars 0..15 and 8 topics its front sonars 0..7, in natural name order
   (digits compare as numbers: ``sonar_2`` before ``sonar_10``). With bearings (deg,
@@ -29,6 +39,11 @@ Sonars and odometry are read on the laser's stamps, each as its latest message a
 before the scan (zero-order hold); the scans before every sonar and odometry topic has
 its first message are dropped. ``t`` is in seconds from the first kept scan. Stamps
 must never decrease within a topic, and scans' must increase.
+
+Masks: scan beams nearer than ``ScanOptions.min_range_m``, at robot-frame bearings inside
+``ScanOptions.mask_deg``, and (unless ``keep_self_returns``) beams that hold a constant near
+echo through the whole bag (``ros_readings.constant_near_beams``: the robot's own posts)
+read no echo.
 
 No echo: NaN, ±inf, a range below the message's ``range_min``/``min_range`` or at or
 above its ``range_max``/``max_range`` (or beyond the model's maximum range), and a model
@@ -49,11 +64,25 @@ import numpy as np
 
 from attentive_gym.attention.config import AttentionConfig
 from attentive_gym.attention.io.ros_readings import (
+    SELF_RETURN_NEAR_M,
+    LaserMount,
     ScanResampler,
+    bearings_in_intervals,
+    constant_near_beams,
     front_sonar_slot,
     front_sonars_from_laser,
     latest_at_or_before,
     ranges_or_no_echo,
+    share_of_scans_changing_together,
+)
+from attentive_gym.attention.io.ros_tf import (
+    BASE_FRAMES,
+    TF_TYPES,
+    MountFromTf,
+    OdometryPoses,
+    mount_from_tf,
+    odometry_from_tf,
+    transforms_of,
 )
 from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
@@ -64,8 +93,12 @@ __all__ = [
     "RANGE_TYPE",
     "ODOMETRY_TYPE",
     "BagTopics",
+    "ScanOptions",
+    "BagReplay",
     "is_bag_path",
     "parse_bag_topics",
+    "parse_scan_options",
+    "open_bag",
     "read_bag",
 ]
 
@@ -146,24 +179,186 @@ def parse_bag_topics(
     return BagTopics(laser, sonar_topics, odometry, bearings)
 
 
+#: The farthest a laser may sit from the robot's centre (m), as ``AttentionConfig`` allows.
+_MAX_MOUNT_M = 5.0
+_MOUNT_USAGE = "--laser-mount must be X,Y,YAW_DEG: the laser's position (m, robot frame) and yaw (deg), e.g. 0.2,0,180"
+_MASK_USAGE = (
+    "--mask-angles must be A:B[,C:D...] in degrees, robot frame (counter-clockwise from the heading), "
+    "-180 <= A < B <= 180, e.g. 120:180,-180:-120"
+)
+
+
+@dataclass(frozen=True)
+class ScanOptions:
+    """How a bag's scans are placed on the robot and what of them is hidden.
+
+    Attributes:
+        mount_xy_yaw: the laser's position (m, robot frame) and yaw (deg), or None: from
+            the bag's TF, else the configuration's.
+        upside_down: whether the laser is mounted upside down, or None: from TF, else the
+            configuration's.
+        min_range_m: echoes nearer than this read no echo (m, >= 0).
+        mask_deg: closed robot-frame bearing intervals ``(a, b)`` (deg, -180 <= a < b <= 180)
+            whose beams read no echo.
+        keep_self_returns: keep the beams holding a constant near echo through the bag
+            (default: they are masked).
+
+    Raises:
+        ValueError: naming the flag, for a mount off the robot or not finite, a negative
+            or non-finite minimum range, or a malformed interval.
+    """
+
+    mount_xy_yaw: tuple[float, float, float] | None = None
+    upside_down: bool | None = None
+    min_range_m: float = 0.0
+    mask_deg: tuple[tuple[float, float], ...] = ()
+    keep_self_returns: bool = False
+
+    def __post_init__(self) -> None:
+        if self.mount_xy_yaw is not None:
+            x, y, yaw = self.mount_xy_yaw
+            if not all(np.isfinite(v) for v in self.mount_xy_yaw):
+                raise ValueError(f"{_MOUNT_USAGE}; got non-finite numbers")
+            if max(abs(x), abs(y)) > _MAX_MOUNT_M:
+                raise ValueError(f"--laser-mount X and Y must lie within ±{_MAX_MOUNT_M:g} m of the robot's centre")
+            if abs(yaw) > 360.0:
+                raise ValueError(f"--laser-mount YAW_DEG must lie in [-360, 360] deg, got {yaw:g}")
+        if not (np.isfinite(self.min_range_m) and self.min_range_m >= 0.0):
+            raise ValueError(f"--min-range must be a finite distance >= 0 (m), got {self.min_range_m:g}")
+        for low, high in self.mask_deg:
+            if not (-180.0 <= low < high <= 180.0):
+                raise ValueError(f"{_MASK_USAGE}; got {low:g}:{high:g}")
+
+    def mount(self, tf: MountFromTf | None, config: AttentionConfig) -> tuple[LaserMount, str]:
+        """The mount used and where it came from, in words: these options, else ``tf``,
+        else ``config``'s."""
+        if tf is not None:
+            fallback, source = tf.mount, tf.describe()
+        else:
+            fallback = LaserMount(
+                config.laser_mount_x_m, config.laser_mount_y_m, config.laser_mount_yaw_deg, config.laser_upside_down
+            )
+            source = "the configuration's (no TF in the bag leads from the laser's frame to a base frame)"
+        x, y, yaw = (fallback.x_m, fallback.y_m, fallback.yaw_deg) if self.mount_xy_yaw is None else self.mount_xy_yaw
+        upside_down = fallback.upside_down if self.upside_down is None else self.upside_down
+        given = [
+            flag
+            for flag, value in (("--laser-mount", self.mount_xy_yaw), ("--laser-upside-down", self.upside_down))
+            if value is not None
+        ]
+        if given:
+            source = f"{' and '.join(given)}" + (f"; the rest {source}" if len(given) < 2 else "")
+        return LaserMount(float(x), float(y), float(yaw), bool(upside_down)), source
+
+
+def parse_scan_options(
+    laser_mount: str | None = None,
+    upside_down: bool = False,
+    min_range: str | float | None = None,
+    mask_angles: str | None = None,
+    keep_self_returns: bool = False,
+) -> ScanOptions | None:
+    """``ScanOptions`` from the command line's values; None when none is given.
+
+    Args:
+        laser_mount: ``X,Y,YAW_DEG`` (m, m, deg).
+        upside_down: the ``--laser-upside-down`` switch (False: not given).
+        min_range: a distance (m).
+        mask_angles: ``A:B[,C:D...]`` (deg).
+        keep_self_returns: the ``--keep-self-returns`` switch.
+
+    Raises:
+        ValueError: one line naming the flag and what it allows.
+    """
+    if laser_mount is None and not upside_down and min_range is None and mask_angles is None and not keep_self_returns:
+        return None
+    return ScanOptions(
+        mount_xy_yaw=None if laser_mount is None else _parse_mount(laser_mount),
+        upside_down=True if upside_down else None,
+        min_range_m=0.0 if min_range is None else _parse_number(min_range, "--min-range must be a distance (m)"),
+        mask_deg=() if mask_angles is None else _parse_mask(mask_angles),
+        keep_self_returns=keep_self_returns,
+    )
+
+
+def _parse_number(text: str | float, usage: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{usage}; got {text}") from None
+
+
+def _parse_mount(text: str) -> tuple[float, float, float]:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise ValueError(f"{_MOUNT_USAGE}; got {text}")
+    x, y, yaw = (_parse_number(part, _MOUNT_USAGE) for part in parts)
+    return x, y, yaw
+
+
+def _parse_mask(text: str) -> tuple[tuple[float, float], ...]:
+    intervals = []
+    for item in text.split(","):
+        bounds = item.split(":")
+        if len(bounds) != 2:
+            raise ValueError(f"{_MASK_USAGE}; got {text}")
+        low, high = (_parse_number(bound, _MASK_USAGE) for bound in bounds)
+        intervals.append((low, high))
+    return tuple(intervals)
+
+
 def is_bag_path(path: str | Path) -> bool:
     """True for a ``.bag``, ``.db3`` or ``.mcap`` path or a folder (a ROS 2 bag, or not one at all)."""
     path = Path(path)
     return path.suffix.lower() in BAG_SUFFIXES or path.is_dir()
 
 
-def read_bag(path: str | Path, topics: BagTopics | None = None, config: AttentionConfig | None = None) -> SensorLog:
+@dataclass(frozen=True, eq=False)
+class BagReplay:
+    """A bag read for the model: its readings, the laser mount used, and what the user should know.
+
+    Attributes:
+        log: the checked readings.
+        mount: the laser's mount the scans were placed with (its x, y belong in the
+            model's ``AttentionConfig``: the tracker places echoes from there).
+        notes: one line each: the topics used with their rates and drops, the mount and
+            its source, masked beams, and the odometry's source or absence.
+    """
+
+    log: SensorLog
+    mount: LaserMount
+    notes: tuple[str, ...]
+
+
+def read_bag(
+    path: str | Path,
+    topics: BagTopics | None = None,
+    config: AttentionConfig | None = None,
+    options: ScanOptions | None = None,
+) -> SensorLog:
+    """A bag's readings as the model's; ``open_bag``'s log (arguments there)."""
+    return open_bag(path, topics, config, options).log
+
+
+def open_bag(
+    path: str | Path,
+    topics: BagTopics | None = None,
+    config: AttentionConfig | None = None,
+    options: ScanOptions | None = None,
+) -> BagReplay:
     """A bag's readings as the model's (message handling in the module docstring).
 
     Args:
         path: a ROS 1 ``.bag``, a ROS 2 bag folder, or a ``.db3`` / ``.mcap`` storage file.
         topics: which topics hold what (default: each found by its message type).
         config: the model the readings are for: its maximum ranges are "no echo", its
-            sonar range and cone width turn the laser into sonars (default ``AttentionConfig()``).
+            sonar range and cone width turn the laser into sonars, its mount applies
+            where neither ``options`` nor TF gives one (default ``AttentionConfig()``).
+        options: the laser's mount, minimum range and masks (default ``ScanOptions()``).
 
     Returns:
-        The checked ``SensorLog``: sonar ``(T, 16)`` with 16 Range topics and no
-        bearings, ``(T, 8)`` otherwise; odometry when the bag has an Odometry topic.
+        The ``BagReplay``: its log has sonar ``(T, 16)`` with 16 Range topics and no
+        bearings, ``(T, 8)`` otherwise; odometry from an Odometry topic, else from TF.
 
     Raises:
         LogFormatError: for a bag that cannot be read, a missing topic or one of the wrong
@@ -175,18 +370,30 @@ def read_bag(path: str | Path, topics: BagTopics | None = None, config: Attentio
     path = Path(path)
     topics = BagTopics() if topics is None else topics
     config = AttentionConfig() if config is None else config
+    options = ScanOptions() if options is None else options
     if not path.exists():
         raise FileNotFoundError(f"{path}: no such bag file or folder")
-    types, counts, (laser_topic, sonar_topics, odometry_topic), streams = _read_messages(path, topics)
-    for topic, stream in streams.items():
-        _check_time_order(path, topic, stream.stamps, strict=topic == laser_topic)
+    types, counts, (laser_topic, sonar_topics, odometry_topic, tf_topics), streams = _read_messages(path, topics)
+    for topic in (laser_topic, *sonar_topics, *([odometry_topic] if odometry_topic else [])):
+        _check_time_order(path, topic, streams[topic].stamps, strict=topic == laser_topic)
     held = [topic for topic in (*sonar_topics, odometry_topic) if topic is not None]
     empty = [topic for topic in held if counts[topic] == 0]
     if empty:
-        raise LogFormatError(f"{path}: topics {empty} hold no message; topics: {_listing(types, counts)}")
+        raise LogFormatError(f"{path}: {_topics_hold_no_message(empty)}; topics: {_listing(types, counts)}")
+    static, dynamic = _transforms(streams, tf_topics)
+    base_frames = _base_frames(streams[odometry_topic].frame if odometry_topic else "")
+    transforms = [*static, *dynamic]
+    tf_mount = mount_from_tf(transforms, streams[laser_topic].frame, base_frames) if transforms else None
+    mount, mount_source = options.mount(tf_mount, config)
+    tf_odometry = None if odometry_topic else odometry_from_tf(dynamic, base_frames)
     scan_stamps = streams[laser_topic].stamps
     first = {topic: int(streams[topic].stamps[0]) for topic in held}
-    keep = scan_stamps >= max(first.values(), default=scan_stamps[0])
+    if tf_odometry is not None:
+        first[_tf_name(tf_odometry)] = int(tf_odometry.stamps[0])
+    start = max(first.values(), default=scan_stamps[0])
+    keep = scan_stamps >= start
+    if tf_odometry is not None:
+        keep &= scan_stamps <= tf_odometry.stamps[-1]
     if not keep.any():
         late = max(first, key=first.get)
         raise LogFormatError(
@@ -194,7 +401,8 @@ def read_bag(path: str | Path, topics: BagTopics | None = None, config: Attentio
             "the sonars and odometry are read at the scans' stamps"
         )
     stamps = scan_stamps[keep]
-    laser = _laser_readings(path, streams[laser_topic], config)[keep]
+    laser, laser_notes = _laser_readings(path, streams[laser_topic], config, mount, options)
+    laser = laser[keep]
     sonar = _sonar_readings(
         [streams[topic] for topic in sonar_topics], topics.sonar_bearings_deg, stamps, laser, config
     )
@@ -202,8 +410,114 @@ def read_bag(path: str | Path, topics: BagTopics | None = None, config: Attentio
     if odometry_topic is not None:
         stream = streams[odometry_topic]
         odometry = latest_at_or_before(stamps, stream.stamps, np.asarray(stream.fields, dtype=np.float64))
-    log = SensorLog(t=(stamps - stamps[0]) * 1e-9, sonar=sonar, laser=laser, odometry=odometry)
-    return log.check(str(path))
+    elif tf_odometry is not None:
+        odometry = tf_odometry.velocities_at(stamps)
+    log = SensorLog(t=(stamps - stamps[0]) * 1e-9, sonar=sonar, laser=laser, odometry=odometry).check(str(path))
+    dropped = _dropped(scan_stamps, start, first, tf_odometry)
+    notes = (
+        _summary(streams, laser_topic, sonar_topics, odometry_topic, tf_odometry, dropped, log),
+        f"laser mount: {mount.describe()} ({mount_source})",
+        *laser_notes,
+        *_odometry_notes(log, odometry_topic, tf_odometry, config),
+    )
+    return BagReplay(log, mount, notes)
+
+
+def _topics_hold_no_message(topics: list[str]) -> str:
+    return f"topic {topics[0]} holds no message" if len(topics) == 1 else f"topics {', '.join(topics)} hold no message"
+
+
+def _base_frames(odometry_child: str) -> tuple[str, ...]:
+    """The robot's base frame names: the Odometry's ``child_frame_id`` first, where logged."""
+    child = odometry_child.lstrip("/")
+    return (child, *(frame for frame in BASE_FRAMES if frame != child)) if child else BASE_FRAMES
+
+
+def _transforms(streams: dict[str, _Stream], tf_topics: list[str]) -> tuple[list, list]:
+    """The ``/tf_static`` transforms (topics named ``*tf_static``) and the others, in bag order."""
+    static, dynamic = [], []
+    for topic in tf_topics:
+        target = static if topic.rstrip("/").endswith("tf_static") else dynamic
+        for transforms in streams[topic].fields:
+            target.extend(transforms)
+    return static, dynamic
+
+
+def _tf_name(poses: OdometryPoses) -> str:
+    return f"TF {poses.parent} -> {poses.child}"
+
+
+def _dropped(scan_stamps: np.ndarray, start: int, first: dict[str, int], tf_odometry: OdometryPoses | None) -> str:
+    """The scans dropped and why, in words ("" when none)."""
+    parts = []
+    early = int(np.count_nonzero(scan_stamps < start))
+    if early:
+        late = max(first, key=first.get)
+        parts.append(f"{early} scan{'s' * (early > 1)} before the first message of {late}")
+    if tf_odometry is not None:
+        after = int(np.count_nonzero(scan_stamps > tf_odometry.stamps[-1]))
+        if after:
+            parts.append(f"{after} scan{'s' * (after > 1)} after the last {_tf_name(tf_odometry)}")
+    return "; dropped " + " and ".join(parts) if parts else ""
+
+
+def _rate_hz(stamps: np.ndarray) -> str:
+    """A topic's mean message rate, ``10.0 Hz`` (``one message`` for a single one)."""
+    if len(stamps) < 2 or stamps[-1] == stamps[0]:
+        return f"{len(stamps)} message{'s' * (len(stamps) != 1)}"
+    return f"{(len(stamps) - 1) / ((stamps[-1] - stamps[0]) * 1e-9):.1f} Hz"
+
+
+def _summary(
+    streams: dict[str, _Stream],
+    laser_topic: str,
+    sonar_topics: list[str],
+    odometry_topic: str | None,
+    tf_odometry: OdometryPoses | None,
+    dropped: str,
+    log: SensorLog,
+) -> str:
+    """One line: the topics used, their rates, the steps kept and the scans dropped."""
+    laser = streams[laser_topic]
+    if odometry_topic is not None:
+        odometry = f"odometry {odometry_topic} ({_rate_hz(streams[odometry_topic].stamps)})"
+    elif tf_odometry is not None:
+        odometry = f"odometry from {_tf_name(tf_odometry)} ({_rate_hz(tf_odometry.stamps)})"
+    else:
+        odometry = "no odometry"
+    if sonar_topics:
+        rates = sorted({_rate_hz(streams[topic].stamps) for topic in sonar_topics})
+        sonars = f"{len(sonar_topics)} sonar topics ({', '.join(rates)})"
+    else:
+        sonars = "front sonars read from the laser"
+    duration = float(log.t[-1] - log.t[0])
+    return (
+        f"used: laser {laser_topic} ({len(laser.stamps)} scans, {_rate_hz(laser.stamps)}), {odometry}, {sonars}; "
+        f"{len(log.t)} steps over {duration:.1f} s{dropped}"
+    )
+
+
+#: Without odometry, the share of scans changing together above which the robot seems to move.
+_MOVING_SHARE = 0.2
+
+
+def _odometry_notes(
+    log: SensorLog, odometry_topic: str | None, tf_odometry: OdometryPoses | None, config: AttentionConfig
+) -> list[str]:
+    """Without odometry: that a standing robot is assumed, and whether the scans say otherwise."""
+    if odometry_topic is not None or tf_odometry is not None:
+        return []
+    notes = [
+        "no odometry (no nav_msgs/Odometry topic, no TF odom -> base): a standing robot is assumed, so any "
+        "motion of the robot itself reads as motion of everything it sees"
+    ]
+    share = share_of_scans_changing_together(log.laser, log.t, config.laser_max_range_m)
+    if share >= _MOVING_SHARE:
+        notes.append(
+            f"the robot seems to move: most beams change together in {share:.0%} of the scans (over 1 s); "
+            "its motion will read as the world's (give the bag's odometry with --odom-topic)"
+        )
+    return notes
 
 
 @dataclass(frozen=True, eq=False)
@@ -212,18 +526,22 @@ class _Stream:
 
     Attributes:
         topic: its name.
-        stamps: ``(M,)`` int64 header stamps (ns), the receive time where a stamp is zero.
-        fields: the ``_FIELDS`` tuple of each message.
+        stamps: ``(M,)`` int64 header stamps (ns), the receive time where a stamp is zero
+            (TF messages, which have no header: the receive time).
+        fields: the ``_FIELDS`` value of each message.
+        frame: the first message's frame (``_FRAME``: a scan's ``header.frame_id``, an
+            Odometry's ``child_frame_id``), "" for other types or no message.
     """
 
     topic: str
     stamps: np.ndarray
-    fields: list[tuple]
+    fields: list
+    frame: str = ""
 
 
 #: What is read of each message type: LaserScan ``(angle_min, angle_increment,
 #: range_min, range_max, ranges)``; Range ``(range, min_range, max_range)``; Odometry
-#: ``(v, w)`` (rad, m, m/s, rad/s).
+#: ``(v, w)`` (rad, m, m/s, rad/s); TF messages their transforms (``ros_tf.transforms_of``).
 _FIELDS = {
     LASER_TYPE: lambda m: (
         float(m.angle_min),
@@ -235,15 +553,17 @@ _FIELDS = {
     RANGE_TYPE: lambda m: (float(m.range), float(m.min_range), float(m.max_range)),
     ODOMETRY_TYPE: lambda m: (float(m.twist.twist.linear.x), float(m.twist.twist.angular.z)),
 }
+#: The frame each message type is in: the scan's own, the odometry's robot frame.
+_FRAME = {LASER_TYPE: lambda m: str(m.header.frame_id), ODOMETRY_TYPE: lambda m: str(m.child_frame_id)}
 
 
 def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[str, int], tuple, dict[str, _Stream]]:
     """Open the bag, choose its topics and read their messages.
 
     Returns:
-        ``(types, counts, (laser, sonars, odometry), streams)``: every topic's message
-        type and count, the chosen topics (``_choose_topics``), and a ``_Stream`` per
-        chosen topic.
+        ``(types, counts, (laser, sonars, odometry, tf), streams)``: every topic's message
+        type and count, the chosen topics (``_choose_topics``; ``tf``: every TF topic), and
+        a ``_Stream`` per chosen topic.
     """
     try:
         from rosbags.highlevel import AnyReader, AnyReaderError
@@ -262,16 +582,39 @@ def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[
         with AnyReader([source], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
             types = {name: info.msgtype for name, info in reader.topics.items()}
             counts = {name: info.msgcount for name, info in reader.topics.items()}
-            chosen = laser_topic, sonar_topics, odometry_topic = _choose_topics(path, types, topics)
+            laser_topic, sonar_topics, odometry_topic = _choose_topics(path, types, topics)
+            tf_topics = sorted(name for name, kind in types.items() if kind in TF_TYPES)
+            chosen = laser_topic, sonar_topics, odometry_topic, tf_topics
             if counts[laser_topic] == 0:
                 raise LogFormatError(
                     f"{path}: topic {laser_topic} holds no {LASER_TYPE} message; topics: {_listing(types, counts)}"
                 )
-            wanted = [laser_topic, *sonar_topics, *([odometry_topic] if odometry_topic else [])]
+            wanted = [laser_topic, *sonar_topics, *([odometry_topic] if odometry_topic else []), *tf_topics]
             streams = _read_streams(reader, wanted)
     except AnyReaderError as err:
-        raise LogFormatError(f"{path}: not a readable ROS bag ({' '.join(str(err).split())})") from None
+        raise LogFormatError(f"{path}: not a readable ROS bag ({_plain(err)}){_remedy(path)}") from None
     return types, counts, chosen, streams
+
+
+def _plain(err: Exception) -> str:
+    """An error's text on one line, without the Python tuples rosbags wraps causes in."""
+    text = " ".join(str(err).split())
+    return re.sub(r"\(\s*(['\"])(.*?)\1,?\s*\)", r"\2", text)
+
+
+#: The first bytes of a ROS 1 bag.
+_ROS1_MAGIC = b"#ROSBAG V2.0"
+
+
+def _remedy(path: Path) -> str:
+    """For a ROS 1 bag whose header is sound: ``rosbag reindex``, which rebuilds the index
+    of a bag whose recording was cut short."""
+    if path.suffix.lower() != ".bag" or not path.is_file():
+        return ""
+    with open(path, "rb") as handle:
+        if handle.read(len(_ROS1_MAGIC)) != _ROS1_MAGIC:
+            return ""
+    return f"; a ROS 1 bag cut short while recording can be repaired with: rosbag reindex {path}"
 
 
 def _choose_topics(path: Path, types: dict[str, str], topics: BagTopics) -> tuple[str, list[str], str | None]:
@@ -343,14 +686,25 @@ def _natural_key(name: str) -> list[tuple[int, int, str]]:
 def _read_streams(reader: Any, topics: Sequence[str]) -> dict[str, _Stream]:
     """A ``_Stream`` per topic of ``topics`` from an open rosbags ``AnyReader``."""
     stamps: dict[str, list[int]] = {topic: [] for topic in topics}
-    fields: dict[str, list[tuple]] = {topic: [] for topic in topics}
+    fields: dict[str, list] = {topic: [] for topic in topics}
+    frames: dict[str, str] = {}
     connections = [connection for connection in reader.connections if connection.topic in stamps]
     for connection, receive_ns, raw in reader.messages(connections=connections):
         message = reader.deserialize(raw, connection.msgtype)
+        topic, kind = connection.topic, connection.msgtype
+        if kind in TF_TYPES:
+            stamps[topic].append(int(receive_ns))
+            fields[topic].append(transforms_of(message, receive_ns))
+            continue
         stamp_ns = int(message.header.stamp.sec) * 1_000_000_000 + int(message.header.stamp.nanosec)
-        stamps[connection.topic].append(stamp_ns or int(receive_ns))
-        fields[connection.topic].append(_FIELDS[connection.msgtype](message))
-    return {topic: _Stream(topic, np.asarray(stamps[topic], dtype=np.int64), fields[topic]) for topic in topics}
+        stamps[topic].append(stamp_ns or int(receive_ns))
+        fields[topic].append(_FIELDS[kind](message))
+        if topic not in frames and kind in _FRAME:
+            frames[topic] = _FRAME[kind](message)
+    return {
+        topic: _Stream(topic, np.asarray(stamps[topic], dtype=np.int64), fields[topic], frames.get(topic, ""))
+        for topic in topics
+    }
 
 
 def _check_time_order(path: Path, topic: str, stamps: np.ndarray, strict: bool) -> None:
@@ -371,21 +725,74 @@ def _seconds(stamp_ns: int) -> str:
     return f"{int(stamp_ns) // 1_000_000_000}.{int(stamp_ns) % 1_000_000_000:09d}"
 
 
-def _laser_readings(path: Path, stream: _Stream, config: AttentionConfig) -> np.ndarray:
-    """``(M, 180)`` model laser ranges (m) of every scan of ``stream``."""
+def _laser_readings(
+    path: Path, stream: _Stream, config: AttentionConfig, mount: LaserMount, options: ScanOptions
+) -> tuple[np.ndarray, list[str]]:
+    """``(M, 180)`` model laser ranges (m) of every scan of ``stream``, placed with ``mount``
+    and masked as ``options`` says; with one line on what the laser covers and one on the
+    self-returns masked (if any)."""
     no_echo = config.laser_max_range_m
-    resamplers: dict[tuple[float, float, int], ScanResampler] = {}
     beams = np.empty((len(stream.fields), LASER_BEAMS))
-    for k, (angle_min, increment, range_min, range_max, ranges) in enumerate(stream.fields):
-        geometry = (angle_min, increment, len(ranges))
-        if geometry not in resamplers:
-            try:
-                resamplers[geometry] = ScanResampler.for_scan(*geometry)
-            except ValueError as err:
-                raise LogFormatError(f"{path}: scan {k} on {stream.topic}: {err}") from None
-        low, high = (range_min, range_max) if range_min < range_max else (0.0, no_echo)
-        beams[k] = resamplers[geometry].resample(ranges_or_no_echo(ranges, low, high, no_echo), no_echo)
-    return beams
+    by_geometry: dict[tuple[float, float, int], list[int]] = {}
+    for k, (angle_min, increment, _, _, ranges) in enumerate(stream.fields):
+        by_geometry.setdefault((angle_min, increment, len(ranges)), []).append(k)
+    notes, self_returns = [], []
+    for geometry, scans in by_geometry.items():
+        angle_min, increment = mount.robot_frame_angles(geometry[0], geometry[1])
+        try:
+            resampler = ScanResampler.for_scan(angle_min, increment, geometry[2])
+        except ValueError as err:
+            raise LogFormatError(f"{path}: scan {scans[0]} on {stream.topic}: {err}") from None
+        ranges = _valid_ranges([stream.fields[k] for k in scans], options.min_range_m, no_echo)
+        bearings = angle_min + np.arange(geometry[2]) * increment
+        hidden = bearings_in_intervals(bearings, options.mask_deg)
+        if not options.keep_self_returns:
+            found = constant_near_beams(ranges) & ~hidden
+            if found.any():
+                self_returns.append(_self_return_note(ranges[:, found], bearings[found], len(scans)))
+            hidden |= found
+        ranges[:, hidden] = no_echo
+        beams[scans] = resampler.resample(ranges, no_echo)
+        notes.append(_coverage_note(resampler, geometry, len(scans)))
+    return beams, [notes[0] if len(notes) == 1 else "; ".join(notes), *self_returns]
+
+
+def _valid_ranges(fields: list[tuple], min_range_m: float, no_echo_m: float) -> np.ndarray:
+    """``(M, N)`` ranges (m) of scans of one geometry; outside each scan's valid interval
+    (its own, or the model's where unset), or nearer than ``min_range_m``, no echo."""
+    _, _, range_min, range_max, _ = zip(*fields)
+    low, high = np.asarray(range_min)[:, None], np.asarray(range_max)[:, None]
+    unset = ~(low < high)
+    low, high = np.where(unset, 0.0, low), np.where(unset, no_echo_m, high)
+    ranges = np.stack([f[4] for f in fields])
+    return ranges_or_no_echo(ranges, np.maximum(low, min_range_m), high, no_echo_m)
+
+
+def _coverage_note(resampler: ScanResampler, geometry: tuple[float, float, int], n_scans: int) -> str:
+    """``laser: 726 beams over 255°, covers 180 of the model's 180 front beams``."""
+    covered = LASER_BEAMS - int(resampler.uncovered.sum())
+    span = abs(geometry[1]) * geometry[2]
+    return (
+        f"laser: {geometry[2]} beams over {np.degrees(span):.0f}° ({n_scans} scans), "
+        f"covering {covered} of the model's {LASER_BEAMS} front beams (-90..90°, robot frame)"
+    )
+
+
+def _self_return_note(near: np.ndarray, bearings_rad: np.ndarray, n_scans: int) -> str:
+    """One line on the self-return beams found: where (deg, robot frame) and how near (m)."""
+    degrees = np.mod(np.degrees(bearings_rad) + 180.0, 360.0) - 180.0
+    runs = np.split(degrees, np.flatnonzero(np.abs(np.diff(degrees)) > _RUN_GAP_DEG) + 1)
+    where = ", ".join(f"{min(run):.1f}..{max(run):.1f}°" for run in runs)
+    valid = near[near < SELF_RETURN_NEAR_M]
+    return (
+        f"self-returns: {len(degrees)} scan beams at {where} (robot frame) hold a constant "
+        f"{valid.min():.2f}-{valid.max():.2f} m echo through all {n_scans} scans, the robot's own structure: "
+        "masked as no echo (--keep-self-returns keeps them)"
+    )
+
+
+#: Self-return beams further apart than this (deg) are listed as separate runs.
+_RUN_GAP_DEG = 2.0
 
 
 def _sonar_readings(
