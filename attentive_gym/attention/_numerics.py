@@ -11,6 +11,8 @@ replace, so every reduction here follows the order of the routine numpy uses:
 - ``interp``, ``interp_sorted``: ``np.interp`` (numpy's ``arr_interp``) at one point, or
   at increasing points.
 - ``fma``: a fused multiply-add (one rounding), as the BLAS kernels use.
+- ``shaped``: ``flat.reshape(shape)`` of a contiguous vector, without numba's general
+  reshape (not a reduction: it only builds a view, far cheaper).
 
 Everything is non-recursive: numba's on-disk cache does not reload recursive functions
 reliably. The cache (``cache=True``, in ``__pycache__``) keys a compiled function on its own
@@ -25,10 +27,12 @@ import math
 
 from llvmlite import ir
 from numba import njit
-from numba.core import types
+from numba.core import cgutils, types
+from numba.core.imputils import impl_ret_borrowed
 from numba.extending import intrinsic
+from numba.np.arrayobj import make_array, populate_array
 
-__all__ = ["fma", "pairwise_sum", "vecmat", "interp", "interp_sorted"]
+__all__ = ["fma", "shaped", "pairwise_sum", "vecmat", "interp", "interp_sorted"]
 
 
 @intrinsic
@@ -42,6 +46,48 @@ def fma(typingctx, a, b, c):
         return builder.call(fn, args)
 
     return sig, codegen
+
+
+@intrinsic
+def shaped(typingctx, flat, shape):
+    """``flat.reshape(shape)`` for a 1-D C-contiguous ``flat`` whose size is the product of
+    ``shape`` (a tuple of ints; the caller guarantees it, nothing checks): a C-contiguous
+    view of the same data and owner.
+
+    numba's ``reshape`` checks the size and calls a C helper for the strides, about 70 ns
+    a call; this builds the view's shape and strides inline (a few ns), which matters to a
+    step that lays out some twenty fields of its state buffers this way.
+    """
+    if not (
+        isinstance(flat, types.Array)
+        and flat.ndim == 1
+        and flat.layout == "C"
+        and isinstance(shape, types.UniTuple)
+        and isinstance(shape.dtype, types.Integer)
+    ):
+        return None
+    ndim = shape.count
+    view_type = flat.copy(ndim=ndim, layout="C")
+
+    def codegen(context, builder, signature, args):
+        source = make_array(flat)(context, builder, args[0])
+        dims = [context.cast(builder, d, shape.dtype, types.intp) for d in cgutils.unpack_tuple(builder, args[1])]
+        strides = [source.itemsize]
+        for d in reversed(dims[1:]):  # C order: each stride the next one times that dimension
+            strides.insert(0, builder.mul(strides[0], d))
+        view = make_array(view_type)(context, builder)
+        populate_array(
+            view,
+            data=source.data,
+            shape=dims,
+            strides=strides,
+            itemsize=source.itemsize,
+            meminfo=source.meminfo,
+            parent=source.parent,
+        )
+        return impl_ret_borrowed(context, builder, view_type, view._getvalue())
+
+    return view_type(flat, shape), codegen
 
 
 @njit(cache=True)

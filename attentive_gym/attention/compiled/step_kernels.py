@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from attentive_gym.attention._numerics import interp, pairwise_sum, vecmat
+from attentive_gym.attention._numerics import interp, pairwise_sum, shaped, vecmat
 from attentive_gym.attention.attentional_map import (
     add_course,
     bottom_up_running,
@@ -818,13 +818,13 @@ def _flat(buffer, table, k):
 @njit(cache=True)
 def _two(buffer, table, k):
     """Field ``k`` in ``buffer``, as its 2-D array."""
-    return _flat(buffer, table, k).reshape((table[k, DIMS], table[k, DIMS + 1]))
+    return shaped(_flat(buffer, table, k), (table[k, DIMS], table[k, DIMS + 1]))
 
 
 @njit(cache=True)
 def _three(buffer, table, k):
     """Field ``k`` in ``buffer``, as its 3-D array."""
-    return _flat(buffer, table, k).reshape((table[k, DIMS], table[k, DIMS + 1], table[k, DIMS + 2]))
+    return shaped(_flat(buffer, table, k), (table[k, DIMS], table[k, DIMS + 1], table[k, DIMS + 2]))
 
 
 @njit(cache=True)
