@@ -82,6 +82,27 @@ def test_clutter_section_reports_each_distractor_count(tmp_path, monkeypatch, ca
     assert path.read_text().splitlines()[1].endswith(",1")  # the distractor count, last column
 
 
+def test_motion_section_reports_each_scene_noise_and_robot(tmp_path, capsys):
+    results = bench.Results()
+    bench.print_motion(results, ["tracker"], episodes=1, seconds=1.0)
+    configs = {(row["scene"], row["noise"], row["robot"]) for row in results.rows}
+    assert configs == {
+        (scene, noise, robot)
+        for scene in ("stop-and-go", "along-structure")
+        for noise in bench.MOTION_NOISE
+        for robot in bench.ROBOT_MODES
+    }
+    for row in results.rows:
+        assert row["section"] == "motion" and row["mode"] == "tracker"
+        if row["metric"] in ("false_label_steps", "false_in_band_steps"):
+            assert 0.0 <= row["value"] <= 1.0
+    table = capsys.readouterr().out
+    assert "| stop-and-go | gauss 0 | still | tracker |" in table
+    path = tmp_path / "motion.csv"
+    bench.write_csv(path, results.rows)
+    assert path.read_text().splitlines()[1].endswith(",stop-and-go")  # the scene, last column
+
+
 def test_cost_times_the_compiled_step_inside_the_model_step():
     readings, goal = bench.record_readings(0.5)
     model = bench.AttentionModel(bench.AttentionConfig(range_noise_rel=0.05))
