@@ -221,6 +221,15 @@ def test_runs_need_enough_beams_and_a_combined_score():
     assert np.flatnonzero(flags).tolist() == [4, 5, 6]
 
 
+def test_segment_evidence_is_the_share_of_each_segments_flagged_beams():
+    flags = np.zeros(10, np.bool_)
+    flags[2:5] = True
+    bounds = np.array([[0, 2], [2, 6], [6, 10], [0, 0]], np.int64)
+    shares = np.full(4, -1.0)
+    free_space.segment_evidence(flags, bounds, 3, shares)
+    assert shares.tolist() == [0.0, 0.75, 0.0, -1.0]  # the fourth row is not a segment
+
+
 def test_bad_parameters_are_refused():
     with pytest.raises(ValueError, match="step_rad > 0"):
         free_space.evidence_parameters(FIRST, 0.0, 19.0, 0.05, 0.01, 0.05, 0.1)

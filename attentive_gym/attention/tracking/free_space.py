@@ -23,6 +23,7 @@ laser's pose at its time, so the robot's own motion is compensated by the poses.
   the current scan sees past it. It is a test per body, not per beam: a beam that now
   passes a body's old place may end on the body itself (it moved away along the beam) or
   on the background behind it, and one beam cannot tell which.
+- ``segment_evidence``: the share of each scan segment's beams with moving evidence.
 
 Units: seconds, metres, radians. Beam ``j`` of an ``n``-beam scan spans the bearings
 ``first + j·step`` to ``first + (j + 1)·step`` (rad, laser frame, counter-clockwise from
@@ -47,6 +48,7 @@ __all__ = [
     "evidence_runs",
     "scan_evidence",
     "seen_through",
+    "segment_evidence",
 ]
 
 #: Slots of ``ScanHistory.counters``: the row the next scan goes to, and how many are stored.
@@ -262,3 +264,16 @@ def seen_through(x, y, ranges, pose, params):
     rho = math.sqrt(dx * dx + dy * dy)
     phi = (math.atan2(dy, dx) - pose[2] + math.pi) % (2.0 * math.pi) - math.pi
     return _free_score(rho, int(math.floor((phi - first) / step)), ranges, params)
+
+
+@njit(cache=True)
+def segment_evidence(flags, bounds, count, shares):
+    """The share of each segment's beams with moving evidence: ``shares[m]`` for the ``count``
+    segments whose beams are ``bounds[m, 0] <= b < bounds[m, 1]`` (``segmentation``'s
+    ``(B, 2)`` bounds), from the flags ``(n,)`` of ``evidence_runs``."""
+    for m in range(count):
+        start, stop = bounds[m, 0], bounds[m, 1]
+        flagged = 0
+        for b in range(start, stop):
+            flagged += flags[b]
+        shares[m] = flagged / max(stop - start, 1)
