@@ -176,7 +176,9 @@ def replay_log(log: SensorLog, model: AttentionModel, recorder: TraceRecorder | 
     """Reset ``model`` and step it over every reading of ``log``; returns the recorded trace.
 
     Odometry columns, when the log has them, are passed to ``step`` for ego-motion
-    compensation; goals, weights and state set on ``model`` beforehand are kept.
+    compensation; goals, weights and state set on ``model`` beforehand are kept. With the
+    tracker, the trace records the robot's dead-reckoned pose at each step
+    (``AttentionModel.odometry_pose``).
     """
     recorder = TraceRecorder(model.config) if recorder is None else recorder
     model.reset()
@@ -184,7 +186,7 @@ def replay_log(log: SensorLog, model: AttentionModel, recorder: TraceRecorder | 
     for k in range(log.t.shape[0]):
         sonar, laser = log.sonar[k], log.laser[k]
         output = model.step(float(log.t[k]), sonar, laser, None if odometry is None else odometry[k])
-        recorder.append(output, sonar, laser)
+        recorder.append(output, sonar, laser, model.odometry_pose)
     return recorder.to_trace()
 
 

@@ -5,8 +5,9 @@
 - ``ScanOptions`` / ``parse_scan_options``: the laser's mount, minimum range and masks,
   from the command line's flags.
 - ``open_bag``: the bag's laser, sonars and odometry on one time base, with the mount
-  used and one line per assumption, drop or finding for the user (``BagReplay``);
-  ``read_bag``: its readings alone.
+  and laser range used, the model's configuration for them, the scans at their own
+  resolution (``RawScans``) and one line per assumption, drop or finding for the user
+  (``BagReplay``); ``read_bag``: its readings alone.
 
 Bags: ROS 1 ``.bag`` files; ROS 2 bag folders (``metadata.yaml`` beside ``.db3`` or
 ``.mcap`` storage files) or one storage file itself (its folder is opened when it holds
@@ -49,14 +50,17 @@ No echo: NaN, ±inf, a range below the message's ``range_min``/``min_range`` or 
 above its ``range_max``/``max_range`` (or beyond the model's maximum range), and a model
 beam outside the scan read the model's maximum range (``AttentionConfig.laser_max_range_m``,
 ``sonar_max_range_m``), as the env's sensors do. A message whose limits are unset
-(minimum >= maximum) is checked against the model's limits instead.
+(minimum >= maximum) is checked against the model's limits instead. With
+``open_bag(..., sensor_range=True)`` the laser's no echo is the sensor's own range instead:
+the scans' ``range_max`` where it is shorter than the configuration's (a 5.6 m Hokuyo reads
+5.6 m, not 20 m), and ``BagReplay.config`` carries it to the model.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -95,6 +99,7 @@ __all__ = [
     "BagTopics",
     "ScanOptions",
     "BagReplay",
+    "RawScans",
     "is_bag_path",
     "parse_bag_topics",
     "parse_scan_options",
@@ -314,6 +319,22 @@ def is_bag_path(path: str | Path) -> bool:
 
 
 @dataclass(frozen=True, eq=False)
+class RawScans:
+    """The kept scans at the laser's own resolution (not resampled), masked as the model's
+    readings are: what the scans alone say, for checks independent of the model.
+
+    Attributes:
+        bearings_rad: ``(N,)`` robot-frame bearing of each scan beam (rad, counter-clockwise
+            from the heading, seen from the laser's origin, wrapped to [-π, π)).
+        ranges_m: ``(T, N)`` ranges (m) of the log's T scans; no echo, masked beams and
+            self-returns read the log's no-echo range.
+    """
+
+    bearings_rad: np.ndarray
+    ranges_m: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class BagReplay:
     """A bag read for the model: its readings, the laser mount used, and what the user should know.
 
@@ -322,12 +343,20 @@ class BagReplay:
         mount: the laser's mount the scans were placed with (its x, y belong in the
             model's ``AttentionConfig``: the tracker places echoes from there).
         notes: one line each: the topics used with their rates and drops, the mount and
-            its source, masked beams, and the odometry's source or absence.
+            its source, masked beams, a laser range shorter than the model's, and the
+            odometry's source or absence.
+        config: the configuration the readings are for: the one given with this mount
+            and the laser's no-echo range (``laser_max_range_m``) they were read with;
+            build the model from it.
+        raw: the scans at their own resolution (``RawScans``), None where the bag's scans
+            change geometry (angle_min, angle_increment or beam count) along the way.
     """
 
     log: SensorLog
     mount: LaserMount
     notes: tuple[str, ...]
+    config: AttentionConfig
+    raw: RawScans | None
 
 
 def read_bag(
@@ -345,6 +374,7 @@ def open_bag(
     topics: BagTopics | None = None,
     config: AttentionConfig | None = None,
     options: ScanOptions | None = None,
+    sensor_range: bool = False,
 ) -> BagReplay:
     """A bag's readings as the model's (message handling in the module docstring).
 
@@ -355,6 +385,10 @@ def open_bag(
             sonar range and cone width turn the laser into sonars, its mount applies
             where neither ``options`` nor TF gives one (default ``AttentionConfig()``).
         options: the laser's mount, minimum range and masks (default ``ScanOptions()``).
+        sensor_range: the laser's no echo is the scans' ``range_max`` where it is shorter
+            than ``config.laser_max_range_m`` (the sensor as it is: a 5.6 m Hokuyo's no
+            echo reads 5.6 m); False: the configuration's. ``BagReplay.config`` holds the
+            range used either way.
 
     Returns:
         The ``BagReplay``: its log has sonar ``(T, 16)`` with 16 Range topics and no
@@ -401,7 +435,9 @@ def open_bag(
             "the sonars and odometry are read at the scans' stamps"
         )
     stamps = scan_stamps[keep]
-    laser, laser_notes = _laser_readings(path, streams[laser_topic], config, mount, options)
+    sensor_max_m = _scan_range_max(streams[laser_topic])
+    no_echo = min(sensor_max_m, config.laser_max_range_m) if sensor_range else config.laser_max_range_m
+    laser, raw, laser_notes = _laser_readings(path, streams[laser_topic], no_echo, mount, options)
     laser = laser[keep]
     sonar = _sonar_readings(
         [streams[topic] for topic in sonar_topics], topics.sonar_bearings_deg, stamps, laser, config
@@ -418,9 +454,19 @@ def open_bag(
         _summary(streams, laser_topic, sonar_topics, odometry_topic, tf_odometry, dropped, log),
         f"laser mount: {mount.describe()} ({mount_source})",
         *laser_notes,
-        *_odometry_notes(log, odometry_topic, tf_odometry, config),
+        *_range_notes(sensor_max_m, no_echo, config),
+        *_odometry_notes(log, odometry_topic, tf_odometry, no_echo),
     )
-    return BagReplay(log, mount, notes)
+    model_config = replace(
+        config,
+        laser_mount_x_m=mount.x_m,
+        laser_mount_y_m=mount.y_m,
+        laser_mount_yaw_deg=mount.yaw_deg,
+        laser_upside_down=mount.upside_down,
+        laser_max_range_m=no_echo,
+    )
+    raw = None if raw is None else RawScans(raw.bearings_rad, raw.ranges_m[keep])
+    return BagReplay(log, mount, notes, model_config, raw)
 
 
 def _topics_hold_no_message(topics: list[str]) -> str:
@@ -501,8 +547,31 @@ def _summary(
 _MOVING_SHARE = 0.2
 
 
+def _scan_range_max(stream: _Stream) -> float:
+    """The laser's range (m): the largest ``range_max`` its scans give (rounded to the
+    millimetre: drivers store 5.6 m as float32), inf where none sets one (``range_max <= range_min``)."""
+    limits = [range_max for _, _, range_min, range_max, _ in stream.fields if range_min < range_max]
+    return round(max(limits), 3) if limits else float("inf")
+
+
+def _range_notes(sensor_max_m: float, no_echo_m: float, config: AttentionConfig) -> list[str]:
+    """One line where the laser's range is shorter than the configuration's: which no echo
+    the readings use (nothing to say for a longer or unset one)."""
+    if not sensor_max_m < config.laser_max_range_m:
+        return []
+    if no_echo_m == sensor_max_m:
+        return [
+            f"laser range: {sensor_max_m:g} m (the scans' range_max): no echo reads {sensor_max_m:g} m, "
+            f"not the configuration's {config.laser_max_range_m:g} m"
+        ]
+    return [
+        f"laser range: the scans' range_max is {sensor_max_m:g} m; no echo reads the configuration's "
+        f"{config.laser_max_range_m:g} m (laser_max_range_m)"
+    ]
+
+
 def _odometry_notes(
-    log: SensorLog, odometry_topic: str | None, tf_odometry: OdometryPoses | None, config: AttentionConfig
+    log: SensorLog, odometry_topic: str | None, tf_odometry: OdometryPoses | None, no_echo_m: float
 ) -> list[str]:
     """Without odometry: that a standing robot is assumed, and whether the scans say otherwise."""
     if odometry_topic is not None or tf_odometry is not None:
@@ -511,7 +580,7 @@ def _odometry_notes(
         "no odometry (no nav_msgs/Odometry topic, no TF odom -> base): a standing robot is assumed, so any "
         "motion of the robot itself reads as motion of everything it sees"
     ]
-    share = share_of_scans_changing_together(log.laser, log.t, config.laser_max_range_m)
+    share = share_of_scans_changing_together(log.laser, log.t, no_echo_m)
     if share >= _MOVING_SHARE:
         notes.append(
             f"the robot seems to move: most beams change together in {share:.0%} of the scans (over 1 s); "
@@ -726,13 +795,14 @@ def _seconds(stamp_ns: int) -> str:
 
 
 def _laser_readings(
-    path: Path, stream: _Stream, config: AttentionConfig, mount: LaserMount, options: ScanOptions
-) -> tuple[np.ndarray, list[str]]:
+    path: Path, stream: _Stream, no_echo: float, mount: LaserMount, options: ScanOptions
+) -> tuple[np.ndarray, RawScans | None, list[str]]:
     """``(M, 180)`` model laser ranges (m) of every scan of ``stream``, placed with ``mount``
-    and masked as ``options`` says; with one line on what the laser covers and one on the
-    self-returns masked (if any)."""
-    no_echo = config.laser_max_range_m
+    and masked as ``options`` says (no echo: ``no_echo`` m); the M scans at their own
+    resolution where they share one geometry (else None); one line on what the laser covers
+    and one on the self-returns masked (if any)."""
     beams = np.empty((len(stream.fields), LASER_BEAMS))
+    raw = None
     by_geometry: dict[tuple[float, float, int], list[int]] = {}
     for k, (angle_min, increment, _, _, ranges) in enumerate(stream.fields):
         by_geometry.setdefault((angle_min, increment, len(ranges)), []).append(k)
@@ -754,7 +824,9 @@ def _laser_readings(
         ranges[:, hidden] = no_echo
         beams[scans] = resampler.resample(ranges, no_echo)
         notes.append(_coverage_note(resampler, geometry, len(scans)))
-    return beams, [notes[0] if len(notes) == 1 else "; ".join(notes), *self_returns]
+        if len(by_geometry) == 1:
+            raw = RawScans(np.mod(bearings + np.pi, 2.0 * np.pi) - np.pi, ranges)
+    return beams, raw, [notes[0] if len(notes) == 1 else "; ".join(notes), *self_returns]
 
 
 def _valid_ranges(fields: list[tuple], min_range_m: float, no_echo_m: float) -> np.ndarray:

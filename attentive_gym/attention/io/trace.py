@@ -35,6 +35,16 @@ and, within a step, in the table's order; ``Trace.tracks_at(step)`` gives one st
 rows. Files written before the tracks were recorded have none of these arrays and load
 with no tracks; a file with only some of them is refused.
 
+The robot's dead-reckoned pose (``AttentionModel.odometry_pose``, the frame the tracks
+live in) is recorded where the recorder is given it (``replay.replay_log`` does, with the
+tracker); files without it load with ``pose`` None.
+
+==============  ============  ===============================================
+name            shape, dtype  meaning
+==============  ============  ===============================================
+``pose``        (T, 3) float  x, y (m) and heading (rad) in the odometry frame
+==============  ============  ===============================================
+
 ============================  ================  =====================================
 name                          shape, dtype      meaning (``TrackTable`` field)
 ============================  ================  =====================================
@@ -68,7 +78,7 @@ from attentive_gym.attention.model import ORIGIN_CODES, AttentionOutput
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS
 from attentive_gym.attention.tracking.tracker import TrackTable
 
-__all__ = ["Trace", "TraceRecorder", "load_trace", "save_trace", "TRACE_ARRAYS", "TRACK_ARRAYS"]
+__all__ = ["Trace", "TraceRecorder", "load_trace", "save_trace", "TRACE_ARRAYS", "TRACK_ARRAYS", "POSE_ARRAY"]
 
 #: Per-step arrays of a trace file (every file has them), in the order of the format table.
 TRACE_ARRAYS: tuple[str, ...] = ("t", "O1", "O2", "F", "C", "C_BU", "C_TD", "M", "L", "focus", "fired", "origin")
@@ -89,6 +99,8 @@ _TRACK_COLUMNS: tuple[tuple[str, tuple[int, ...], type], ...] = (
 #: Track arrays of a trace file (files from before the tracker have none), in the order
 #: of the format table.
 TRACK_ARRAYS: tuple[str, ...] = ("track_step", *(f"track_{name}" for name, _, _ in _TRACK_COLUMNS))
+#: The optional array of the robot's pose per step.
+POSE_ARRAY = "pose"
 
 
 def _no_tracks() -> dict[str, np.ndarray]:
@@ -111,6 +123,8 @@ class Trace:
         config: the configuration as a plain dict (``AttentionConfig.to_dict()``).
         track_step, track_id, …: the tracks of every step, flat (``TRACK_ARRAYS``);
             empty by default. ``tracks_at(step)`` reads one step's back.
+        pose: ``(T, 3)`` the robot's dead-reckoned pose at each step (x m, y m, heading
+            rad; odometry frame), or None where it was not recorded.
     """
 
     t: np.ndarray
@@ -136,6 +150,7 @@ class Trace:
     track_age_s: np.ndarray = _track_field("track_age_s")
     track_confirmed: np.ndarray = _track_field("track_confirmed")
     track_region: np.ndarray = _track_field("track_region")
+    pose: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def n_steps(self) -> int:
@@ -153,8 +168,11 @@ class Trace:
         return int(self.track_step.shape[0])
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """The arrays by name: ``TRACE_ARRAYS``, then ``TRACK_ARRAYS``."""
-        return {name: getattr(self, name) for name in (*TRACE_ARRAYS, *TRACK_ARRAYS)}
+        """The arrays by name: ``TRACE_ARRAYS``, then ``TRACK_ARRAYS``, then ``pose`` where recorded."""
+        arrays = {name: getattr(self, name) for name in (*TRACE_ARRAYS, *TRACK_ARRAYS)}
+        if self.pose is not None:
+            arrays[POSE_ARRAY] = self.pose
+        return arrays
 
     def tracks_at(self, step: int) -> TrackTable:
         """The tracks of step ``step`` (0 ≤ step < T; negative counts from the end), as
@@ -194,15 +212,22 @@ class TraceRecorder:
 
     def __init__(self, config: AttentionConfig) -> None:
         self.config = config
-        self._rows: dict[str, list] = {name: [] for name in (*TRACE_ARRAYS, *TRACK_ARRAYS)}
+        self._rows: dict[str, list] = {name: [] for name in (*TRACE_ARRAYS, *TRACK_ARRAYS, POSE_ARRAY)}
 
     def __len__(self) -> int:
         return len(self._rows["t"])
 
-    def append(self, output: AttentionOutput, sonar, laser) -> None:
+    def append(self, output: AttentionOutput, sonar, laser, pose=None) -> None:
         """Record one step: its output (tracks included) and the readings given to ``step``
-        (front 8 sonars kept)."""
+        (front 8 sonars kept), and the robot's pose after it (``(3,)`` x m, y m, heading
+        rad: ``AttentionModel.odometry_pose``) where given.
+
+        Raises:
+            ValueError: for a pose given at some steps and not at others.
+        """
         rows = self._rows
+        if len(self) and (pose is None) != (rows[POSE_ARRAY][0] is None):
+            raise ValueError("give the robot's pose at every step of a trace or at none")
         tracks = output.tracks
         rows["track_step"].append(np.full(len(tracks), len(self), np.int64))
         for name, _, _ in _TRACK_COLUMNS:
@@ -215,6 +240,7 @@ class TraceRecorder:
         rows["focus"].append(-1 if output.focus is None else output.focus)
         rows["fired"].append(output.fired)
         rows["origin"].append(ORIGIN_CODES[output.origin])
+        rows[POSE_ARRAY].append(None if pose is None else np.asarray(pose, dtype=float).reshape(3))
 
     def to_trace(self) -> Trace:
         """The recorded steps as a ``Trace``."""
@@ -236,7 +262,8 @@ class TraceRecorder:
                 for name, shape, dtype in _TRACK_COLUMNS
             },
         }
-        return Trace(**arrays, config=self.config.to_dict())
+        pose = None if rows[POSE_ARRAY][0] is None else np.stack(rows[POSE_ARRAY])
+        return Trace(**arrays, config=self.config.to_dict(), pose=pose)
 
     def save(self, path: str | os.PathLike) -> Path:
         """Write the trace to ``path`` (``.npz``) atomically; returns the path."""
@@ -277,6 +304,7 @@ def load_trace(path: str | os.PathLike) -> Trace:
                 f"{path}: has track arrays {present} but not {absent}; a trace has all of {list(TRACK_ARRAYS)} or none"
             )
         arrays.update({name: data[name] for name in present} if present else _no_tracks())
+        pose = data[POSE_ARRAY] if POSE_ARRAY in data.files else None
         config = json.loads(str(data["config_json"]))
     n = arrays["t"].shape[0]
     n_regions = arrays["C"].shape[-1] if arrays["C"].ndim == 2 else -1
@@ -293,6 +321,9 @@ def load_trace(path: str | os.PathLike) -> Trace:
     n_rows = arrays["track_step"].shape[0] if arrays["track_step"].ndim == 1 else -1
     expected["track_step"] = (n_rows,)
     expected.update({f"track_{name}": (n_rows, *shape) for name, shape, _ in _TRACK_COLUMNS})
+    if pose is not None:
+        arrays[POSE_ARRAY] = pose
+        expected[POSE_ARRAY] = (n, 3)
     for name, shape in expected.items():
         if arrays[name].shape != shape:
             raise ValueError(f"{path}: array {name} has shape {arrays[name].shape}, expected {shape}")
