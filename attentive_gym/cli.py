@@ -188,24 +188,16 @@ def _run_attend(args: argparse.Namespace) -> int:
 
 
 def _open_bag(path: Path, topics, config, scan_options):
-    """A bag's log and the model's configuration with the laser mount it was read with;
-    prints the reader's notes (topics, rates, drops, mount, masks, odometry), one per line."""
-    import dataclasses
-
+    """A bag's log and the model's configuration with the laser mount and range it was read
+    with (no echo at the scans' ``range_max`` where that is shorter than the configured
+    range); prints the reader's notes (topics, rates, drops, mount, range, masks, odometry),
+    one per line."""
     from attentive_gym.attention.io.rosbag import open_bag
 
-    replay = open_bag(path, topics, config, scan_options)
+    replay = open_bag(path, topics, config, scan_options, sensor_range=True)
     for note in replay.notes:
         print(note)
-    mount = replay.mount
-    config = dataclasses.replace(
-        config,
-        laser_mount_x_m=mount.x_m,
-        laser_mount_y_m=mount.y_m,
-        laser_mount_yaw_deg=mount.yaw_deg,
-        laser_upside_down=mount.upside_down,
-    )
-    return replay.log, config
+    return replay.log, replay.config
 
 
 def _parse_state_arg(text: str) -> str | float:
