@@ -230,6 +230,44 @@ def test_segment_evidence_is_the_share_of_each_segments_flagged_beams():
     assert shares.tolist() == [0.0, 0.75, 0.0, -1.0]  # the fourth row is not a segment
 
 
+def _tracks(count: int):
+    """Tracker arrays of ``count`` live tracks, each matched to segment k this scan."""
+    return {
+        "segment_of": np.arange(count, dtype=np.int64),
+        "static_x": np.zeros((count, 2)),
+        "alive": np.ones(count, np.bool_),
+        "born_s": np.zeros(count),
+        "p_moving": np.full(count, 0.5),
+    }
+
+
+def test_weigh_motion_raises_tracks_with_evidence_and_lowers_those_without():
+    weights = free_space.motion_weights(0.3, 4.0, 0.9, 2.0, -0.5, 1e-3)
+    ranges = np.full(BEAMS, 10.0)  # a wall 10 m ahead everywhere
+    tracks = _tracks(4)
+    tracks["static_x"][:] = (20.0, 0.0)  # behind the wall: never seen through
+    tracks["static_x"][2] = (3.0, 0.0)  # where the scan now passes freely: the body left
+    tracks["born_s"][3] = 1.0  # born this scan
+    shares = np.array([0.5, 0.0, 0.0, 0.5])
+    free_space.weigh_motion(1.0, shares, ranges, np.zeros(3), parameters(), weights, **tracks)
+    p = tracks["p_moving"]
+    logistic = 1.0 / (1.0 + np.exp(-np.array([2.0, -0.5])))
+    assert p[0] == pytest.approx(logistic[0])  # its segment's beams show evidence
+    assert p[1] == pytest.approx(logistic[1])  # no evidence
+    assert p[2] == pytest.approx(logistic[0])  # its static place is seen through
+    assert p[3] == 0.9  # born moving
+
+
+def test_weigh_motion_leaves_unmatched_and_dead_tracks_and_keeps_the_floor():
+    weights = free_space.motion_weights(0.3, 4.0, 0.9, 2.0, -50.0, 1e-3)
+    tracks = _tracks(3)
+    tracks["static_x"][:] = (20.0, 0.0)
+    tracks["segment_of"][1] = -1  # not matched this scan
+    tracks["alive"][2] = False
+    free_space.weigh_motion(1.0, np.zeros(3), np.full(BEAMS, 10.0), np.zeros(3), parameters(), weights, **tracks)
+    assert tracks["p_moving"].tolist() == [1e-3, 0.5, 0.5]
+
+
 def test_bad_parameters_are_refused():
     with pytest.raises(ValueError, match="step_rad > 0"):
         free_space.evidence_parameters(FIRST, 0.0, 19.0, 0.05, 0.01, 0.05, 0.1)
@@ -237,3 +275,5 @@ def test_bad_parameters_are_refused():
         free_space.evidence_parameters(FIRST, STEP, 19.0, math.nan, 0.01, 0.05, 0.1)
     with pytest.raises(ValueError, match="capacity"):
         free_space.ScanHistory.empty(0, BEAMS)
+    with pytest.raises(ValueError, match="none_log_odds <= 0"):
+        free_space.motion_weights(0.3, 4.0, 0.9, 2.0, 0.5, 1e-3)

@@ -24,6 +24,8 @@ laser's pose at its time, so the robot's own motion is compensated by the poses.
   passes a body's old place may end on the body itself (it moved away along the beam) or
   on the background behind it, and one beam cannot tell which.
 - ``segment_evidence``: the share of each scan segment's beams with moving evidence.
+- ``weigh_motion``: the tracker's probabilities of moving weighed by the evidence: tracks
+  born moving, and the log-odds of matched tracks raised with evidence and lowered without.
 
 Units: seconds, metres, radians. Beam ``j`` of an ``n``-beam scan spans the bearings
 ``first + j·step`` to ``first + (j + 1)·step`` (rad, laser frame, counter-clockwise from
@@ -49,6 +51,8 @@ __all__ = [
     "scan_evidence",
     "seen_through",
     "segment_evidence",
+    "motion_weights",
+    "weigh_motion",
 ]
 
 #: Slots of ``ScanHistory.counters``: the row the next scan goes to, and how many are stored.
@@ -112,6 +116,41 @@ class ScanHistory:
     def clear(self) -> None:
         """Forget every stored scan."""
         self.counters[:] = 0
+
+
+def motion_weights(
+    min_share: float,
+    vacated_sigmas: float,
+    born_moving: float,
+    evidence_log_odds: float,
+    none_log_odds: float,
+    floor: float,
+) -> np.ndarray:
+    """The weight vector ``(6,)`` of ``weigh_motion``.
+
+    Args:
+        min_share: the share of a segment's beams with evidence that makes it evidence, in (0, 1].
+        vacated_sigmas: how far (σ) a scan must see past a track's static place, > 0.
+        born_moving: a track born with evidence starts with this probability of moving, in (0, 1).
+        evidence_log_odds: the log-odds a matched track gains with evidence, >= 0.
+        none_log_odds: the log-odds it gains without, <= 0.
+        floor: probabilities stay within ``[floor, 1 - floor]``, in (0, 0.5).
+    """
+    values = (min_share, vacated_sigmas, born_moving, evidence_log_odds, none_log_odds, floor)
+    if not (
+        all(math.isfinite(v) for v in values)
+        and 0.0 < min_share <= 1.0
+        and vacated_sigmas > 0.0
+        and 0.0 < born_moving < 1.0
+        and evidence_log_odds >= 0.0
+        and none_log_odds <= 0.0
+        and 0.0 < floor < 0.5
+    ):
+        raise ValueError(
+            "motion weights need min_share in (0, 1], vacated_sigmas > 0, born_moving in (0, 1), "
+            f"evidence_log_odds >= 0, none_log_odds <= 0 and floor in (0, 0.5); got {values}"
+        )
+    return np.array(values, np.float64)
 
 
 @njit(cache=True)
@@ -277,3 +316,40 @@ def segment_evidence(flags, bounds, count, shares):
         for b in range(start, stop):
             flagged += flags[b]
         shares[m] = flagged / max(stop - start, 1)
+
+
+@njit(cache=True)
+def weigh_motion(t_s, shares, ranges, pose, params, weights, segment_of, static_x, alive, born_s, p_moving):
+    """Weigh each track's probability of moving ``p_moving`` ``(K,)`` by the scan's free-space
+    evidence, in place, after the tracker's own update of the scan at ``t_s`` (s).
+
+    A track matched to a segment this scan (``segment_of[k] >= 0``) has evidence when at least
+    ``weights[0]`` of the segment's beams have it (``shares``, ``segment_evidence``), or when
+    the scan ``ranges`` (taken from the laser pose ``pose``) sees through its static
+    hypothesis' place ``static_x[k]`` by at least ``weights[1]`` σ (``seen_through``: the body
+    left the place where it would stand). A track born this scan (``born_s[k] == t_s``) with
+    evidence starts at probability ``weights[2]`` (born moving); an older one's log-odds gain
+    ``weights[3]`` with evidence and ``weights[4]`` (≤ 0) without. Probabilities stay within
+    ``[weights[5], 1 − weights[5]]``.
+
+    Args:
+        params: ``(7,)`` ``evidence_parameters``.
+        weights: ``(6,)`` as above (``motion_weights``).
+        segment_of, static_x, alive, born_s: the tracker's ``(K,)``, ``(K, 2)`` (odometry frame,
+            m), ``(K,)`` and ``(K,)`` (s) arrays.
+    """
+    floor = weights[5]
+    for k in range(alive.shape[0]):
+        m = segment_of[k]
+        if not alive[k] or m < 0:
+            continue
+        evidence = (
+            shares[m] >= weights[0] or seen_through(static_x[k, 0], static_x[k, 1], ranges, pose, params) >= weights[1]
+        )
+        if born_s[k] == t_s:
+            if evidence:
+                p_moving[k] = weights[2]
+            continue
+        p = p_moving[k]
+        odds = math.log(p / (1.0 - p)) + (weights[3] if evidence else weights[4])
+        p_moving[k] = min(max(1.0 / (1.0 + math.exp(-odds)), floor), 1.0 - floor)
