@@ -19,6 +19,10 @@ reliably. The cache (``cache=True``, in ``__pycache__``) keys a compiled functio
 source file only, so a kernel elsewhere that calls a function of this module would keep its
 cached copy after this file changes; ``attentive_gym._kernel_cache`` discards the package's
 cached kernels at import whenever the source they depend on changed.
+
+Small kernels that the model's step calls in its loops are compiled ``inline="always"``:
+inlined into their caller, the views of per-track rows (or the arrays) they take need no
+reference counting, two atomic operations per array and call otherwise.
 """
 
 from __future__ import annotations
@@ -174,7 +178,7 @@ def vecmat(w, A, out):
             out[n] = out[n] + w0 * A[k, n]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def interp(x, xp, fp):
     """``np.interp(x, xp, fp)`` for a scalar x and non-decreasing ``xp`` (len >= 2); the
     arithmetic of ``interp_sorted``, the interval found by bisection."""

@@ -13,6 +13,10 @@ Process noise is the continuous white-noise acceleration model: spectral density
 (m²/s³) per axis gives ``Q = q [[dt³/3, dt²/2], [dt²/2, dt]]`` over ``dt`` seconds.
 Updates use the Joseph form, so covariances stay symmetric and positive definite.
 Every kernel works in place on the arrays it is given.
+
+Small kernels that the model's step calls in its loops are compiled ``inline="always"``:
+inlined into their caller, the views of per-track rows (or the arrays) they take need no
+reference counting, two atomic operations per array and call otherwise.
 """
 
 from __future__ import annotations
@@ -38,7 +42,7 @@ __all__ = [
 _LOG_2PI = math.log(2.0 * math.pi)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cv_predict(x, P, dt_s, q):
     """Predict a constant-velocity state ``x`` ``(4,)`` and covariance ``P`` ``(4, 4)``
     over ``dt_s`` seconds with acceleration spectral density ``q`` (m²/s³), in place."""
@@ -75,7 +79,7 @@ def gaussian_log_likelihood_2d(y0, y1, s00, s01, s11):
     return -0.5 * (d2 + math.log(det)) - _LOG_2PI
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _joseph_update(x, P, z0, z1, R):
     """Update a state whose first two entries are the measured position, in place.
 
@@ -114,13 +118,13 @@ def _joseph_update(x, P, z0, z1, R):
     return log_likelihood
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _gain_complement(scratch, i, k):
     """Entry ``(i, k)`` of ``A = I − K H`` (``H = [I 0]``), K in ``scratch[:, :2]``."""
     return (1.0 if i == k else 0.0) - (scratch[i, 0] if k == 0 else (scratch[i, 1] if k == 1 else 0.0))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _joseph_entry(scratch, R, i, j):
     """Entry ``(i, j)`` of ``(A P) Aᵀ + K R Kᵀ``, ``A P`` in ``scratch[:, 2:]`` and K in ``scratch[:, :2]``."""
     total = 0.0
@@ -130,14 +134,14 @@ def _joseph_entry(scratch, R, i, j):
     return total + (k_i0 * (R[0, 0] * k_j0 + R[0, 1] * k_j1) + k_i1 * (R[1, 0] * k_j0 + R[1, 1] * k_j1))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cv_update(x, P, z0, z1, R):
     """Update a constant-velocity track with a position measurement ``z`` (m), covariance
     ``R`` ``(2, 2)`` (m²), in place; returns the innovation's log-likelihood."""
     return _joseph_update(x, P, z0, z1, R)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def static_predict(x, P, dt_s, drift_m2ps):
     """Predict a static track: the position stays, its variance grows by ``drift · dt``
     (``drift_m2ps`` in m²/s: how fast the visible surface may wander), in place."""
@@ -145,7 +149,7 @@ def static_predict(x, P, dt_s, drift_m2ps):
     P[1, 1] += drift_m2ps * dt_s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def static_update(x, P, z0, z1, R):
     """Update a static track's position ``x`` ``(2,)`` with ``z`` (m), covariance ``R``,
     in place; returns the innovation's log-likelihood."""
@@ -170,7 +174,7 @@ def motion_probability(p_moving, log_l_moving, log_l_static, switch_probability,
     return min(max(posterior, floor), 1.0 - floor)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rate_predict(x, P, dt_s, q):
     """Predict a sonar's ``(r, ṙ)`` state and covariance over ``dt_s`` (s), in place."""
     dt = dt_s
@@ -181,7 +185,7 @@ def rate_predict(x, P, dt_s, q):
     P[1, 1] += q * dt
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rate_update(x, P, z, r_var):
     """Update a sonar's ``(r, ṙ)`` state with a range ``z`` (m) of variance ``r_var`` (m²), in place."""
     s = P[0, 0] + r_var

@@ -15,6 +15,10 @@
 - Column layout of the measurement table: ``SEGMENT_FIELDS``.
 
 Robot frame: x forward, y left (m); beam bearings (rad) increase from right to left.
+
+Small kernels that the model's step calls in its loops are compiled ``inline="always"``:
+inlined into their caller, the views of per-track rows (or the arrays) they take need no
+reference counting, two atomic operations per array and call otherwise.
 """
 
 from __future__ import annotations
@@ -370,7 +374,7 @@ def split_foreground(
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth_m, noise_rel, noise_floor_m):
     """How clearly both ends of the run ``i <= k < j`` (inside the segment ``a <= k < b``, in
     front of its background by ``depth_m``) are the edges of a body: the smaller of the two
@@ -414,7 +418,7 @@ def _edge_z(ranges_m, px, py, pr, a, b, i, j, w, depth_m, noise_rel, noise_floor
     return worst
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _flank_bound(px, py, pr, i, j, w, mean_range, span, noise_rel, noise_floor_m, margin_m, best_z):
     """Whether the run ``i <= k < j`` (``w`` beams in each flank; ``mean_range`` its mean range,
     m; ``span`` its angular width, rad) passes the bound that ``split_foreground`` sets before
@@ -433,7 +437,7 @@ def _flank_bound(px, py, pr, i, j, w, mean_range, span, noise_rel, noise_floor_m
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _line_depth(px, py, pr, a0, a1, b0, b1, q0, q1, noise_rel, noise_floor_m):
     """How much nearer than the line through the centroids of the beams ``[a0, a1)`` and
     ``[b0, b1)`` the centroid of the beams ``[q0, q1)`` lies, along its line of sight (m;
@@ -449,7 +453,7 @@ def _line_depth(px, py, pr, a0, a1, b0, b1, q0, q1, noise_rel, noise_floor_m):
     return behind - q[2], _depth_variance(a, b, q, a1 - a0, b1 - b0, q1 - q0, behind, ux, uy, cross)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _group(px, py, pr, k0, k1, noise_rel, noise_floor_m):
     """The beams ``[k0, k1)`` as one point (prefix sums ``px, py, pr`` of the echo points and
     ranges): the centroid ``x, y`` of their echo points (m), its range (m), and the range
@@ -493,7 +497,7 @@ def _depth_variance(a, b, q, na, nb, nq, behind, ux, uy, cross):
     return sigma_q * sigma_q / nq + (gain_a * sigma_a) ** 2 / na + (gain_b * sigma_b) ** 2 / nb
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _measure_run(
     ranges_m,
     cos_b,

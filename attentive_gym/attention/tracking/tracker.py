@@ -18,6 +18,10 @@ moving body's is unbiased once it is clearly moving. Because the filters live in
 odometry-fixed frame, the robot's own motion is compensated by construction.
 
 Units: seconds, metres, m/s, radians.
+
+Small kernels that the model's step calls in its loops are compiled ``inline="always"``:
+inlined into their caller, the views of per-track rows (or the arrays) they take need no
+reference counting, two atomic operations per array and call otherwise.
 """
 
 from __future__ import annotations
@@ -848,7 +852,7 @@ def track_scan(
         segment_of[slot] = candidate[b]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _to_odometry(pose, c, s, row, z, r):
     """A measurement row (``SEGMENT_FIELDS``, in the frame of ``pose``) into the odometry frame: position
     ``z`` ``(2,)`` (m) and covariance ``r`` ``(2, 2)`` = Rot R Rotᵀ; ``c, s`` = cos, sin of the heading."""
@@ -861,7 +865,7 @@ def _to_odometry(pose, c, s, row, z, r):
     r[1, 1] = s * s * rxx + 2.0 * c * s * rxy + c * c * ryy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _mahalanobis2(x, P, z, r):
     """Squared Mahalanobis distance of the measurement ``z`` (covariance ``r``) from the
     predicted position of the state ``x`` (covariance ``P``), and the log-determinant of
@@ -872,7 +876,7 @@ def _mahalanobis2(x, P, z, r):
     return (s11 * y0 * y0 - 2.0 * s01 * y0 * y1 + s00 * y1 * y1) / det, math.log(det)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_moving, hits, misses, extent_m):
     """Update track ``k`` with the measurement ``z`` (odometry frame, covariance ``r``) of a
     body ``extent`` metres across: both filters, the motion probability, the counters,
@@ -886,7 +890,7 @@ def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_mov
     extent_m[k] += _EXTENT_SMOOTHING * (extent - extent_m[k])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _hidden(state, pose, ranges_m, beam_step_rad, margin_m):
     """Whether the laser at ``pose`` could not have seen a track at ``state[:2]`` (odometry
     frame, m): outside its field of view, or behind an echo more than ``margin_m`` nearer."""
@@ -901,7 +905,7 @@ def _hidden(state, pose, ranges_m, beam_step_rad, margin_m):
     return ranges_m[beam] < math.hypot(x, y) - margin_m
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _birth(
     k, t_s, z, r, params, cv_x, cv_P, static_x, static_P, p_moving, alive, ids, hits, misses, born_s, filter_t, counters
 ):
