@@ -27,6 +27,7 @@ signal's number (130 for SIGINT). ``main`` returns the exit status.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import signal
 import sys
@@ -38,6 +39,7 @@ from attentive_gym._optional import MissingExtraError, require
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.stopping import Interrupted
+from attentive_gym.attention.config import LASER_PROFILES
 from attentive_gym.experiments.cli import add_experiment_parser
 
 __all__ = ["main", "build_parser"]
@@ -80,7 +82,14 @@ def _add_attend(subparsers) -> None:
     parser.add_argument(
         "--config",
         metavar="JSON",
-        help="AttentionConfig fields as a JSON object, or the path of a .json file holding one",
+        help="AttentionConfig fields as a JSON object, or the path of a .json file holding one "
+        "(over --profile's values)",
+    )
+    parser.add_argument(
+        "--profile",
+        choices=sorted(LASER_PROFILES),
+        help="tracker values for a kind of laser and target: indoor-people, a Hokuyo/SICK indoor laser "
+        "with people walking (default: the simulator's 0.2 m victims, 5 %% range noise)",
     )
     parser.add_argument("--no-figure", action="store_true", help="write trace.npz only")
     parser.add_argument(
@@ -89,7 +98,17 @@ def _add_attend(subparsers) -> None:
         help="replace trace.npz and trace.png where --out already holds them (refused otherwise)",
     )
     bag = parser.add_argument_group("ROS bags", "topics of a bag, when they are not one of each message type")
-    bag.add_argument("--laser-topic", metavar="TOPIC", help="the sensor_msgs/LaserScan topic (the time base)")
+    bag.add_argument(
+        "--laser-topic",
+        metavar="TOPIC[,TOPIC...]",
+        help="the sensor_msgs/LaserScan topic (the time base), or several, comma-separated: merged into the "
+        "robot frame on the model's beams (nearest echo per bearing) at the first one's scans",
+    )
+    bag.add_argument(
+        "--all-lasers",
+        action="store_true",
+        help="merge every sensor_msgs/LaserScan topic (natural name order; the first is the time base)",
+    )
     bag.add_argument(
         "--sonar-topics",
         metavar="A,B,...",
@@ -107,15 +126,18 @@ def _add_attend(subparsers) -> None:
     )
     bag.add_argument(
         "--laser-mount",
-        metavar="X,Y,YAW_DEG",
+        action="append",
+        metavar="X,Y,YAW_DEG[,upside-down]",
         help="where the laser sits on the robot (m, robot frame: x forward, y left) and where its "
-        "beam at angle 0 points (deg, counter-clockwise from the heading; 180: facing backwards) "
-        "(default: from the bag's TF, else the configuration's 0.16,0,0)",
+        "beam at angle 0 points (deg, counter-clockwise from the heading; 180: facing backwards), "
+        "',upside-down' for one mounted upside down; with several lasers once per laser, in topic order "
+        "(default: from the bag's TF, else, for the first laser, the configuration's 0.16,0,0)",
     )
     bag.add_argument(
         "--laser-upside-down",
         action="store_true",
-        help="the laser is mounted upside down: its beam angles run clockwise seen from above (default: from TF)",
+        help="the (first) laser is mounted upside down: its beam angles run clockwise seen from above "
+        "(default: from TF)",
     )
     bag.add_argument(
         "--min-range", metavar="M", help="echoes nearer than M metres read as no echo (the robot's own parts)"
@@ -137,7 +159,7 @@ def _add_attend(subparsers) -> None:
 
 def _run_attend(args: argparse.Namespace) -> int:
     from attentive_gym._atomic import refuse_existing
-    from attentive_gym.attention import AttentionConfig, AttentionModel, load_log, parse_goal, parse_maps, replay_log
+    from attentive_gym.attention import AttentionModel, load_log, parse_goal, parse_maps, replay_log
     from attentive_gym.attention.io.rosbag import is_bag_path, parse_bag_topics, parse_scan_options
     from attentive_gym.attention.io.trace import save_trace
 
@@ -147,15 +169,12 @@ def _run_attend(args: argparse.Namespace) -> int:
         refuse_existing([args.out / "trace.npz", *([] if args.no_figure else [args.out / "trace.png"])])
     if not args.no_figure:
         require("matplotlib", "the trace's figure (--no-figure skips it)")
-    config = AttentionConfig()
-    if args.config:
-        text = args.config
-        if not text.lstrip().startswith("{"):
-            text = Path(text).read_text()
-        config = AttentionConfig.from_json(text)
+    config = _attend_config(args.profile, args.config)
     goals = [parse_goal(spec) for spec in args.goal]
     weights = parse_maps(args.maps) if args.maps else None
-    topics = parse_bag_topics(args.laser_topic, args.sonar_topics, args.odom_topic, args.sonar_bearings)
+    topics = parse_bag_topics(
+        args.laser_topic, args.sonar_topics, args.odom_topic, args.sonar_bearings, args.all_lasers
+    )
     scan_options = parse_scan_options(
         args.laser_mount, args.laser_upside_down, args.min_range, args.mask_angles, args.keep_self_returns
     )
@@ -185,6 +204,19 @@ def _run_attend(args: argparse.Namespace) -> int:
         plot_trace(trace, path=figure_path)
         print(f"wrote {figure_path}")
     return 0
+
+
+def _attend_config(profile: str | None, config_json: str | None):
+    """The model's configuration: the defaults, the values of ``profile`` (``LASER_PROFILES``)
+    over them, and the fields of ``config_json`` (a JSON object, or a .json file's path) over those."""
+    from attentive_gym.attention.config import AttentionConfig, profile_config
+
+    config = AttentionConfig() if profile is None else profile_config(profile)
+    if not config_json:
+        return config
+    text = config_json if config_json.lstrip().startswith("{") else Path(config_json).read_text()
+    given = AttentionConfig.from_json(text)
+    return dataclasses.replace(config, **{name: getattr(given, name) for name in json.loads(text)})
 
 
 def _open_bag(path: Path, topics, config, scan_options):

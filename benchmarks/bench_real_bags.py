@@ -1,14 +1,16 @@
 """Real-data benchmark: does the focus lie on what moves in a robot's own bag?
 
-Run: ``python benchmarks/bench_real_bags.py BAG [BAG ...] [--goal SPEC ...] [--laser-topic TOPIC]
-[--odom-topic TOPIC] [--laser-mount X,Y,YAW_DEG] [--laser-upside-down] [--csv PATH]``
+Run: ``python benchmarks/bench_real_bags.py BAG [BAG ...] [--goal SPEC ...] [--profile NAME]
+[--laser-topic TOPIC[,TOPIC...]] [--all-lasers] [--odom-topic TOPIC] [--laser-mount X,Y,YAW_DEG ...]
+[--laser-upside-down] [--csv PATH]``
 (ROS 1 ``.bag`` files, ROS 2 bag folders or their ``.db3`` / ``.mcap`` files; the ``ros``
 extra; a few seconds per bag once the kernels are compiled).
 
 Each bag is replayed as ``attentive-gym attend`` replays it (``rosbag.open_bag``: the laser's
 mount from the flags, the bag's TF or the configuration; self-returns masked), with the
 sensor's own range as no echo (``sensor_range=True``: a 5.6 m Hokuyo's no echo is 5.6 m), and
-with the goals of ``--goal`` (``attend``'s syntax; none: bottom-up). Independently of the
+with the goals of ``--goal`` (``attend``'s syntax; none: bottom-up) and the tracker values of
+``--profile`` (``config.LASER_PROFILES``; none: the defaults). Independently of the
 model, moving beams are found from the raw scans alone, at the laser's own resolution
 (``BagReplay.raw``):
 
@@ -44,6 +46,7 @@ import numpy as np
 
 from attentive_gym._atomic import atomic_file
 from attentive_gym.attention import AttentionModel, parse_goal, replay_log
+from attentive_gym.attention.config import LASER_PROFILES, profile_config
 from attentive_gym.attention.io.rosbag import RawScans, open_bag, parse_bag_topics, parse_scan_options
 from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, LASER_FOV_DEG, Grid
 
@@ -147,15 +150,18 @@ def _share_on_motion(focus: np.ndarray, motion: np.ndarray, steps: np.ndarray) -
     return float(hits.mean())
 
 
-def measure_bag(path: Path, goal_specs: list[str], topics=None, options=None) -> tuple[Agreement, tuple[str, ...]]:
-    """Replay ``path`` with the goals of ``goal_specs`` and compare its focus with the motion
-    in its raw scans; returns the agreement and the replay's notes.
+def measure_bag(
+    path: Path, goal_specs: list[str], topics=None, options=None, config=None
+) -> tuple[Agreement, tuple[str, ...]]:
+    """Replay ``path`` with the goals of ``goal_specs`` and the configuration ``config``
+    (default ``AttentionConfig()``) and compare its focus with the motion in its raw scans;
+    returns the agreement and the replay's notes.
 
     Raises:
         LogFormatError: for a bag that cannot be replayed (``open_bag``).
         ValueError: for a malformed goal, or scans that change geometry along the bag.
     """
-    replay = open_bag(path, topics, None, options, sensor_range=True)
+    replay = open_bag(path, topics, config, options, sensor_range=True)
     if replay.raw is None:
         raise ValueError(f"{path}: the scans change geometry along the bag; the raw-scan motion needs one")
     model = AttentionModel(replay.config)
@@ -202,19 +208,26 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--goal", action="append", default=[], metavar="SPEC", help="a top-down goal as attend takes it (repeatable)"
     )
-    parser.add_argument("--laser-topic", metavar="TOPIC", help="the sensor_msgs/LaserScan topic")
+    parser.add_argument("--profile", choices=sorted(LASER_PROFILES), help="tracker values (config.LASER_PROFILES)")
+    parser.add_argument("--laser-topic", metavar="TOPIC[,TOPIC...]", help="the sensor_msgs/LaserScan topic(s)")
+    parser.add_argument("--all-lasers", action="store_true", help="merge every LaserScan topic")
     parser.add_argument("--odom-topic", metavar="TOPIC", help="the nav_msgs/Odometry topic")
-    parser.add_argument("--laser-mount", metavar="X,Y,YAW_DEG", help="the laser's mount, as attend takes it")
+    parser.add_argument(
+        "--laser-mount", action="append", metavar="X,Y,YAW_DEG", help="a laser's mount, as attend takes it"
+    )
     parser.add_argument("--laser-upside-down", action="store_true", help="the laser is mounted upside down")
     parser.add_argument("--csv", type=Path, default=None, help="also write the figures as tidy CSV rows")
     args = parser.parse_args(argv)
-    topics = parse_bag_topics(args.laser_topic, None, args.odom_topic)
+    topics = parse_bag_topics(args.laser_topic, None, args.odom_topic, None, args.all_lasers)
     options = parse_scan_options(args.laser_mount, args.laser_upside_down)
+    config = None if args.profile is None else profile_config(args.profile)
     goal = " ".join(args.goal) or "bottom-up"
+    if args.profile is not None:
+        goal += f" ({args.profile})"
     start = time.perf_counter()
     rows = []
     for bag in args.bags:
-        figures, notes = measure_bag(bag, args.goal, topics, options)
+        figures, notes = measure_bag(bag, args.goal, topics, options, config)
         print(f"{bag}:", *(f"  {note}" for note in notes), sep="\n")
         rows.append((bag.name, goal, figures))
     print()

@@ -5,6 +5,8 @@
 - ``ATTENTIVE_STATES``: the named levels of the Global Attentive State (gain ``g``).
 - ``MAP_NAMES``: the six feature maps, in order, with their aliases.
 - ``parse_state``: a named level or a positive float → the gain ``g``.
+- ``LASER_PROFILES`` / ``profile_config``: named sets of tracker values for a kind of laser
+  and target (``indoor-people``: a Hokuyo/SICK indoor laser and walking people).
 
 Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
 name says otherwise (``_deg``).
@@ -34,6 +36,8 @@ __all__ = [
     "MAX_MAP_WEIGHT",
     "is_map_weight",
     "parse_state",
+    "LASER_PROFILES",
+    "profile_config",
 ]
 
 #: Global Attentive State levels (docs/model.md §7): gain ``g`` multiplying the saliency map.
@@ -514,3 +518,36 @@ def _check_number(
     if not ok:
         bound = f"{'>=' if low_inclusive else '>'} {low:g}" + (f" and <= {high:g}" if high is not None else "")
         raise ValueError(f"AttentionConfig.{name} must be a finite number {bound} ({unit}), got {value!r}")
+
+
+#: Named sets of ``AttentionConfig`` values for a kind of laser and target, applied over a
+#: configuration by ``profile_config`` (``attentive-gym attend --profile NAME``). The defaults
+#: are tuned for the simulator's round 0.2 m victims seen by a 20 m laser with 5 % noise.
+#:
+#: ``indoor-people``: a Hokuyo URG/UTM or SICK TiM/LMS indoor laser (range noise about 1 %,
+#: at least 2 cm) with people walking: legs are two arcs of 0.1-0.15 m that swing at several
+#: m/s² and stop at each step, so bodies longer than 0.5 m are structure (furniture,
+#: walls) and the tracks' velocities follow quick changes (``track_accel_psd_m2ps3`` 2).
+#: Measured on leg_tracker's demo bag (a still Hokuyo, people walking; docs/replay.md):
+#: focus on a region with motion 0.86 -> 0.88 bottom-up, 0.80 -> 0.86 with the goal
+#: ``speed:between:0.3:2.0`` (chance 0.35).
+LASER_PROFILES: Mapping[str, Mapping[str, Any]] = {
+    "indoor-people": {
+        "range_noise_rel": 0.01,
+        "range_noise_floor_m": 0.02,
+        "max_object_extent_m": 0.5,
+        "track_accel_psd_m2ps3": 2.0,
+    },
+}
+
+
+def profile_config(name: str, config: AttentionConfig | None = None) -> AttentionConfig:
+    """``config`` (default ``AttentionConfig()``) with the values of profile ``name`` of
+    ``LASER_PROFILES``.
+
+    Raises:
+        ValueError: for an unknown profile name (listing the known ones).
+    """
+    if name not in LASER_PROFILES:
+        raise ValueError(f"unknown laser profile {name!r}; known: {', '.join(LASER_PROFILES)}")
+    return dataclasses.replace(AttentionConfig() if config is None else config, **LASER_PROFILES[name])

@@ -89,7 +89,7 @@ from attentive_gym.attention.io.ros_tf import (
     transforms_of,
 )
 from attentive_gym.attention.io.sensor_log import LogFormatError, SensorLog
-from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, SONAR_RING
+from attentive_gym.attention.regions import FRONT_SONARS, LASER_BEAMS, LASER_FOV_DEG, SONAR_RING
 
 __all__ = [
     "BAG_SUFFIXES",
@@ -120,7 +120,10 @@ class BagTopics:
     """Which topics of a bag hold what; None: found by message type.
 
     Attributes:
-        laser: the LaserScan topic.
+        laser: the LaserScan topic (the first of several: the time base).
+        more_lasers: further LaserScan topics, merged into the first's scans (``open_bag``).
+        all_lasers: every LaserScan topic of the bag, in natural name order (the first the
+            time base); not with ``laser`` or ``more_lasers``.
         sonars: the Range topics, in ring order (sonar 0 first) unless bearings are given.
         odometry: the Odometry topic.
         sonar_bearings_deg: one bearing (deg, counter-clockwise from the heading) per
@@ -128,19 +131,33 @@ class BagTopics:
             Range topics found), for sonars that are not the P2AT ring.
 
     Raises:
-        ValueError: for an empty or repeated topic name, a non-finite bearing, or not as
-            many bearings as sonar topics.
+        ValueError: for an empty or repeated topic name, a non-finite bearing, not as
+            many bearings as sonar topics, further lasers without a first one, or
+            ``all_lasers`` with named lasers.
     """
 
     laser: str | None = None
     sonars: tuple[str, ...] | None = None
     odometry: str | None = None
     sonar_bearings_deg: tuple[float, ...] | None = None
+    more_lasers: tuple[str, ...] = ()
+    all_lasers: bool = False
 
     def __post_init__(self) -> None:
-        for name, topic in (("laser", self.laser), ("odometry", self.odometry)):
+        for name, topic in (
+            ("laser", self.laser),
+            ("odometry", self.odometry),
+            *(("laser", t) for t in self.more_lasers),
+        ):
             if topic is not None and not topic.strip():
                 raise ValueError(f"the {name} topic name is empty")
+        if self.more_lasers and self.laser is None:
+            raise ValueError("further laser topics need a first one (the time base)")
+        lasers = [self.laser, *self.more_lasers]
+        if len(set(lasers)) < len(lasers):
+            raise ValueError(f"laser topics {sorted({t for t in lasers if lasers.count(t) > 1})} named more than once")
+        if self.all_lasers and self.laser is not None:
+            raise ValueError("--all-lasers takes every LaserScan topic; name them with --laser-topic A,B instead")
         if self.sonars is not None:
             if not self.sonars or not all(name.strip() for name in self.sonars):
                 raise ValueError(f"sonar topics must be non-empty names, got {list(self.sonars)}")
@@ -158,19 +175,26 @@ class BagTopics:
 
 
 def parse_bag_topics(
-    laser: str | None = None, sonars: str | None = None, odometry: str | None = None, sonar_bearings: str | None = None
+    laser: str | None = None,
+    sonars: str | None = None,
+    odometry: str | None = None,
+    sonar_bearings: str | None = None,
+    all_lasers: bool = False,
 ) -> BagTopics | None:
     """``BagTopics`` from the command line's strings; None when none is given.
 
     Args:
-        laser, odometry: topic names.
+        laser: a LaserScan topic, or several comma-separated (``/front/scan,/rear/scan``:
+            merged, the first the time base).
+        odometry: a topic name.
         sonars: comma-separated topic names, e.g. ``/sonar/0,/sonar/1``.
         sonar_bearings: comma-separated bearings (deg), e.g. ``90,50,30,10,-10,-30,-50,-90``.
+        all_lasers: the ``--all-lasers`` switch.
 
     Raises:
         ValueError: for a bearing that is not a number, or as ``BagTopics``.
     """
-    if laser is None and sonars is None and odometry is None and sonar_bearings is None:
+    if laser is None and sonars is None and odometry is None and sonar_bearings is None and not all_lasers:
         return None
     bearings = None
     if sonar_bearings is not None:
@@ -181,12 +205,16 @@ def parse_bag_topics(
                 f"sonar bearings must be comma-separated numbers (deg), e.g. 90,50,30; got {sonar_bearings!r}"
             ) from None
     sonar_topics = None if sonars is None else tuple(name.strip() for name in sonars.split(","))
-    return BagTopics(laser, sonar_topics, odometry, bearings)
+    first, *more = [None] if laser is None else [name.strip() for name in laser.split(",")]
+    return BagTopics(first, sonar_topics, odometry, bearings, tuple(more), all_lasers)
 
 
 #: The farthest a laser may sit from the robot's centre (m), as ``AttentionConfig`` allows.
 _MAX_MOUNT_M = 5.0
-_MOUNT_USAGE = "--laser-mount must be X,Y,YAW_DEG: the laser's position (m, robot frame) and yaw (deg), e.g. 0.2,0,180"
+_MOUNT_USAGE = (
+    "--laser-mount must be X,Y,YAW_DEG: the laser's position (m, robot frame) and yaw (deg), e.g. 0.2,0,180, "
+    "with ,upside-down after them for a laser mounted upside down; once per laser topic, in their order"
+)
 _MASK_USAGE = (
     "--mask-angles must be A:B[,C:D...] in degrees, robot frame (counter-clockwise from the heading), "
     "-180 <= A < B <= 180, e.g. 120:180,-180:-120"
@@ -207,6 +235,9 @@ class ScanOptions:
             whose beams read no echo.
         keep_self_returns: keep the beams holding a constant near echo through the bag
             (default: they are masked).
+        more_mounts: the mounts of the second and further laser topics, in their order
+            (empty: each from the bag's TF); the first laser's is ``mount_xy_yaw`` and
+            ``upside_down``.
 
     Raises:
         ValueError: naming the flag, for a mount off the robot or not finite, a negative
@@ -218,16 +249,14 @@ class ScanOptions:
     min_range_m: float = 0.0
     mask_deg: tuple[tuple[float, float], ...] = ()
     keep_self_returns: bool = False
+    more_mounts: tuple[LaserMount, ...] = ()
 
     def __post_init__(self) -> None:
-        if self.mount_xy_yaw is not None:
-            x, y, yaw = self.mount_xy_yaw
-            if not all(np.isfinite(v) for v in self.mount_xy_yaw):
-                raise ValueError(f"{_MOUNT_USAGE}; got non-finite numbers")
-            if max(abs(x), abs(y)) > _MAX_MOUNT_M:
-                raise ValueError(f"--laser-mount X and Y must lie within ±{_MAX_MOUNT_M:g} m of the robot's centre")
-            if abs(yaw) > 360.0:
-                raise ValueError(f"--laser-mount YAW_DEG must lie in [-360, 360] deg, got {yaw:g}")
+        given = [] if self.mount_xy_yaw is None else [self.mount_xy_yaw]
+        for x, y, yaw in [*given, *((m.x_m, m.y_m, m.yaw_deg) for m in self.more_mounts)]:
+            _check_mount(x, y, yaw)
+        if self.more_mounts and self.mount_xy_yaw is None:
+            raise ValueError("mounts of further lasers need the first laser's (--laser-mount once per laser)")
         if not (np.isfinite(self.min_range_m) and self.min_range_m >= 0.0):
             raise ValueError(f"--min-range must be a finite distance >= 0 (m), got {self.min_range_m:g}")
         for low, high in self.mask_deg:
@@ -255,9 +284,26 @@ class ScanOptions:
             source = f"{' and '.join(given)}" + (f"; the rest {source}" if len(given) < 2 else "")
         return LaserMount(float(x), float(y), float(yaw), bool(upside_down)), source
 
+    def further_mount(self, index: int, tf: MountFromTf | None) -> tuple[LaserMount, str] | None:
+        """The mount of further laser ``index`` (0: the second laser) and its source: these
+        options, else ``tf``; None where neither gives one."""
+        if self.more_mounts:
+            return self.more_mounts[index], "--laser-mount"
+        return None if tf is None else (tf.mount, tf.describe())
+
+
+def _check_mount(x: float, y: float, yaw: float) -> None:
+    """``ValueError`` for a laser position off the robot or a yaw beyond a turn either way."""
+    if not all(np.isfinite(v) for v in (x, y, yaw)):
+        raise ValueError(f"{_MOUNT_USAGE}; got non-finite numbers")
+    if max(abs(x), abs(y)) > _MAX_MOUNT_M:
+        raise ValueError(f"--laser-mount X and Y must lie within ±{_MAX_MOUNT_M:g} m of the robot's centre")
+    if abs(yaw) > 360.0:
+        raise ValueError(f"--laser-mount YAW_DEG must lie in [-360, 360] deg, got {yaw:g}")
+
 
 def parse_scan_options(
-    laser_mount: str | None = None,
+    laser_mount: str | Sequence[str] | None = None,
     upside_down: bool = False,
     min_range: str | float | None = None,
     mask_angles: str | None = None,
@@ -266,8 +312,9 @@ def parse_scan_options(
     """``ScanOptions`` from the command line's values; None when none is given.
 
     Args:
-        laser_mount: ``X,Y,YAW_DEG`` (m, m, deg).
-        upside_down: the ``--laser-upside-down`` switch (False: not given).
+        laser_mount: ``X,Y,YAW_DEG[,upside-down]`` (m, m, deg), or one such per laser
+            topic, in their order (``--laser-mount`` given once per laser).
+        upside_down: the ``--laser-upside-down`` switch, for the first laser (False: not given).
         min_range: a distance (m).
         mask_angles: ``A:B[,C:D...]`` (deg).
         keep_self_returns: the ``--keep-self-returns`` switch.
@@ -275,11 +322,14 @@ def parse_scan_options(
     Raises:
         ValueError: one line naming the flag and what it allows.
     """
-    if laser_mount is None and not upside_down and min_range is None and mask_angles is None and not keep_self_returns:
+    mounts = [laser_mount] if isinstance(laser_mount, str) else list(laser_mount or [])
+    if not mounts and not upside_down and min_range is None and mask_angles is None and not keep_self_returns:
         return None
+    first, *more = [_parse_mount(text) for text in mounts] or [None]
     return ScanOptions(
-        mount_xy_yaw=None if laser_mount is None else _parse_mount(laser_mount),
-        upside_down=True if upside_down else None,
+        mount_xy_yaw=None if first is None else (first.x_m, first.y_m, first.yaw_deg),
+        upside_down=True if upside_down or (first is not None and first.upside_down) else None,
+        more_mounts=tuple(more),
         min_range_m=0.0 if min_range is None else _parse_number(min_range, "--min-range must be a distance (m)"),
         mask_deg=() if mask_angles is None else _parse_mask(mask_angles),
         keep_self_returns=keep_self_returns,
@@ -293,12 +343,14 @@ def _parse_number(text: str | float, usage: str) -> float:
         raise ValueError(f"{usage}; got {text}") from None
 
 
-def _parse_mount(text: str) -> tuple[float, float, float]:
-    parts = text.split(",")
-    if len(parts) != 3:
+def _parse_mount(text: str) -> LaserMount:
+    """``X,Y,YAW_DEG[,upside-down]`` as a mount (upright without the fourth part)."""
+    parts = [part.strip() for part in text.split(",")]
+    upside_down = len(parts) == 4 and parts[3].lower() == "upside-down"
+    if len(parts) != 3 + upside_down:
         raise ValueError(f"{_MOUNT_USAGE}; got {text}")
-    x, y, yaw = (_parse_number(part, _MOUNT_USAGE) for part in parts)
-    return x, y, yaw
+    x, y, yaw = (_parse_number(part, _MOUNT_USAGE) for part in parts[:3])
+    return LaserMount(x, y, yaw, upside_down)
 
 
 def _parse_mask(text: str) -> tuple[tuple[float, float], ...]:
@@ -325,9 +377,12 @@ class RawScans:
 
     Attributes:
         bearings_rad: ``(N,)`` robot-frame bearing of each scan beam (rad, counter-clockwise
-            from the heading, seen from the laser's origin, wrapped to [-π, π)).
+            from the heading, seen from the laser's origin, wrapped to [-π, π)); with
+            several lasers, the first laser's beams, then each further laser's (each seen
+            from its own origin).
         ranges_m: ``(T, N)`` ranges (m) of the log's T scans; no echo, masked beams and
-            self-returns read the log's no-echo range.
+            self-returns read the log's no-echo range; a further laser's beams hold its
+            latest scan at or before each of the first laser's.
     """
 
     bearings_rad: np.ndarray
@@ -348,8 +403,10 @@ class BagReplay:
         config: the configuration the readings are for: the one given with this mount
             and the laser's no-echo range (``laser_max_range_m``) they were read with;
             build the model from it.
-        raw: the scans at their own resolution (``RawScans``), None where the bag's scans
+        raw: the scans at their own resolution (``RawScans``), None where a laser's scans
             change geometry (angle_min, angle_increment or beam count) along the way.
+        mounts: each laser topic with its mount, the first (the time base, whose origin
+            the merged beams are seen from) first.
     """
 
     log: SensorLog
@@ -357,6 +414,7 @@ class BagReplay:
     notes: tuple[str, ...]
     config: AttentionConfig
     raw: RawScans | None
+    mounts: tuple[tuple[str, LaserMount], ...] = ()
 
 
 def read_bag(
@@ -407,10 +465,11 @@ def open_bag(
     options = ScanOptions() if options is None else options
     if not path.exists():
         raise FileNotFoundError(f"{path}: no such bag file or folder")
-    types, counts, (laser_topic, sonar_topics, odometry_topic, tf_topics), streams = _read_messages(path, topics)
-    for topic in (laser_topic, *sonar_topics, *([odometry_topic] if odometry_topic else [])):
-        _check_time_order(path, topic, streams[topic].stamps, strict=topic == laser_topic)
-    held = [topic for topic in (*sonar_topics, odometry_topic) if topic is not None]
+    types, counts, (lasers, sonar_topics, odometry_topic, tf_topics), streams = _read_messages(path, topics)
+    laser_topic = lasers[0]
+    for topic in (*lasers, *sonar_topics, *([odometry_topic] if odometry_topic else [])):
+        _check_time_order(path, topic, streams[topic].stamps, strict=topic in lasers)
+    held = [topic for topic in (*lasers[1:], *sonar_topics, odometry_topic) if topic is not None]
     empty = [topic for topic in held if counts[topic] == 0]
     if empty:
         raise LogFormatError(f"{path}: {_topics_hold_no_message(empty)}; topics: {_listing(types, counts)}")
@@ -419,6 +478,7 @@ def open_bag(
     transforms = [*static, *dynamic]
     tf_mount = mount_from_tf(transforms, streams[laser_topic].frame, base_frames) if transforms else None
     mount, mount_source = options.mount(tf_mount, config)
+    further = _further_mounts(path, [streams[topic] for topic in lasers[1:]], transforms, base_frames, options)
     tf_odometry = None if odometry_topic else odometry_from_tf(dynamic, base_frames)
     scan_stamps = streams[laser_topic].stamps
     first = {topic: int(streams[topic].stamps[0]) for topic in held}
@@ -432,13 +492,21 @@ def open_bag(
         late = max(first, key=first.get)
         raise LogFormatError(
             f"{path}: no scan on {laser_topic} at or after the first message of {late}; "
-            "the sonars and odometry are read at the scans' stamps"
+            "the other lasers, sonars and odometry are read at the scans' stamps"
         )
     stamps = scan_stamps[keep]
-    sensor_max_m = _scan_range_max(streams[laser_topic])
+    sensor_max_m = max(_scan_range_max(streams[topic]) for topic in lasers)
     no_echo = min(sensor_max_m, config.laser_max_range_m) if sensor_range else config.laser_max_range_m
     laser, raw, laser_notes = _laser_readings(path, streams[laser_topic], no_echo, mount, options)
     laser = laser[keep]
+    raw = None if raw is None else RawScans(raw.bearings_rad, raw.ranges_m[keep])
+    mount_notes = [f"laser mount{_of(lasers)}: {mount.describe()} ({mount_source})"]
+    for stream, (other, source) in zip([streams[topic] for topic in lasers[1:]], further):
+        beams, other_raw, notes = _laser_readings(path, stream, no_echo, other, options, origin=mount)
+        laser = np.minimum(laser, latest_at_or_before(stamps, stream.stamps, beams))
+        raw = _joined(raw, other_raw, stamps, stream.stamps)
+        mount_notes.append(f"laser mount of {stream.topic}: {other.describe()} ({source})")
+        laser_notes = [*laser_notes, *(f"{stream.topic}: {note}" for note in notes)]
     sonar = _sonar_readings(
         [streams[topic] for topic in sonar_topics], topics.sonar_bearings_deg, stamps, laser, config
     )
@@ -451,8 +519,8 @@ def open_bag(
     log = SensorLog(t=(stamps - stamps[0]) * 1e-9, sonar=sonar, laser=laser, odometry=odometry).check(str(path))
     dropped = _dropped(scan_stamps, start, first, tf_odometry)
     notes = (
-        _summary(streams, laser_topic, sonar_topics, odometry_topic, tf_odometry, dropped, log),
-        f"laser mount: {mount.describe()} ({mount_source})",
+        _summary(streams, lasers, sonar_topics, odometry_topic, tf_odometry, dropped, log),
+        *mount_notes,
         *laser_notes,
         *_range_notes(sensor_max_m, no_echo, config),
         *_odometry_notes(log, odometry_topic, tf_odometry, no_echo),
@@ -465,8 +533,53 @@ def open_bag(
         laser_upside_down=mount.upside_down,
         laser_max_range_m=no_echo,
     )
-    raw = None if raw is None else RawScans(raw.bearings_rad, raw.ranges_m[keep])
-    return BagReplay(log, mount, notes, model_config, raw)
+    mounts = ((laser_topic, mount), *((topic, other) for topic, (other, _) in zip(lasers[1:], further)))
+    return BagReplay(log, mount, notes, model_config, raw, mounts)
+
+
+def _of(lasers: list[str]) -> str:
+    """`` of /front/scan`` where several lasers are merged, else nothing."""
+    return f" of {lasers[0]}" if len(lasers) > 1 else ""
+
+
+def _further_mounts(
+    path: Path, streams: list[_Stream], transforms: list, base_frames: tuple[str, ...], options: ScanOptions
+) -> list[tuple[LaserMount, str]]:
+    """The mount of each further laser and its source: ``options.more_mounts``, else TF.
+
+    Raises:
+        LogFormatError: for mounts given for some lasers but not all, or a laser that
+            neither the options nor TF place on the robot.
+    """
+    if options.more_mounts and len(options.more_mounts) != len(streams):
+        raise LogFormatError(
+            f"{path}: {len(options.more_mounts) + 1} --laser-mount values for {len(streams) + 1} laser topics; "
+            "give it once per laser, in the order of the topics (or once, for the first, the rest from TF)"
+        )
+    mounts = []
+    for index, stream in enumerate(streams):
+        tf = mount_from_tf(transforms, stream.frame, base_frames) if transforms else None
+        found = options.further_mount(index, tf)
+        if found is None:
+            raise LogFormatError(
+                f"{path}: no mount for the laser on {stream.topic}: no TF leads from its frame "
+                f"{stream.frame or '(none)'} to a base frame; give --laser-mount once per laser, in topic order"
+            )
+        mounts.append(found)
+    return mounts
+
+
+def _joined(
+    raw: RawScans | None, other: RawScans | None, stamps: np.ndarray, other_stamps: np.ndarray
+) -> RawScans | None:
+    """The first laser's raw scans with another's beams appended, each the other's latest
+    scan at or before the first's ``stamps`` (ns); None where either is None."""
+    if raw is None or other is None:
+        return None
+    held = latest_at_or_before(stamps, other_stamps, other.ranges_m)
+    return RawScans(
+        np.concatenate([raw.bearings_rad, other.bearings_rad]), np.concatenate([raw.ranges_m, held], axis=1)
+    )
 
 
 def _topics_hold_no_message(topics: list[str]) -> str:
@@ -516,7 +629,7 @@ def _rate_hz(stamps: np.ndarray) -> str:
 
 def _summary(
     streams: dict[str, _Stream],
-    laser_topic: str,
+    lasers: list[str],
     sonar_topics: list[str],
     odometry_topic: str | None,
     tf_odometry: OdometryPoses | None,
@@ -524,7 +637,6 @@ def _summary(
     log: SensorLog,
 ) -> str:
     """One line: the topics used, their rates, the steps kept and the scans dropped."""
-    laser = streams[laser_topic]
     if odometry_topic is not None:
         odometry = f"odometry {odometry_topic} ({_rate_hz(streams[odometry_topic].stamps)})"
     elif tf_odometry is not None:
@@ -538,9 +650,17 @@ def _summary(
         sonars = "front sonars read from the laser"
     duration = float(log.t[-1] - log.t[0])
     return (
-        f"used: laser {laser_topic} ({len(laser.stamps)} scans, {_rate_hz(laser.stamps)}), {odometry}, {sonars}; "
+        f"used: {_lasers_used(streams, lasers)}, {odometry}, {sonars}; "
         f"{len(log.t)} steps over {duration:.1f} s{dropped}"
     )
+
+
+def _lasers_used(streams: dict[str, _Stream], lasers: list[str]) -> str:
+    """``laser /scan (1265 scans, 10.0 Hz)``; several: ``lasers /front (...) merged with /rear (...)``."""
+    used = [f"{topic} ({len(streams[topic].stamps)} scans, {_rate_hz(streams[topic].stamps)})" for topic in lasers]
+    if len(used) == 1:
+        return f"laser {used[0]}"
+    return f"lasers {used[0]}, the time base, merged with {' and '.join(used[1:])}"
 
 
 #: Without odometry, the share of scans changing together above which the robot seems to move.
@@ -630,7 +750,7 @@ def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[
     """Open the bag, choose its topics and read their messages.
 
     Returns:
-        ``(types, counts, (laser, sonars, odometry, tf), streams)``: every topic's message
+        ``(types, counts, (lasers, sonars, odometry, tf), streams)``: every topic's message
         type and count, the chosen topics (``_choose_topics``; ``tf``: every TF topic), and
         a ``_Stream`` per chosen topic.
     """
@@ -651,14 +771,15 @@ def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[
         with AnyReader([source], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as reader:
             types = {name: info.msgtype for name, info in reader.topics.items()}
             counts = {name: info.msgcount for name, info in reader.topics.items()}
-            laser_topic, sonar_topics, odometry_topic = _choose_topics(path, types, topics)
+            lasers, sonar_topics, odometry_topic = _choose_topics(path, types, topics)
             tf_topics = sorted(name for name, kind in types.items() if kind in TF_TYPES)
-            chosen = laser_topic, sonar_topics, odometry_topic, tf_topics
-            if counts[laser_topic] == 0:
-                raise LogFormatError(
-                    f"{path}: topic {laser_topic} holds no {LASER_TYPE} message; topics: {_listing(types, counts)}"
-                )
-            wanted = [laser_topic, *sonar_topics, *([odometry_topic] if odometry_topic else []), *tf_topics]
+            chosen = lasers, sonar_topics, odometry_topic, tf_topics
+            for laser_topic in lasers:
+                if counts[laser_topic] == 0:
+                    raise LogFormatError(
+                        f"{path}: topic {laser_topic} holds no {LASER_TYPE} message; topics: {_listing(types, counts)}"
+                    )
+            wanted = [*lasers, *sonar_topics, *([odometry_topic] if odometry_topic else []), *tf_topics]
             streams = _read_streams(reader, wanted)
     except AnyReaderError as err:
         raise LogFormatError(f"{path}: not a readable ROS bag ({_plain(err)}){_remedy(path)}") from None
@@ -686,11 +807,12 @@ def _remedy(path: Path) -> str:
     return f"; a ROS 1 bag cut short while recording can be repaired with: rosbag reindex {path}"
 
 
-def _choose_topics(path: Path, types: dict[str, str], topics: BagTopics) -> tuple[str, list[str], str | None]:
-    """The laser topic, the sonar topics in order and the odometry topic (or None)."""
+def _choose_topics(path: Path, types: dict[str, str], topics: BagTopics) -> tuple[list[str], list[str], str | None]:
+    """The laser topics (the time base first), the sonar topics in order and the odometry
+    topic (or None)."""
     if not types:
         raise LogFormatError(f"{path}: the bag is empty (no topic); a log needs a {LASER_TYPE} topic")
-    laser = _one_topic(path, types, topics.laser, LASER_TYPE, "--laser-topic", required=True)
+    lasers = _laser_topics(path, types, topics)
     odometry = _one_topic(path, types, topics.odometry, ODOMETRY_TYPE, "--odom-topic", required=False)
     if topics.sonars is not None:
         for name in topics.sonars:
@@ -710,19 +832,35 @@ def _choose_topics(path: Path, types: dict[str, str], topics: BagTopics) -> tupl
             f"P2AT ring, which takes {FRONT_SONARS} (front sonars) or {SONAR_RING} (whole ring); "
             "give their bearings with --sonar-bearings, or choose topics with --sonar-topics"
         )
-    return laser, sonars, odometry
+    return lasers, sonars, odometry
+
+
+def _laser_topics(path: Path, types: dict[str, str], topics: BagTopics) -> list[str]:
+    """The LaserScan topics named (checked), every one with ``all_lasers`` (natural name
+    order), else the only one."""
+    if topics.all_lasers:
+        found = sorted((name for name, kind in types.items() if kind == LASER_TYPE), key=_natural_key)
+        if not found:
+            raise LogFormatError(f"{path}: no {LASER_TYPE} topic; topics: {_listing(types)}")
+        return found
+    for name in topics.more_lasers:
+        _check_topic(path, types, name, LASER_TYPE, "--laser-topic")
+    first = _one_topic(path, types, topics.laser, LASER_TYPE, "--laser-topic", required=True, several="--all-lasers")
+    return [first, *topics.more_lasers]
 
 
 def _one_topic(
-    path: Path, types: dict[str, str], named: str | None, kind: str, flag: str, required: bool
+    path: Path, types: dict[str, str], named: str | None, kind: str, flag: str, required: bool, several: str = ""
 ) -> str | None:
-    """The topic ``named`` (checked), else the only topic of message type ``kind``."""
+    """The topic ``named`` (checked), else the only topic of message type ``kind``
+    (``several``: the flag that takes them all, named in the error for several)."""
     if named is not None:
         _check_topic(path, types, named, kind, flag)
         return named
     found = [name for name, msgtype in sorted(types.items()) if msgtype == kind]
     if len(found) > 1:
-        raise LogFormatError(f"{path}: {len(found)} {kind} topics ({', '.join(found)}); choose one with {flag}")
+        both = f", or all with {several}" if several else ""
+        raise LogFormatError(f"{path}: {len(found)} {kind} topics ({', '.join(found)}); choose one with {flag}{both}")
     if not found and required:
         raise LogFormatError(f"{path}: no {kind} topic; topics: {_listing(types)}")
     return found[0] if found else None
@@ -795,12 +933,20 @@ def _seconds(stamp_ns: int) -> str:
 
 
 def _laser_readings(
-    path: Path, stream: _Stream, no_echo: float, mount: LaserMount, options: ScanOptions
+    path: Path,
+    stream: _Stream,
+    no_echo: float,
+    mount: LaserMount,
+    options: ScanOptions,
+    origin: LaserMount | None = None,
 ) -> tuple[np.ndarray, RawScans | None, list[str]]:
     """``(M, 180)`` model laser ranges (m) of every scan of ``stream``, placed with ``mount``
     and masked as ``options`` says (no echo: ``no_echo`` m); the M scans at their own
     resolution where they share one geometry (else None); one line on what the laser covers
-    and one on the self-returns masked (if any)."""
+    and one on the self-returns masked (if any).
+
+    ``origin``: None: the model's beams are seen from this laser (``ScanResampler``);
+    else from ``origin``'s position, another laser's (``_seen_from``: a merged laser)."""
     beams = np.empty((len(stream.fields), LASER_BEAMS))
     raw = None
     by_geometry: dict[tuple[float, float, int], list[int]] = {}
@@ -822,11 +968,42 @@ def _laser_readings(
                 self_returns.append(_self_return_note(ranges[:, found], bearings[found], len(scans)))
             hidden |= found
         ranges[:, hidden] = no_echo
-        beams[scans] = resampler.resample(ranges, no_echo)
+        if origin is None:
+            beams[scans] = resampler.resample(ranges, no_echo)
+        else:
+            beams[scans] = _seen_from(origin, mount, bearings, ranges, no_echo)
         notes.append(_coverage_note(resampler, geometry, len(scans)))
         if len(by_geometry) == 1:
             raw = RawScans(np.mod(bearings + np.pi, 2.0 * np.pi) - np.pi, ranges)
     return beams, raw, [notes[0] if len(notes) == 1 else "; ".join(notes), *self_returns]
+
+
+def _seen_from(
+    origin: LaserMount, mount: LaserMount, bearings_rad: np.ndarray, ranges: np.ndarray, no_echo_m: float
+) -> np.ndarray:
+    """A laser's echoes on the model's 180 beams as seen from another point: each echo is
+    placed in the robot frame from ``mount`` and read from ``origin``'s position; a model
+    beam takes the nearest echo whose bearing falls in its 1° (no echo: ``no_echo_m``).
+
+    Args:
+        origin: the laser the model's beams are seen from (its x, y, m).
+        mount: this laser's mount (its x, y, m).
+        bearings_rad: ``(N,)`` robot-frame bearings of this laser's beams (rad).
+        ranges: ``(M, N)`` ranges (m), no echo already ``no_echo_m``.
+        no_echo_m: the no-echo range (m).
+
+    Returns:
+        ``(M, 180)`` ranges (m).
+    """
+    echo = ranges < no_echo_m
+    x = mount.x_m - origin.x_m + ranges * np.cos(bearings_rad)
+    y = mount.y_m - origin.y_m + ranges * np.sin(bearings_rad)
+    beam = np.floor((np.degrees(np.arctan2(y, x)) + LASER_FOV_DEG / 2.0) * LASER_BEAMS / LASER_FOV_DEG).astype(int)
+    seen = echo & (beam >= 0) & (beam < LASER_BEAMS)
+    scan = np.broadcast_to(np.arange(ranges.shape[0])[:, None], ranges.shape)
+    beams = np.full((ranges.shape[0], LASER_BEAMS), no_echo_m)
+    np.minimum.at(beams, (scan[seen], beam[seen]), np.minimum(np.hypot(x, y)[seen], no_echo_m))
+    return beams
 
 
 def _valid_ranges(fields: list[tuple], min_range_m: float, no_echo_m: float) -> np.ndarray:
