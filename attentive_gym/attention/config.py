@@ -34,6 +34,7 @@ __all__ = [
     "SONAR_EGO_MODELS",
     "KINEMATICS_MODES",
     "MAX_MAP_WEIGHT",
+    "MAX_FREE_SPACE_LAGS",
     "is_map_weight",
     "parse_state",
     "LASER_PROFILES",
@@ -46,6 +47,8 @@ ATTENTIVE_STATES: Mapping[str, float] = {"drowsy": 0.5, "alert": 1.0, "vigilant"
 #: The largest weight a feature map may have: any larger and the combined map's sums could
 #: leave float range (a weight of 1e308 made C, L and saliency NaN).
 MAX_MAP_WEIGHT = 1e6
+#: The most past scans a laser scan is compared with for free-space evidence.
+MAX_FREE_SPACE_LAGS = 8
 
 
 def is_map_weight(value: Any) -> bool:
@@ -189,6 +192,29 @@ class AttentionConfig:
             or behind something nearer) coasts on its velocity for at most this long (s).
         max_tracks: the most tracks kept at once.
         sonar_accel_psd_m2ps3: ``q`` of each front sonar's range/rate filter (m²/s³).
+        odometry_previous_weight: the weight of the previous reading's velocity when the
+            robot's pose is dead-reckoned over a step (the current one's is 1 minus it; in
+            [0, 1]). 0.5, the default, is the trapezoid rule (exact for odometry that ramps
+            linearly and continuously). The simulator moves its robot in S physics sub-steps
+            (``world.physics_substeps``), each at the velocity it starts with, which makes
+            ``(S + 1) / (2 S)`` exact: 0.75 at its default step of 0.05 s (heading error over
+            1 s of random driving: p99 0.16° against 2.6° with 0.5).
+        free_space_evidence: weigh each track's probability of moving by free-space evidence
+            (``tracking.free_space``): an echo inside space an earlier scan saw through, or a
+            body's static place now seen through. Off by default until the registered
+            attended ids move to a new version (docs/notes/2026-12-05-free-space-evidence.md).
+        free_space_lags_s: the ages (s, at most 8, each > 0) of the past scans a scan is
+            compared with.
+        free_space_run_sigmas: a run of neighbouring beams (each ≥ 1 σ, at least 3) is
+            evidence when its combined score ``Σ σ / √beams`` reaches this (σ); a track's
+            static place counts as seen through beyond it.
+        free_space_born_moving: the probability of moving of a track born with evidence
+            (in (0, 1); one born without starts at 0.5).
+        free_space_evidence_log_odds: what a matched track's log-odds of moving gain at a
+            scan with evidence (≥ 0).
+        free_space_none_log_odds: what they gain at a scan without (≤ 0): motion that leaves
+            no trace in free space (a centroid shifting as structure is hidden and shown)
+            fades.
 
     Sensors (§1).
 
@@ -284,6 +310,13 @@ class AttentionConfig:
     track_coast_s: float = 1.5
     max_tracks: int = 64
     sonar_accel_psd_m2ps3: float = 0.5
+    odometry_previous_weight: float = 0.5
+    free_space_evidence: bool = False
+    free_space_lags_s: tuple[float, ...] = (0.1, 0.2, 0.4, 0.7, 1.0)
+    free_space_run_sigmas: float = 4.0
+    free_space_born_moving: float = 0.9
+    free_space_evidence_log_odds: float = 2.0
+    free_space_none_log_odds: float = -0.5
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
     laser_mount_y_m: float = 0.0
@@ -431,7 +464,15 @@ class AttentionConfig:
             raise ValueError(
                 f"AttentionConfig.sonar_ego_model must be one of {SONAR_EGO_MODELS}, got {self.sonar_ego_model!r}"
             )
-        for name in ("laser_only", "td_require_target", "normalise_combined", "balance_groups", "laser_upside_down"):
+        self._check_free_space()
+        for name in (
+            "laser_only",
+            "td_require_target",
+            "normalise_combined",
+            "balance_groups",
+            "laser_upside_down",
+            "free_space_evidence",
+        ):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")
         try:
@@ -448,6 +489,51 @@ class AttentionConfig:
             parse_state(self.state)
         except ValueError as err:
             raise ValueError(f"AttentionConfig.state: {err}") from None
+
+    def _check_free_space(self) -> None:
+        """The dead reckoning's weight and the free-space evidence's settings."""
+        _check_number(
+            "odometry_previous_weight", self.odometry_previous_weight, "weight", low=0.0, low_inclusive=True, high=1.0
+        )
+        try:
+            lags = tuple(float(lag) for lag in self.free_space_lags_s)
+        except (TypeError, ValueError):
+            lags = ()
+        if not 1 <= len(lags) <= MAX_FREE_SPACE_LAGS or not all(
+            math.isfinite(lag) and 0.0 < lag <= 10.0 for lag in lags
+        ):
+            raise ValueError(
+                f"AttentionConfig.free_space_lags_s must be 1 to {MAX_FREE_SPACE_LAGS} ages in (0, 10] s, "
+                f"got {self.free_space_lags_s!r}"
+            )
+        object.__setattr__(self, "free_space_lags_s", lags)
+        _check_number(
+            "free_space_run_sigmas", self.free_space_run_sigmas, "σ", low=0.0, low_inclusive=False, high=100.0
+        )
+        _check_number(
+            "free_space_born_moving",
+            self.free_space_born_moving,
+            "probability",
+            low=0.0,
+            low_inclusive=False,
+            high=0.999,
+        )
+        _check_number(
+            "free_space_evidence_log_odds",
+            self.free_space_evidence_log_odds,
+            "log-odds",
+            low=0.0,
+            low_inclusive=True,
+            high=50.0,
+        )
+        _check_number(
+            "free_space_none_log_odds",
+            self.free_space_none_log_odds,
+            "log-odds",
+            low=-50.0,
+            low_inclusive=True,
+            high=0.0,
+        )
 
     # --- derived quantities ---------------------------------------------------------
     @property

@@ -45,11 +45,23 @@ __all__ = [
     "World",
     "WorldState",
     "ROBOT_ID",
+    "PHYSICS_DT_S",
+    "physics_substeps",
     "MOVER_COLLISION_TYPE",
     "STATIC_COLLISION_TYPE",
 ]
 
 ROBOT_ID = 0
+#: The world's default largest physics sub-step (s).
+PHYSICS_DT_S = 0.025
+
+
+def physics_substeps(dt_s: float, physics_dt_s: float = PHYSICS_DT_S) -> int:
+    """How many equal physics sub-steps, none longer than ``physics_dt_s`` (s), a world's step
+    of ``dt_s`` seconds takes."""
+    return max(1, math.ceil(dt_s / physics_dt_s - 1e-9))
+
+
 MOVER_COLLISION_TYPE = 2
 STATIC_COLLISION_TYPE = 3
 _STATIC_FRICTION = 0.8
@@ -225,7 +237,9 @@ class World:
         ValueError: if the robot or a mover starts overlapping another body.
     """
 
-    def __init__(self, scenario: Scenario, robot_config: RobotConfig = RobotConfig(), physics_dt_s: float = 0.025):
+    def __init__(
+        self, scenario: Scenario, robot_config: RobotConfig = RobotConfig(), physics_dt_s: float = PHYSICS_DT_S
+    ):
         if not (math.isfinite(physics_dt_s) and physics_dt_s > 0.0):
             raise ValueError(f"physics_dt_s must be a finite number > 0, got {physics_dt_s!r}")
         self.scenario = scenario
@@ -398,8 +412,8 @@ class World:
 
     def substeps(self, dt_s: float) -> int:
         """How many equal physics sub-steps, none longer than ``physics_dt_s``, a ``step`` of
-        ``dt_s`` seconds takes."""
-        return max(1, math.ceil(dt_s / self.physics_dt_s - 1e-9))
+        ``dt_s`` seconds takes (``physics_substeps``)."""
+        return physics_substeps(dt_s, self.physics_dt_s)
 
     def geometry(self) -> SceneGeometry:
         """The scene's world-frame geometry after the last step, with owners = entity ids

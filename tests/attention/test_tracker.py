@@ -16,6 +16,7 @@ from attentive_gym.attention.tracking.segmentation import (
     measure_segments,
     segment_scan,
 )
+from attentive_gym.attention.tracking.tracker import advance_pose
 
 DT_S = 0.05  # the scenes' laser sits at the robot's centre: AttentionConfig(laser_mount_x_m=0)
 RADIUS_M = 0.25  # a victim
@@ -291,3 +292,63 @@ def test_the_focus_names_the_track_it_holds(scene):
 def test_bad_tracker_settings_are_refused(field, value):
     with pytest.raises(ValueError, match=field):
         AttentionConfig(**{field: value})
+
+
+# --- free-space evidence and dead reckoning (docs/model.md §10) ---------------------------------
+def _free_space_config(range_noise_rel=0.01):
+    return AttentionConfig(range_noise_rel=range_noise_rel, laser_mount_x_m=0.0, free_space_evidence=True)
+
+
+def test_free_space_evidence_is_off_by_default_and_holds_no_scans():
+    assert not AttentionConfig().free_space_evidence
+    model = AttentionModel(AttentionConfig())
+    assert model.tracker.scan_history.shape[0] == 0
+    assert AttentionModel(_free_space_config()).tracker.scan_history.shape[0] > 0
+
+
+def test_a_body_appearing_in_free_space_is_born_moving(scene):
+    """A disc appears 3 m ahead in front of a wall the laser has seen for 1 s: with free-space
+    evidence its track starts with ``free_space_born_moving``, without it at 0.5."""
+    walls = [(5.0, -5.0, 5.0, 5.0)]
+    appear = lambda t: [] if t < 1.0 else [(3.0, 0.0)]  # noqa: E731
+    with_evidence = _run(scene, appear, 22, walls=walls, config=_free_space_config())
+    without = _run(scene, appear, 22, walls=walls, config=AttentionConfig(range_noise_rel=0.01, laser_mount_x_m=0.0))
+    born = with_evidence[20].tracks  # the scan at t = 1.0 s
+    row = int(np.argmin(np.hypot(*(born.position_m - (3.0 + RADIUS_M, 0.0)).T)))
+    assert born.moving_probability[row] == pytest.approx(0.9)
+    plain = without[20].tracks
+    assert plain.moving_probability[int(np.argmin(np.hypot(*(plain.position_m - (3.0, 0.0)).T)))] == 0.5
+
+
+def test_free_space_evidence_keeps_a_corridor_static_and_sees_a_start_sooner(scene):
+    """Driving down a corridor at 5 % noise: no track of the walls ends up labelled moving. A
+    victim ahead that stands 1 s, then crosses at 0.6 m/s, is labelled moving sooner after its
+    start with the evidence than without."""
+    walls = [(-20.0, 1.5, 40.0, 1.5), (-20.0, -2.5, 40.0, -2.5)]
+    drive = dict(sigma=0.05, walls=walls, robot_at=lambda t: ((0.6 * t, 0.0), 0.0), odometry=lambda t: (0.6, 0.0))
+    outs = _run(scene, lambda t: [], 100, config=_free_space_config(0.05), **drive)
+    assert all(float(o.tracks.moving_probability[o.tracks.confirmed].max(initial=0.0)) < 0.5 for o in outs)
+
+    def victim(t):
+        return (4.0, -1.5 + 0.6 * max(t - 1.0, 0.0))
+
+    configs = (_free_space_config(0.05), AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0))
+    latencies = []
+    for config in configs:
+        outs = _run(scene, lambda t: [victim(t)], 50, sigma=0.05, config=config)
+        moving = []
+        for k, out in enumerate(outs[20:], start=20):
+            x, y = victim(k * DT_S)
+            row = _nearest_track(out, (x + RADIUS_M, y))
+            moving.append(row is not None and out.tracks.moving_probability[row] > 0.5)
+        latencies.append(moving.index(True) if True in moving else len(moving))
+    assert latencies[0] < latencies[1], latencies
+
+
+@pytest.mark.parametrize(("weight", "expected"), [(0.5, 0.5), (0.75, 0.75), (1.0, 1.0)])
+def test_dead_reckoning_weighs_the_previous_velocity(weight, expected):
+    """The heading turned over a step from 0 rad/s to 1 rad/s is ``(1 − w) · 1 rad/s · dt``."""
+    pose, odometry = np.zeros(3), np.array([0.0, 0.0, 1.0])
+    advance_pose(0.1, 0.0, 1.0, pose, odometry, weight)
+    assert pose[2] == pytest.approx((1.0 - expected) * 0.1)
+    assert odometry.tolist() == [0.0, 1.0, 1.0]

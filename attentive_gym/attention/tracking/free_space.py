@@ -41,6 +41,11 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "BEAM_SIGMAS",
+    "MIN_BEAMS",
+    "MARGIN_M",
+    "WIDTH_M",
+    "MIN_SHARE",
     "PARAMETERS",
     "evidence_parameters",
     "ScanHistory",
@@ -55,6 +60,10 @@ __all__ = [
     "weigh_motion",
 ]
 
+#: The tracker's fixed settings of the tests: a beam's least score (σ), the fewest beams of a
+#: run, the margin (m) and width (m) of ``evidence_parameters``, and the least share of a
+#: segment's beams that makes it evidence (``weigh_motion``).
+BEAM_SIGMAS, MIN_BEAMS, MARGIN_M, WIDTH_M, MIN_SHARE = 1.0, 3, 0.05, 0.05, 0.3
 #: Slots of ``ScanHistory.counters``: the row the next scan goes to, and how many are stored.
 _NEXT, _STORED = 0, 1
 #: The tests' parameters, in the order of their vector (``evidence_parameters``).

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention.config import AttentionConfig
+from attentive_gym.attention.config import MAX_FREE_SPACE_LAGS, AttentionConfig
 from attentive_gym.attention.kinematics import planar_displacement
 from attentive_gym.attention.regions import (
     FRONT_SONARS,
@@ -43,6 +43,7 @@ from attentive_gym.attention.regions import (
     laser_bearings_rad,
     sonar_cone_bounds,
 )
+from attentive_gym.attention.tracking import free_space
 from attentive_gym.attention.tracking.association import gated_assignment
 from attentive_gym.attention.tracking.kalman import (
     cv_predict,
@@ -71,6 +72,7 @@ __all__ = [
     "track_scan",
     "track_step",
     "advance_pose",
+    "free_space_step",
     "table_from_rows",
     "TRACK_TABLE_FIELDS",
     "STATE_FIELDS",
@@ -111,8 +113,17 @@ _CARVE_PROBABILITY = 0.5
     _FG_SIGMAS,
     _FG_MARGIN,
     _FG_EDGE,
-    _N_PARAMS,
-) = range(25)
+    _ODOMETRY_WEIGHT,
+    _FS_ON,
+    _FS_RUN_SIGMAS,
+    _FS_BORN_MOVING,
+    _FS_EVIDENCE,
+    _FS_NONE,
+    _FS_SPACING,
+    _FS_N_LAGS,
+    _FS_LAGS,
+) = range(33)
+_N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
 _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (
     SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
 )
@@ -224,6 +235,7 @@ STATE_FIELDS = (
     "extent_m",
     "segment_of",
     "counters",
+    "scan_history",
     "sonar_x",
     "sonar_P",
     "sonar_hits",
@@ -263,7 +275,12 @@ class Tracker:
         self.seen_s = np.zeros(capacity)  # time of the track's last match (s)
         self.extent_m = np.zeros(capacity)  # the body's extent, averaged over its matches (m)
         self.segment_of = np.full(capacity, -1, np.int64)  # segment matched at the last scan
-        self.counters = np.zeros(2, np.int64)  # next id, segments of the last scan
+        self.counters = np.zeros(4, np.int64)  # next id, segments of the last scan, the scan history's 2
+        # past laser scans for free-space evidence, a row each: time (s), the laser's pose (x m, y m,
+        # heading rad; odometry frame), its ranges (m) (free_space.ScanHistory's arrays side by side)
+        spacing = 0.45 * min(config.free_space_lags_s)  # every scan at 20 Hz while the shortest lag is 0.1 s
+        rows = math.ceil(max(config.free_space_lags_s) / spacing) + 2 if config.free_space_evidence else 0
+        self.scan_history = np.zeros((rows, 4 + LASER_BEAMS))
         self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
         self.segments = np.zeros((LASER_BEAMS, len(SEGMENT_FIELDS)))
         self.sonar_x = np.zeros((FRONT_SONARS, 2))
@@ -294,6 +311,12 @@ class Tracker:
         params[_MOUNT_X], params[_MOUNT_Y] = config.laser_mount_x_m, config.laser_mount_y_m
         params[_FG_FLANK], params[_FG_SIGMAS] = config.foreground_flank_beams, config.foreground_sigmas
         params[_FG_MARGIN], params[_FG_EDGE] = config.foreground_margin_m, config.foreground_edge_sigmas
+        params[_ODOMETRY_WEIGHT] = config.odometry_previous_weight
+        params[_FS_ON], params[_FS_RUN_SIGMAS] = config.free_space_evidence, config.free_space_run_sigmas
+        params[_FS_BORN_MOVING] = config.free_space_born_moving
+        params[_FS_EVIDENCE], params[_FS_NONE] = config.free_space_evidence_log_odds, config.free_space_none_log_odds
+        params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
+        params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
         self._beam_region = Grid.make("sonar").beam_region
         self._cone_bounds = sonar_cone_bounds(config.sonar_cone_half_width_deg).astype(np.int64)
@@ -301,7 +324,7 @@ class Tracker:
         self._covariance = np.zeros((capacity, 4, 4))
 
     def reset(self) -> None:
-        """Forget every track, the sonar filters and the pose."""
+        """Forget every track, the sonar filters, the past laser scans and the pose."""
         self.alive[:] = False
         self.segment_of[:] = -1
         self.counters[:] = 0
@@ -404,21 +427,25 @@ class Tracker:
 
 
 @njit(cache=True)
-def advance_pose(dt_s, linear, angular, pose, odometry):
+def advance_pose(dt_s, linear, angular, pose, odometry, previous_weight):
     """Dead-reckon ``pose`` ``(3,)`` (x, y in m, heading in rad; odometry frame) over ``dt_s``
     seconds, in place, given the robot's velocity at this reading (``linear`` m/s,
     ``angular`` rad/s); ``odometry`` ``(3,)`` holds the previous reading's velocity (and 1.0
     once there is one) and becomes this one's.
 
-    The motion over the interval uses the mean of the two readings' velocities (the
-    trapezoid rule: exact while the velocity ramps linearly, as a drive under
-    acceleration limits does); the first reading's interval uses its own.
+    The motion over the interval uses ``previous_weight`` times the previous reading's
+    velocity plus the rest of this one's (``AttentionConfig.odometry_previous_weight``: 0.5,
+    the trapezoid rule, is exact while the velocity ramps linearly and continuously; a
+    simulator that moves the robot in sub-steps at their starting velocities needs more
+    weight on the previous); the first reading's interval uses its own.
     """
     before_linear, before_angular = linear, angular
     if odometry[2] != 0.0:
         before_linear, before_angular = odometry[0], odometry[1]
     odometry[0], odometry[1], odometry[2] = linear, angular, 1.0
-    mean_linear, mean_angular = 0.5 * (before_linear + linear), 0.5 * (before_angular + angular)
+    now_weight = 1.0 - previous_weight
+    mean_linear = previous_weight * before_linear + now_weight * linear
+    mean_angular = previous_weight * before_angular + now_weight * angular
     if dt_s <= 0.0 or (mean_linear == 0.0 and mean_angular == 0.0):
         return
     dx, dy, dtheta = planar_displacement(mean_linear, mean_angular, dt_s)
@@ -473,6 +500,7 @@ def track_step(
     extent_m,
     segment_of,
     counters,
+    scan_history,
     sonar_x,
     sonar_P,
     sonar_hits,
@@ -484,13 +512,14 @@ def track_step(
     moving,
     region_slot,
 ):
-    """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``,
-    ``sonar_filters`` of ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
+    """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``
+    (then ``free_space_step``, unless the configuration turns it off), ``sonar_filters`` of
+    ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
     ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows.
 
     The arguments are the step's inputs (``Tracker.step``'s), ``Tracker.constants``,
     ``Tracker.state`` and the outputs ``rates``, ``speeds``, ``moving``, ``region_slot``."""
-    advance_pose(dt_s, linear, angular, pose, odometry)
+    advance_pose(dt_s, linear, angular, pose, odometry, params[_ODOMETRY_WEIGHT])
     n_sonar = region_slot.shape[0]
     if laser_new:
         track_scan(
@@ -519,6 +548,22 @@ def track_step(
             segment_of,
             counters,
         )
+        if params[_FS_ON] != 0.0:
+            free_space_step(
+                t_s,
+                pose,
+                readings[n_sonar:],
+                beam_step_rad,
+                params,
+                bounds,
+                counters,
+                scan_history,
+                segment_of,
+                static_x,
+                alive,
+                born_s,
+                p_moving,
+            )
     if sonar_new:
         sonar_filters(
             t_s,
@@ -581,6 +626,70 @@ def track_step(
         rows,
         covariance,
     )
+
+
+@njit(cache=True)
+def free_space_step(
+    t_s,
+    robot_pose,
+    ranges_m,
+    beam_step_rad,
+    params,
+    bounds,
+    counters,
+    history,
+    segment_of,
+    static_x,
+    alive,
+    born_s,
+    p_moving,
+):
+    """Weigh the tracks' probabilities of moving by the free-space evidence of the laser scan
+    ``ranges_m`` ``(n,)`` just tracked (``track_scan``'s segments ``bounds``, ``counters[1]`` of
+    them), then remember the scan (``tracking.free_space``; the history's rows are
+    ``Tracker.scan_history``'s, its counters ``counters[2:4]``). The laser's pose is the
+    robot's ``robot_pose`` ``(3,)`` with the mounting point."""
+    n = ranges_m.shape[0]
+    c, s = math.cos(robot_pose[2]), math.sin(robot_pose[2])
+    laser = np.empty(3)
+    laser[0] = robot_pose[0] + c * params[_MOUNT_X] - s * params[_MOUNT_Y]
+    laser[1] = robot_pose[1] + s * params[_MOUNT_X] + c * params[_MOUNT_Y]
+    laser[2] = robot_pose[2]
+    evidence_params = np.array(
+        [
+            -0.5 * beam_step_rad * n,
+            beam_step_rad,
+            params[_NO_ECHO],
+            params[_NOISE_REL],
+            params[_NOISE_FLOOR],
+            free_space.MARGIN_M,
+            free_space.WIDTH_M,
+        ]
+    )
+    times, poses, past, history_counters = history[:, 0], history[:, 1:4], history[:, 4:], counters[2:4]
+    lags = params[_FS_LAGS : _FS_LAGS + int(params[_FS_N_LAGS])]
+    appeared = np.empty(n)
+    flags = np.empty(n, np.bool_)
+    free_space.scan_evidence(
+        t_s, ranges_m, laser, lags, times, poses, past, history_counters, evidence_params, appeared
+    )
+    free_space.evidence_runs(appeared, free_space.BEAM_SIGMAS, params[_FS_RUN_SIGMAS], free_space.MIN_BEAMS, flags)
+    shares = np.zeros(bounds.shape[0])
+    free_space.segment_evidence(flags, bounds, counters[1], shares)
+    weights = np.array(
+        [
+            free_space.MIN_SHARE,
+            params[_FS_RUN_SIGMAS],
+            params[_FS_BORN_MOVING],
+            params[_FS_EVIDENCE],
+            params[_FS_NONE],
+            _MOTION_FLOOR,
+        ]
+    )
+    free_space.weigh_motion(
+        t_s, shares, ranges_m, laser, evidence_params, weights, segment_of, static_x, alive, born_s, p_moving
+    )
+    free_space.remember_scan(t_s, ranges_m, laser, params[_FS_SPACING], times, poses, past, history_counters)
 
 
 @njit(cache=True)
