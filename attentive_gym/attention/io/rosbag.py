@@ -20,6 +20,11 @@ Messages (ROS 2 names; ROS 1's ``sensor_msgs/LaserScan`` etc. are the same):
   beams are turned into robot-frame bearings with the laser's mount (yaw, upside down)
   and resampled onto the model's 180 beams over the front 180°
   (``ros_readings.ScanResampler``: nearest echo of the overlapping scan beams).
+  Several topics (``BagTopics.more_lasers``, ``all_lasers``) are merged: the first is the
+  time base and the model's origin; each further laser, placed with its own mount (its
+  ``ScanOptions.more_mounts`` entry, else TF), gives its latest scan at or before each of
+  the first's, its echoes placed in the robot frame and seen from the first laser's
+  position (``_seen_from``); each model beam reads the nearest echo of all of them.
 - ``tf2_msgs/msg/TFMessage`` (ROS 1 ``tf/tfMessage`` too), optional: the transforms from
   the scans' ``header.frame_id`` up to the base frame (the Odometry's ``child_frame_id``,
   else ``base_link`` or ``base_footprint``) give the laser's mount where ``ScanOptions``
