@@ -45,10 +45,12 @@ from attentive_gym.attention import _moved
 from attentive_gym.attention.compiled.batch import ModelBatch
 from attentive_gym.attention.config import (
     ATTENTIVE_STATES,
+    LASER_PROFILES,
     MAP_ALIASES,
     MAP_NAMES,
     AttentionConfig,
     parse_state,
+    profile_config,
 )
 from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
 from attentive_gym.attention.io.replay import load_log, parse_goal, parse_maps, replay_log
@@ -68,6 +70,7 @@ _moved.install()  # the library's own modules import the new paths only
 
 __all__ = [
     "ATTENTIVE_STATES",
+    "LASER_PROFILES",
     "MAP_ALIASES",
     "MAP_NAMES",
     "AttentionConfig",
@@ -91,6 +94,7 @@ __all__ = [
     "parse_goal",
     "parse_maps",
     "parse_state",
+    "profile_config",
     "replay_log",
 ]
 
