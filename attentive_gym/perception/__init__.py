@@ -11,7 +11,10 @@ library code:
 - ``metrics``: the speed error, the focus on target and why it is or is not there, from
   records;
 - ``geometry``: robot-frame geometry and what counts as in view;
-- ``settings``: the benchmark's attended environments (``make_attentive_env``) and arenas.
+- ``settings``: the benchmark's attended environments (``make_attentive_env``) and arenas;
+- ``motion``: scenes where a walker stops and goes or runs along structure, and the onset
+  latency, false moving labels and recall measured on them (``record_motion``,
+  ``motion_metrics``).
 
 The environments come from ``attentive_gym.wrappers.make_env`` (an attended variant, whose
 ``info["attention"]`` is the model's output); this package needs gymnasium and pymunk.

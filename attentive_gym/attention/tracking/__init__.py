@@ -8,6 +8,9 @@ laser scan tracked over time.
   outputs (``TrackTable``).
 - ``track_regions``: the tracks' speeds and directions per attention region (the channels
   the feature maps read).
+- ``free_space``: free-space evidence of motion (an echo inside space an earlier scan saw
+  through), which weighs the tracks' probability of moving when
+  ``AttentionConfig.free_space_evidence`` is on.
 
 Import from the modules; the public names of the model are in ``attentive_gym.attention``.
 """
