@@ -13,8 +13,9 @@ laser's pose at its time, so the robot's own motion is compensated by the poses.
 - ``remember_scan``: store a scan, at most one per ``spacing_s``.
 - ``past_scan``: the stored scan closest to a lag before now.
 - ``violations``: for each echo of one scan, by how many σ it lies inside the space another
-  scan saw as free (along that scan's nearest beam, conservatively the minimum over it and
-  its two neighbours, so that depth edges and grazing surfaces give none).
+  scan saw as free (conservatively the smallest range of that scan's beams within a small
+  width of the echo, at least the beam it falls in and its two neighbours, so that depth
+  edges and grazing surfaces give none).
 - ``evidence_runs``: runs of neighbouring beams whose scores pass a threshold each and, over
   the run, a combined one: the beams with moving evidence.
 - ``scan_evidence``: one scan's evidence against the past scans at several lags: the
