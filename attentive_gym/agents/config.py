@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from attentive_gym._checks import check_int
+from attentive_gym.envs.config_mappings import env_kwargs_as_mappings
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [
@@ -95,7 +96,10 @@ class RunSpec:
         eval_episodes: episodes per evaluation (the same episode seeds every time).
         checkpoint_every: environment steps between checkpoints (an interrupted run loses
             at most this many steps).
-        env_kwargs: keyword arguments of ``make_env`` (``arena_size_m``, ``num_distractors``, ...).
+        env_kwargs: keyword arguments of ``make_env`` (``arena_size_m``, ``num_distractors``, ...);
+            ``reward``, ``robot``, ``sonar`` and ``laser`` (a dataclass or a mapping of some
+            of its fields) are stored as the mapping of every field, so ``to_dict`` is plain
+            JSON and ``from_dict`` rebuilds the same settings.
         algo_kwargs: keyword arguments of the SB3 algorithm (override ``default_algo_kwargs``).
         algo_defaults: which version of ``default_algo_kwargs`` (one of ``ALGO_DEFAULTS``;
             the latest unless a stored spec says otherwise).
@@ -142,6 +146,7 @@ class RunSpec:
             if not isinstance(value, Mapping):
                 raise ValueError(f"{name} must be a mapping, got {type(value).__name__}")
             object.__setattr__(self, name, dict(value))
+        object.__setattr__(self, "env_kwargs", _resolved_env_kwargs(self.env_kwargs))
         _check_finite("algo_kwargs", self.algo_kwargs)
         for key in SCHEDULE_KEYS:
             if isinstance(self.algo_kwargs.get(key), str):
@@ -268,6 +273,17 @@ def default_eval_episodes(total_steps: int) -> int:
     """
     check_int("total_steps", total_steps, 1)
     return max(1, min(RunSpec.eval_episodes, total_steps // STEPS_PER_EVAL_EPISODE))
+
+
+def _resolved_env_kwargs(env_kwargs: dict[str, Any]) -> dict[str, Any]:
+    """``env_kwargs`` with the env's settings objects (``reward``, ``robot``, ``sonar``,
+    ``laser``; a dataclass or a mapping of some fields) as the mapping of every field
+    (``env_kwargs_as_mappings``): plain JSON, equal however the same settings were given;
+    ``ValueError`` for a field or value their dataclass refuses."""
+    try:
+        return env_kwargs_as_mappings(env_kwargs)
+    except TypeError as err:
+        raise ValueError(f"env_kwargs: {err}") from None
 
 
 def _check_finite(name: str, value: Any) -> None:

@@ -11,6 +11,7 @@ import inspect
 import math
 import numbers
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +23,7 @@ from attentive_gym import _pymunk_access
 from attentive_gym._optional import require
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.completion import complete_resets, complete_steps
+from attentive_gym.envs.config_mappings import config_from
 from attentive_gym.envs.reward import RewardConfig
 from attentive_gym.sensors import LaserConfig, ScanHold, SensorReading, SensorSuite, SonarConfig, resolve_sensor_profile
 from attentive_gym.world.arena import ArenaConfig, generate_arena
@@ -145,8 +147,11 @@ class AttentiveRescueEnv(gym.Env):
     ``render`` extra), the sensor settings below, the arena's knobs ``arena_size_m`` (side
     or (width, height)), ``num_distractors``, ``rubble_per_100m2``, ``max_mover_speed_mps``,
     ``goals`` (goals to sample from), ``time_limit_s``, and ``reward`` (``RewardConfig``),
-    ``robot`` (``RobotConfig``), ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``).
-    Unknown keywords raise ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})``
+    ``robot`` (``RobotConfig``), ``sonar`` (``SonarConfig``), ``laser`` (``LaserConfig``),
+    each also as a mapping of some of its fields (``reward={"collision_per_s": 10}``; the
+    others keep their defaults; ``envs.config_mappings``): an unknown field raises
+    ``ValueError`` listing the allowed ones, a bad value the dataclass's own error, before
+    anything is built. Unknown keywords raise ``TypeError`` listing the allowed ones. ``reset(options={"goal": g})``
     fixes the episode's goal (a ``Goal`` or its encoding).
 
     **Sensor settings** (keyword arguments; None means "not given"):
@@ -201,10 +206,10 @@ class AttentiveRescueEnv(gym.Env):
         max_mover_speed_mps: float = 1.0,
         goals: tuple[Goal, ...] | None = None,
         time_limit_s: float | None = None,
-        reward: RewardConfig = RewardConfig(),
-        robot: RobotConfig = RobotConfig(),
-        sonar: SonarConfig = SonarConfig(),
-        laser: LaserConfig = LaserConfig(),
+        reward: RewardConfig | Mapping[str, Any] = RewardConfig(),
+        robot: RobotConfig | Mapping[str, Any] = RobotConfig(),
+        sonar: SonarConfig | Mapping[str, Any] = SonarConfig(),
+        laser: LaserConfig | Mapping[str, Any] = LaserConfig(),
         **unknown: Any,
     ) -> None:
         if unknown:
@@ -212,6 +217,8 @@ class AttentiveRescueEnv(gym.Env):
                 n for n in inspect.signature(AttentiveRescueEnv.__init__).parameters if n not in ("self", "unknown")
             ]
             raise TypeError(f"unknown keyword argument(s) {sorted(unknown)}; allowed: {allowed}")
+        reward, robot = config_from("reward", reward), config_from("robot", robot)
+        sonar, laser = config_from("sonar", sonar), config_from("laser", laser)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
         if render_mode is not None:
@@ -253,14 +260,6 @@ class AttentiveRescueEnv(gym.Env):
         self.time_limit_s = (
             None if time_limit_s is None else _check_number("time_limit_s", time_limit_s, 0.0, 1e6, low_open=True)
         )
-        for name, value, cls in (
-            ("reward", reward, RewardConfig),
-            ("robot", robot, RobotConfig),
-            ("sonar", sonar, SonarConfig),
-            ("laser", laser, LaserConfig),
-        ):
-            if not isinstance(value, cls):
-                raise TypeError(f"{name} must be a {cls.__name__}, got {type(value).__name__}")
         self.reward_config = reward
         self.robot_config = robot
 
