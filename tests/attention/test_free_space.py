@@ -258,14 +258,15 @@ def test_weigh_motion_raises_tracks_with_evidence_and_lowers_those_without():
     assert p[3] == 0.9  # born moving
 
 
-def test_weigh_motion_leaves_unmatched_and_dead_tracks_and_keeps_the_floor():
+def test_weigh_motion_lowers_coasting_tracks_leaves_dead_ones_and_keeps_the_floor():
     weights = free_space.motion_weights(0.3, 4.0, 0.9, 2.0, -50.0, 1e-3)
     tracks = _tracks(3)
-    tracks["static_x"][:] = (20.0, 0.0)
-    tracks["segment_of"][1] = -1  # not matched this scan
+    tracks["static_x"][:] = (3.0, 0.0)  # seen through: evidence, were the tracks matched
+    tracks["segment_of"][1] = -1  # not matched this scan: coasting, no evidence
     tracks["alive"][2] = False
-    free_space.weigh_motion(1.0, np.zeros(3), np.full(BEAMS, 10.0), np.zeros(3), parameters(), weights, **tracks)
-    assert tracks["p_moving"].tolist() == [1e-3, 0.5, 0.5]
+    shares = np.array([0.0, 0.0, 1.0])
+    free_space.weigh_motion(1.0, shares, np.full(BEAMS, 10.0), np.zeros(3), parameters(), weights, **tracks)
+    assert tracks["p_moving"].tolist() == [pytest.approx(1.0 / (1.0 + math.exp(-2.0))), 1e-3, 0.5]
 
 
 def test_bad_parameters_are_refused():

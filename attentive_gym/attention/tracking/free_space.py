@@ -337,10 +337,11 @@ def weigh_motion(t_s, shares, ranges, pose, params, weights, segment_of, static_
     ``weights[0]`` of the segment's beams have it (``shares``, ``segment_evidence``), or when
     the scan ``ranges`` (taken from the laser pose ``pose``) sees through its static
     hypothesis' place ``static_x[k]`` by at least ``weights[1]`` σ (``seen_through``: the body
-    left the place where it would stand). A track born this scan (``born_s[k] == t_s``) with
-    evidence starts at probability ``weights[2]`` (born moving); an older one's log-odds gain
-    ``weights[3]`` with evidence and ``weights[4]`` (≤ 0) without. Probabilities stay within
-    ``[weights[5], 1 − weights[5]]``.
+    left the place where it would stand). A track not matched this scan (coasting, hidden or
+    missed) has none. A track born this scan (``born_s[k] == t_s``) with evidence starts at
+    probability ``weights[2]`` (born moving); an older one's log-odds gain ``weights[3]`` with
+    evidence and ``weights[4]`` (≤ 0) without, so a track coasting out of view does not keep
+    the label it had. Probabilities stay within ``[weights[5], 1 − weights[5]]``.
 
     Args:
         params: ``(7,)`` ``evidence_parameters``.
@@ -351,9 +352,9 @@ def weigh_motion(t_s, shares, ranges, pose, params, weights, segment_of, static_
     floor = weights[5]
     for k in range(alive.shape[0]):
         m = segment_of[k]
-        if not alive[k] or m < 0:
+        if not alive[k]:
             continue
-        evidence = (
+        evidence = m >= 0 and (
             shares[m] >= weights[0] or seen_through(static_x[k, 0], static_x[k, 1], ranges, pose, params) >= weights[1]
         )
         if born_s[k] == t_s:
