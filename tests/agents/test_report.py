@@ -25,7 +25,13 @@ def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
     """A repository root with the committed perception, checks and performance CSVs, no RL
     rows and a README holding ``readme`` (``{start}``/``{end}``: the headline's markers)."""
     (tmp_path / "docs" / "results").mkdir(parents=True)
-    for name in ("perception.csv", "perception_clutter.csv", "experiment_checks.csv", "performance.csv"):
+    for name in (
+        "perception.csv",
+        "perception_clutter.csv",
+        "perception_motion.csv",
+        "experiment_checks.csv",
+        "performance.csv",
+    ):
         shutil.copy(RESULTS / name, tmp_path / "docs" / "results" / name)
     if readme is not None:
         (tmp_path / "README.md").write_text(readme.format(start=headline.START, end=headline.END))
