@@ -1,6 +1,7 @@
 """Helpers shared by several test folders (importable because ``tests/conftest.py`` puts
 this folder on ``sys.path``; the tests run with ``--import-mode=importlib``)."""
 
+import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -34,3 +35,14 @@ def load_benchmark(name: str):
 def load_tool(name: str):
     """The module of ``tools/<name>.py`` (``load_script``)."""
     return load_script(TOOLS, name)
+
+
+def load_test_module(path: str):
+    """The test module at ``path`` under ``tests/`` (e.g. ``"attention/test_rosbag.py"``, whose
+    ROS message and bag writers the bag tests share), loaded by file path: the suite's import
+    mode keeps test modules from importing each other by name."""
+    name = "tests_" + path.removesuffix(".py").replace("/", "_")
+    spec = importlib.util.spec_from_file_location(name, Path(__file__).parent / path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

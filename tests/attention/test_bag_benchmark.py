@@ -6,29 +6,19 @@ bag in ``tests/data``."""
 from __future__ import annotations
 
 import csv
-import importlib.util
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from attentive_gym.attention.io.rosbag import RawScans
-from support import load_benchmark
+from support import load_benchmark, load_test_module
 
 bench = load_benchmark("bench_real_bags")
 REAL_BAG = Path(__file__).resolve().parents[1] / "data" / "leg_tracker_demo_stationary_simple.bag"
 
 
-def _rosbag_tests():
-    """``test_rosbag``, whose message and bag writers these tests use (the suite's import
-    mode keeps test modules from importing each other by name)."""
-    spec = importlib.util.spec_from_file_location("rosbag_writers", Path(__file__).with_name("test_rosbag.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_bags = _rosbag_tests()
+_bags = load_test_module("attention/test_rosbag.py")
 SCAN_NS, T0_NS, scan, write_bag = _bags.SCAN_NS, _bags.T0_NS, _bags.scan, _bags.write_bag
 HALF_DEGREE = np.radians(0.5)
 BEARINGS = -np.pi / 2 + HALF_DEGREE * (np.arange(360) + 0.5)  # 360 beams over the front 180°

@@ -4,9 +4,6 @@ with rosbags' writers (helpers in ``test_rosbag`` and ``test_bag_mount``)."""
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -16,18 +13,9 @@ from attentive_gym.attention.io.ros_readings import LaserMount
 from attentive_gym.attention.io.rosbag import BagTopics, open_bag, parse_bag_topics, parse_scan_options
 from attentive_gym.attention.io.sensor_log import LogFormatError
 from attentive_gym.cli import main
+from support import load_test_module
 
-
-def _load(name):
-    """A sibling test module by file path (the suite's import mode keeps test modules from
-    importing each other by name)."""
-    spec = importlib.util.spec_from_file_location(f"bag_lasers_{name}", Path(__file__).with_name(f"{name}.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_bags, _mount = _load("test_rosbag"), _load("test_bag_mount")
+_bags, _mount = load_test_module("attention/test_rosbag.py"), load_test_module("attention/test_bag_mount.py")
 N_SCANS, SCAN_NS, T0_NS = _bags.N_SCANS, _bags.SCAN_NS, _bags.T0_NS
 scan, write_bag = _bags.scan, _bags.write_bag
 _framed, _quaternion, tf_message = _mount._framed, _mount._quaternion, _mount.tf_message

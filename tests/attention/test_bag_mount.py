@@ -4,8 +4,6 @@ odometry from TF. Bags are written with rosbags' writers (helpers in ``test_rosb
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,18 +12,9 @@ from attentive_gym.attention import AttentionConfig, load_trace
 from attentive_gym.attention.io.ros_readings import LaserMount
 from attentive_gym.attention.io.rosbag import ScanOptions, open_bag, parse_scan_options
 from attentive_gym.cli import main
+from support import load_test_module
 
-
-def _rosbag_tests():
-    """``test_rosbag``, whose message and bag writers these tests use (the suite's import
-    mode keeps test modules from importing each other by name)."""
-    spec = importlib.util.spec_from_file_location("rosbag_writers", Path(__file__).with_name("test_rosbag.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_bags = _rosbag_tests()
+_bags = load_test_module("attention/test_rosbag.py")
 N_SCANS, NO_LASER, ROS2, SCAN_NS, T0_NS = _bags.N_SCANS, _bags.NO_LASER, _bags.ROS2, _bags.SCAN_NS, _bags.T0_NS
 odom, scan, write_bag = _bags.odom, _bags.scan, _bags.write_bag
 RANGES_180 = 1.0 + np.arange(180) / 64.0  # laser beam k at -89.5 + k deg

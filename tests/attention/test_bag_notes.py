@@ -4,9 +4,6 @@ written with rosbags' writers (helpers in ``test_rosbag``)."""
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numba
 import numpy as np
 import pytest
@@ -14,18 +11,9 @@ import pytest
 from attentive_gym import _kernel_cache
 from attentive_gym.attention.io.rosbag import ScanOptions, open_bag, parse_scan_options
 from attentive_gym.cli import main
+from support import load_test_module
 
-
-def _rosbag_tests():
-    """``test_rosbag``, whose message and bag writers these tests use (the suite's import
-    mode keeps test modules from importing each other by name)."""
-    spec = importlib.util.spec_from_file_location("rosbag_writers", Path(__file__).with_name("test_rosbag.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_bags = _rosbag_tests()
+_bags = load_test_module("attention/test_rosbag.py")
 NO_LASER, SCAN_NS, T0_NS = _bags.NO_LASER, _bags.SCAN_NS, _bags.T0_NS
 scan, write_bag = _bags.scan, _bags.write_bag
 N_LONG = 25  # scans: enough to tell the robot's own structure (SELF_RETURN_MIN_SCANS) from a still object

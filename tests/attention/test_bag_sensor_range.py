@@ -5,27 +5,15 @@ pose recorded in a replay's trace. Bags are written with rosbags' writers (helpe
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, TraceRecorder, load_trace, replay_log
 from attentive_gym.attention.io.rosbag import open_bag
 from attentive_gym.attention.io.trace import save_trace
+from support import load_test_module
 
-
-def _rosbag_tests():
-    """``test_rosbag``, whose message and bag writers these tests use (the suite's import
-    mode keeps test modules from importing each other by name)."""
-    spec = importlib.util.spec_from_file_location("rosbag_writers", Path(__file__).with_name("test_rosbag.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_bags = _rosbag_tests()
+_bags = load_test_module("attention/test_rosbag.py")
 SCAN_NS, T0_NS, scan, write_bag = _bags.SCAN_NS, _bags.T0_NS, _bags.scan, _bags.write_bag
 HOKUYO_M = 5.6
 HALF_DEGREE = np.radians(0.5)
