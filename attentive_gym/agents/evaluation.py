@@ -1,4 +1,5 @@
-"""Evaluate a policy on fixed episode seeds: success rate, return, collisions, episode length.
+"""Evaluate a policy on fixed episode seeds: success rate, safe success rate, return, contact,
+episode length.
 
 ``evaluate_policy(model, make_env_fn, episodes, seed)`` steps ``n_parallel`` plain Gymnasium
 environments side by side and batches the policy's forward passes (one ``model.predict``
@@ -12,6 +13,7 @@ first step of each episode (``episode_start`` True). Feed-forward policies retur
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any, NamedTuple
@@ -21,6 +23,7 @@ import numpy as np
 
 from attentive_gym._checks import check_int
 from attentive_gym._optional import require
+from attentive_gym.envs.reward import SAFE_CONTACT_S
 
 __all__ = [
     "EvalResult",
@@ -42,9 +45,11 @@ class EvalResult:
 
     n_episodes: int
     success_rate: float  # fraction of episodes ending with info["success"]
+    safe_success_rate: float  # fraction ending with success and info["contact_s"] <= SAFE_CONTACT_S (NaN without it)
     mean_return: float
     std_return: float
     mean_collision_steps: float  # steps with info["collision"] per episode
+    mean_contact_s: float  # s in contact per episode (the last info["contact_s"]; NaN for an env without it)
     mean_episode_length: float  # env steps per episode
     returns: tuple[float, ...]
     successes: tuple[bool, ...]
@@ -155,6 +160,7 @@ def evaluate_policy(
         collisions = np.zeros(episodes)
         lengths = np.zeros(episodes, dtype=int)
         successes = np.zeros(episodes, dtype=bool)
+        contacts = np.zeros(episodes)
         memory = PolicyMemory(len(envs))
         next_episode = 0
         active: list[_Running] = []
@@ -180,6 +186,7 @@ def evaluate_policy(
                 lengths[index] += 1
                 if terminated or truncated:
                     successes[index] = bool(info.get("success", False))
+                    contacts[index] = float(info.get("contact_s", math.nan))
                     if next_episode < episodes:
                         obs, _ = envs[slot].reset(seed=seed + next_episode)
                         still.append(_Running(slot, next_episode, obs, True))
@@ -194,9 +201,13 @@ def evaluate_policy(
     return EvalResult(
         n_episodes=episodes,
         success_rate=float(successes.mean()),
+        safe_success_rate=math.nan
+        if np.isnan(contacts).any()
+        else float((successes & (contacts <= SAFE_CONTACT_S)).mean()),
         mean_return=float(returns.mean()),
         std_return=float(returns.std()),
         mean_collision_steps=float(collisions.mean()),
+        mean_contact_s=float(contacts.mean()),
         mean_episode_length=float(lengths.mean()),
         returns=tuple(float(r) for r in returns),
         successes=tuple(bool(s) for s in successes),

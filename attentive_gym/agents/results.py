@@ -35,18 +35,22 @@ __all__ = [
     "summary_markdown",
 ]
 
-#: One evaluation of one run. Units: env_steps (environment steps), success_rate [0, 1],
-#: returns (reward units), collision_steps (steps in contact per episode), episode_length
-#: (steps), wall_s (s since the run started).
+#: One evaluation of one run. Units: env_steps (environment steps), success_rate and
+#: safe_success_rate [0, 1] (safe: the target reached with at most ``SAFE_CONTACT_S`` = 1 s
+#: of contact in the episode), returns (reward units), collision_steps (steps in contact per
+#: episode), contact_s (s in contact per episode), episode_length (steps), wall_s (s since
+#: the run started).
 EVAL_COLUMNS = (
     "variant",
     "seed",
     "env_steps",
     "n_episodes",
     "success_rate",
+    "safe_success_rate",
     "mean_return",
     "std_return",
     "mean_collision_steps",
+    "mean_contact_s",
     "mean_episode_length",
     "wall_s",
 )

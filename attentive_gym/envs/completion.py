@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from attentive_gym.envs.reward import rescue_reward
+from attentive_gym.envs.reward import contact_exceeded, rescue_reward
 from attentive_gym.sensors import SensorReading
 
 if TYPE_CHECKING:
@@ -43,6 +43,7 @@ INFO_KEYS = (
     "target_index",
     "target_distance_m",
     "collision",
+    "contact_s",
     "success",
     "goal",
     "sonar_hits",
@@ -67,8 +68,9 @@ class CompletedSteps:
             ``"laser"`` (k, R) m, ``"odometry"`` (k, 2) (m/s, rad/s, clipped to the
             observation space), ``"goal"`` (k, G) (``Goal.encode()``).
         rewards: k rewards (floats; 0 for a reset or a member without a task).
-        terminations: k flags: the target was reached.
-        truncations: k flags: the time limit was reached without success.
+        terminations: k flags: the target was reached, or the contact limit passed
+            (``RewardConfig.contact_limit_s``).
+        truncations: k flags: the time limit was reached without termination.
         info: every key of ``INFO_KEYS``: ``robot_pose`` (k, 3), ``robot_velocity`` (k, 2)
             float64 and ``sonar_hits`` (k, 16), ``laser_hits`` (k, R) int64 blocks; the
             others lists of k member values as the single env's info has them (Python
@@ -112,6 +114,7 @@ class CompletedSteps:
                 "target_index": index,
                 "target_distance_m": distance,
                 "collision": collision,
+                "contact_s": contact_s,
                 "success": success,
                 "goal": goal,
                 "sonar_hits": sonar_hits[j],
@@ -127,6 +130,7 @@ class CompletedSteps:
                 index,
                 distance,
                 collision,
+                contact_s,
                 success,
                 goal,
                 sonar_time,
@@ -170,7 +174,9 @@ def _complete(
         block = getattr(fresh, name)
         if block.ndim != 2 or block.shape[0] != k:
             raise ValueError(f"fresh.{name} must be a (k, ·) block with k = {k} rows (one per env), got {block.shape}")
-    time_s, positions, velocities, names, indices, distances, collisions, successes, goals = ([] for _ in range(9))
+    time_s, positions, velocities, names, indices, distances, collisions, contacts, successes, goals = (
+        [] for _ in range(10)
+    )
     poses, odometry, observed, rewards, terminations, truncations, holds, encodings = [], [], [], [], [], [], [], []
     sonar_scans, laser_scans = [], []
     for env, collided in zip(envs, touched):  # member by member: Python floats, as one env alone computes them
@@ -185,7 +191,12 @@ def _complete(
         linear_limit, angular_limit = env._odometry_limit  # the observation space's float32 bounds
         mover_xy = state.movers["pose"][:, :2].copy()
         target = env._target_index
-        reward, success = 0.0, False
+        reward, success, ended = 0.0, False, False
+        if not stepped:
+            env._contact_steps = 0
+        elif collided:
+            env._contact_steps += 1
+        contact_s = env._contact_steps * env.dt
         if target is None:
             distance = math.inf
         else:
@@ -193,6 +204,7 @@ def _complete(
             distance = math.hypot(tx - x, ty - y)
             if stepped:
                 reward, success = rescue_reward(env.reward_config, env.dt, env._distance, distance, collided)
+                ended = contact_exceeded(env.reward_config, contact_s)
         env._distance = distance
         hold = env._scans
         sonar_scan, laser_scan = hold.scans(now_s)
@@ -209,12 +221,13 @@ def _complete(
         indices.append(-1 if target is None else target)
         distances.append(distance)
         collisions.append(bool(collided))
+        contacts.append(contact_s)
         successes.append(bool(success))
         goals.append(goal[2])
         encodings.append(goal[1])
         rewards.append(float(reward))
-        terminations.append(bool(success))
-        truncations.append(bool(stepped and now_s >= env._limit_s - _LIMIT_TOLERANCE_S and not success))
+        terminations.append(bool(success or ended))
+        truncations.append(bool(stepped and now_s >= env._limit_s - _LIMIT_TOLERANCE_S and not (success or ended)))
         sonar_scans.append(sonar_scan)
         laser_scans.append(laser_scan)
         holds.append(hold)
@@ -232,6 +245,7 @@ def _complete(
         "target_index": indices,
         "target_distance_m": distances,
         "collision": collisions,
+        "contact_s": contacts,
         "success": successes,
         "goal": goals,
         "sonar_hits": sonar_owner.copy(),

@@ -131,13 +131,15 @@ class AttentiveRescueEnv(gym.Env):
     without a task give 0.
 
     **Termination**: the robot's centre comes within ``success_radius_m`` (1 m) of the
-    target's. **Truncation**: the time limit (the task's, default 40 s; or the scenario's
-    ``duration_s``; or ``time_limit_s``).
+    target's; or, with ``RewardConfig.contact_limit_s`` set, the robot has been in contact
+    for longer than that in the episode (no success). **Truncation**: the time limit (the
+    task's, default 40 s; or the scenario's ``duration_s``; or ``time_limit_s``).
 
     **Info**: ``time_s``, ``robot_pose`` (x m, y m, heading rad), ``robot_velocity``
     (odometry), ``mover_positions`` (M, 2), ``mover_velocities`` (M, 2), ``mover_names``,
     ``target_index`` (−1 without a task), ``target_distance_m`` (NaN-free: inf without a
-    task), ``collision``, ``success``, ``goal`` (its text), ``sonar_hits`` / ``laser_hits``
+    task), ``collision`` (the robot touched anything during the step), ``contact_s`` (s
+    of the episode's steps with a collision), ``success``, ``goal`` (its text), ``sonar_hits`` / ``laser_hits``
     (the entity id each reading came from, −1 for none; they hold between scans with the
     readings), ``sonar_time_s`` / ``laser_time_s`` (world time, s, of the scan each
     current reading came from; equal to ``time_s`` when a sensor scans every step).
@@ -283,6 +285,7 @@ class AttentiveRescueEnv(gym.Env):
         self._goal_cache: tuple = (None, np.zeros(GOAL_ENCODING_SIZE, np.float32), "none")  # goal, encoding, text
         self._renderer = None
         self._reading = None
+        self._contact_steps = 0  # steps of the episode with the robot in contact
         #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
         #: ``AttentionWrapper`` to show the focus); None draws nothing more. In human mode an
         #: env with an overlay leaves each step's frame to the overlay's owner, who draws it

@@ -2,6 +2,7 @@
 
 - ``RewardConfig``: the weights, in units that do not depend on the step size.
 - ``rescue_reward``: one step's reward from progress, collision, success and time.
+- ``SAFE_CONTACT_S``: the contact an episode may have and still count as a safe success.
 
 Per step of ``dt`` seconds::
 
@@ -9,6 +10,10 @@ Per step of ``dt`` seconds::
         − collision_per_s · dt · [robot touched anything during the step]
         − time_per_s · dt
         + success · [d_now ≤ success_radius_m]   # the episode then terminates
+
+With ``contact_limit_s`` set, the episode also terminates, without success, at the first
+step after which the robot has been in contact for more than ``contact_limit_s`` seconds
+in all (the step's own reward is paid as above).
 """
 
 from __future__ import annotations
@@ -16,7 +21,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["RewardConfig", "rescue_reward"]
+__all__ = ["SAFE_CONTACT_S", "RewardConfig", "contact_exceeded", "rescue_reward"]
+
+#: s: a success is safe when the robot was in contact for at most this long in the episode.
+SAFE_CONTACT_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -29,6 +37,8 @@ class RewardConfig:
         collision_per_s: penalty per second spent touching walls, rubble or movers.
         time_per_s: penalty per second elapsed.
         success_radius_m: centre-to-centre distance that counts as reaching the target.
+        contact_limit_s: seconds of contact (summed over the episode) beyond which the
+            episode terminates without success; None: no limit.
     """
 
     progress_per_m: float = 1.0
@@ -36,11 +46,15 @@ class RewardConfig:
     collision_per_s: float = 2.0
     time_per_s: float = 0.1
     success_radius_m: float = 1.0
+    contact_limit_s: float | None = None
 
     def __post_init__(self) -> None:
         for name, value in vars(self).items():
+            if name == "contact_limit_s" and value is None:
+                continue
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0):
-                raise ValueError(f"RewardConfig.{name} must be a finite number >= 0, got {value!r}")
+                allowed = "None or a finite number >= 0" if name == "contact_limit_s" else "a finite number >= 0"
+                raise ValueError(f"RewardConfig.{name} must be {allowed}, got {value!r}")
         if self.success_radius_m <= 0.0:
             raise ValueError(f"RewardConfig.success_radius_m must be > 0, got {self.success_radius_m}")
 
@@ -57,3 +71,8 @@ def rescue_reward(
         + config.success * float(success)
     )
     return reward, success
+
+
+def contact_exceeded(config: RewardConfig, contact_s: float) -> bool:
+    """Whether ``contact_s`` seconds of contact in the episode end it (``contact_limit_s``)."""
+    return config.contact_limit_s is not None and contact_s > config.contact_limit_s + 1e-9

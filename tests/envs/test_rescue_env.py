@@ -1,5 +1,6 @@
 """AttentiveRescue-v0: API conformance, determinism, pickling, bad input, task logic."""
 
+import math
 import pickle
 
 import gymnasium as gym
@@ -250,7 +251,7 @@ def test_info_reports_the_worlds_state_bit_for_bit_with_its_types():
         assert {key: type(value) for key, value in info.items()} == {
             **dict.fromkeys(("robot_pose", "robot_velocity", "mover_positions", "mover_velocities"), np.ndarray),
             **dict.fromkeys(("sonar_hits", "laser_hits"), np.ndarray),
-            **dict.fromkeys(("time_s", "target_distance_m", "sonar_time_s", "laser_time_s"), float),
+            **dict.fromkeys(("time_s", "target_distance_m", "contact_s", "sonar_time_s", "laser_time_s"), float),
             "mover_names": tuple,
             "target_index": int,
             "collision": bool,
@@ -263,3 +264,37 @@ def test_info_reports_the_worlds_state_bit_for_bit_with_its_types():
         if terminated or truncated:
             _, info = env.reset()
     assert touched >= 10
+
+
+def test_contact_s_sums_the_episodes_collision_steps_and_its_limit_ends_the_episode():
+    """``contact_s`` is dt times the episode's steps with a collision (0 after a reset); with
+    ``contact_limit_s`` the episode terminates, without success, at the first step past it,
+    and the same seed without a limit keeps going with the same trajectory up to there."""
+
+    def run(reward):
+        env = AttentiveRescueEnv(arena_size_m=7.0, num_distractors=4, rubble_per_100m2=15.0, reward=reward)
+        _, info = env.reset(seed=3)
+        assert info["contact_s"] == 0.0
+        steps, rng = [], np.random.default_rng(3)
+        for _ in range(400):
+            _, _, terminated, truncated, info = env.step(np.array([1.0, rng.uniform(-0.3, 0.3)]))
+            steps.append((info["collision"], info["contact_s"], terminated, info["success"], info["robot_pose"].copy()))
+            if terminated or truncated:
+                break
+        return env.dt, steps
+
+    dt, free = run({})
+    assert all(c == pytest.approx(dt * sum(s[0] for s in free[: i + 1])) for i, (_, c, *_) in enumerate(free))
+    assert free[-1][1] > 0.5, "the crowded arena must give contacts"
+    _, limited = run({"contact_limit_s": 0.5})
+    end = next(i for i, s in enumerate(free) if s[1] > 0.5 + 1e-9)
+    assert len(limited) == end + 1 and limited[-1][2] and not limited[-1][3]
+    assert not any(s[2] for s in limited[:-1])
+    for a, b in zip(free[: end + 1], limited):
+        np.testing.assert_array_equal(a[4], b[4])
+
+
+@pytest.mark.parametrize("limit", [-1.0, math.inf, math.nan, "1"])
+def test_a_bad_contact_limit_is_refused_naming_what_is_allowed(limit):
+    with pytest.raises(ValueError, match=r"contact_limit_s must be None or a finite number >= 0"):
+        AttentiveRescueEnv(reward={"contact_limit_s": limit})
