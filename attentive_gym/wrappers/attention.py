@@ -49,6 +49,8 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         state: the Global Attentive State ("drowsy", "alert", "vigilant" or a gain).
         memory_slots: ``"focus"`` only: bodies in the working memory of the last attended
             tracks (``attentive_gym.attention.working_memory``; 0 = none; default 3).
+        proximity: ``"focus"`` only: add the ``"proximity"`` entry, every region's nearest
+            reading (``FocusEncoder``; default False).
         selection: ``"focus"`` only: ``"winner"`` (default) attends the model's focus;
             ``"random"`` attends a region drawn uniformly each step (a control: the same
             bottleneck without the model's choice; ``"event"`` is then all zeros). The
@@ -70,17 +72,27 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         state: str | float | None = None,
         memory_slots: int | None = None,
         selection: str = "winner",
+        proximity: bool = False,
     ) -> None:
         gym.utils.RecordConstructorArgs.__init__(
-            self, mode=mode, config=config, weights=weights, state=state, memory_slots=memory_slots, selection=selection
+            self,
+            mode=mode,
+            config=config,
+            weights=weights,
+            state=state,
+            memory_slots=memory_slots,
+            selection=selection,
+            proximity=proximity,
         )
         gym.Wrapper.__init__(self, env)
         if mode not in ENCODERS:
             raise ValueError(f"unknown observation mode {mode!r}; allowed: {list(OBSERVATION_MODES)}")
         if selection not in SELECTIONS:
             raise ValueError(f"unknown selection {selection!r}; allowed: {list(SELECTIONS)}")
-        if mode != "focus" and (memory_slots is not None or selection != "winner"):
-            raise ValueError(f"memory_slots and selection apply to the 'focus' observation only, got mode={mode!r}")
+        if mode != "focus" and (memory_slots is not None or selection != "winner" or proximity):
+            raise ValueError(
+                f"memory_slots, selection and proximity apply to the 'focus' observation only, got mode={mode!r}"
+            )
         if memory_slots is None:
             memory_slots = DEFAULT_MEMORY_SLOTS
         if not isinstance(memory_slots, int) or isinstance(memory_slots, bool) or memory_slots < 0:
@@ -95,7 +107,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if state is not None:
             self.model.set_state(state)
         if mode == "focus":
-            self._encoder = FocusEncoder(self.model.config, base, memory_slots)
+            self._encoder = FocusEncoder(self.model.config, base, memory_slots, proximity=proximity)
         else:  # L's ceiling allows every named attentive state, or the higher gain asked for, and the weights in force
             in_force = dataclasses.replace(self.model.config, weights=tuple(self.model.weights.values()))
             self._encoder = ENCODERS[mode](in_force, base, gain=max(self.model.state, max(ATTENTIVE_STATES.values())))

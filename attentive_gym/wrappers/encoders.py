@@ -89,6 +89,9 @@ class FocusEncoder:
     - ``"motion"`` (4,): range rate (m/s, + away, clipped to ±max speed) and the
       direction label one-hot (towards, static, away).
     - ``"features"`` (6,): F1..F6 at the region.
+    - ``"proximity"`` (J,), when ``proximity`` is True: each region's nearest reading (m),
+      the minimum of its sonar and its laser beams, clipped to ``max_distance_m``. It
+      covers every region, attended or not: a sense of what is near, not of what is there.
     - ``"memory"`` (K · 6,), when ``memory_slots`` = K > 0: the rows of
       ``WorkingMemory.read``, the bodies that matched the goal first, each group most
       recently attended first (cos and sin of the bearing, distance in m up to
@@ -96,13 +99,20 @@ class FocusEncoder:
       to the memory's horizon); empty slots are all zeros, last.
     - ``"odometry"`` (2,), ``"goal"`` (13,): as in the base observation.
 
-    64 numbers with the sonar grid (J = 8) and K = 3. Needs ``grid="sonar"``: with one
+    64 numbers with the sonar grid (J = 8) and K = 3 (72 with ``proximity``). Needs ``grid="sonar"``: with one
     region per laser beam the one-hot alone would be 181 numbers.
     """
 
     def __init__(
-        self, config: AttentionConfig, base: spaces.Dict, memory_slots: int = 0, memory_horizon_s: float = 10.0
+        self,
+        config: AttentionConfig,
+        base: spaces.Dict,
+        memory_slots: int = 0,
+        memory_horizon_s: float = 10.0,
+        proximity: bool = False,
     ) -> None:
+        if not isinstance(proximity, bool):
+            raise ValueError(f"proximity must be True or False, got {proximity!r}")
         if config.grid != "sonar":
             raise ValueError(f"the 'focus' observation needs AttentionConfig(grid='sonar'), got grid={config.grid!r}")
         self.grid = Grid.make(config.grid)
@@ -124,6 +134,7 @@ class FocusEncoder:
                     np.array([-self._max_speed, 0, 0, 0], _F32), np.array([self._max_speed, 1, 1, 1], _F32), dtype=_F32
                 ),
                 "features": _box(0.0, 1.0, (6,)),
+                **({"proximity": _box(0.0, config.max_distance_m, (j,))} if proximity else {}),
                 **({"memory": spaces.Box(memory_low, memory_high, dtype=_F32)} if memory_slots else {}),
                 **_passthrough_spaces(base),
             }
@@ -193,6 +204,7 @@ class FocusEncoder:
                 int(view.direction),
                 view.features,
             )
+        self._write_proximity(flat[np.newaxis], [raw])
         return self._observation(flat)
 
     def encode_many(
@@ -265,6 +277,7 @@ class FocusEncoder:
             self._max_distance,
             self._max_speed,
         )
+        self._write_proximity(block, raws)
         return self._views(block)
 
     def encode_region(
@@ -313,7 +326,21 @@ class FocusEncoder:
             self._max_distance,
             self._max_speed,
         )
+        self._write_proximity(flat[np.newaxis], [raw])
         return self._observation(flat)
+
+    def _write_proximity(self, block: np.ndarray, raws: Sequence[dict[str, np.ndarray]]) -> None:
+        """Write the ``"proximity"`` entry of k observations into ``block`` ``(k, size)``, from
+        their base observations' ``"sonar"`` ``(16,)`` and ``"laser"`` ``(R,)`` ranges (m);
+        nothing without the entry."""
+        part = self._parts.get("proximity")
+        if part is None:
+            return
+        laser = _rows([raw["laser"] for raw in raws])
+        nearest = _rows([raw["sonar"] for raw in raws])[:, self.grid.region_sonar]
+        for j, beams in enumerate(self.grid.beam_slices):
+            np.minimum(nearest[:, j], laser[:, beams].min(axis=1), out=nearest[:, j])
+        block[:, part] = np.minimum(nearest, self._max_distance)
 
     def _memory_rows(self, memories: Sequence[np.ndarray | None]) -> np.ndarray:
         """The steps' memory rows ``(k, K, 6)`` (zeros for None: an empty memory reads as

@@ -45,17 +45,23 @@ class OracleFocus(gym.Wrapper, gym.utils.RecordConstructorArgs):
         memory_slots: slots of the ``"memory"`` entry (as ``AttentionWrapper``'s).
         config: the ``AttentionConfig`` whose bounds and grid the layout uses (default:
             the default configuration).
+        proximity: add the ``"proximity"`` entry, every region's nearest reading (from the
+            readings, as ``"focus"`` has it; default False).
     """
 
     def __init__(
-        self, env: gym.Env, memory_slots: int = DEFAULT_MEMORY_SLOTS, config: AttentionConfig | None = None
+        self,
+        env: gym.Env,
+        memory_slots: int = DEFAULT_MEMORY_SLOTS,
+        config: AttentionConfig | None = None,
+        proximity: bool = False,
     ) -> None:
-        gym.utils.RecordConstructorArgs.__init__(self, memory_slots=memory_slots, config=config)
+        gym.utils.RecordConstructorArgs.__init__(self, memory_slots=memory_slots, config=config, proximity=proximity)
         gym.Wrapper.__init__(self, env)
         if not isinstance(memory_slots, int) or isinstance(memory_slots, bool) or memory_slots < 0:
             raise ValueError(f"memory_slots must be an integer >= 0, got {memory_slots!r}")
         self.config = AttentionConfig() if config is None else config
-        self._encoder = FocusEncoder(self.config, env.observation_space, memory_slots)
+        self._encoder = FocusEncoder(self.config, env.observation_space, memory_slots, proximity=proximity)
         self.observation_space = self._encoder.space
         self._memory_slots = memory_slots
         self._grid = self._encoder.grid

@@ -52,6 +52,7 @@ def make_env(
     n_frames: int = 4,
     goal_menu=DEFAULT_GOAL_MENU,
     memory_slots: int | None = None,
+    proximity: bool = False,
     **env_kwargs: Any,
 ) -> gym.Env:
     """Build the rescue environment with the observation of ``variant``.
@@ -66,6 +67,9 @@ def make_env(
         memory_slots: bodies in the working memory of the variants with the focus layout
             (``"focus"``, ``"goal-action"``, ``"random-focus"``, ``"oracle"``; default 3,
             0 = no ``"memory"`` entry).
+        proximity: add the ``"proximity"`` entry (every region's nearest reading, 8
+            numbers) to the variants with the focus layout: a sense of what is near, for
+            avoiding what the focus does not attend (default False).
         env_kwargs: keyword arguments of ``AttentiveRescueEnv`` (``scenario``,
             ``sensor_noise``, ``dt``, ``render_mode``, the arena's knobs, ...).
 
@@ -80,13 +84,19 @@ def make_env(
         )
     if memory_slots is not None and variant not in _FOCUS_LAYOUT:
         raise ValueError(f"memory_slots applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
+    if proximity and variant not in _FOCUS_LAYOUT:
+        raise ValueError(f"proximity applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
     env: gym.Env = AttentiveRescueEnv(**env_kwargs)
     if variant == "raw-stack":
         env = StackedReadings(env, n_frames)
     elif variant == "oracle":
-        env = OracleFocus(env, **({} if memory_slots is None else {"memory_slots": memory_slots}))
+        env = OracleFocus(env, proximity=proximity, **({} if memory_slots is None else {"memory_slots": memory_slots}))
     elif variant in _ATTENTION_MODES:
-        focus = {"memory_slots": memory_slots, "selection": "random" if variant == "random-focus" else "winner"}
+        focus = {
+            "memory_slots": memory_slots,
+            "selection": "random" if variant == "random-focus" else "winner",
+            "proximity": proximity,
+        }
         env = AttentionWrapper(
             env,
             _ATTENTION_MODES[variant],
