@@ -179,7 +179,8 @@ def _complete(
     )
     poses, odometry, observed, rewards, terminations, truncations, holds, encodings = [], [], [], [], [], [], [], []
     sonar_scans, laser_scans = [], []
-    for env, collided in zip(envs, touched):  # member by member: Python floats, as one env alone computes them
+    clearances = fresh.sonar.min(axis=1).tolist()  # each robot's nearest sonar reading now (m)
+    for env, collided, clearance in zip(envs, touched, clearances):  # member by member: Python floats
         world = env.world
         state = world.state
         record = state.world
@@ -203,7 +204,7 @@ def _complete(
             tx, ty = mover_xy[target].tolist()
             distance = math.hypot(tx - x, ty - y)
             if stepped:
-                reward, success = rescue_reward(env.reward_config, env.dt, env._distance, distance, collided)
+                reward, success = rescue_reward(env.reward_config, env.dt, env._distance, distance, collided, clearance)
                 ended = contact_exceeded(env.reward_config, contact_s)
         env._distance = distance
         hold = env._scans

@@ -1,13 +1,14 @@
 """Reward of the rescue task.
 
 - ``RewardConfig``: the weights, in units that do not depend on the step size.
-- ``rescue_reward``: one step's reward from progress, collision, success and time.
+- ``rescue_reward``: one step's reward from progress, collision, nearness, success and time.
 - ``SAFE_CONTACT_S``: the contact an episode may have and still count as a safe success.
 
 Per step of ``dt`` seconds::
 
     r = progress_per_m · (d_prev − d_now)        # metres gained towards the target
         − collision_per_s · dt · [robot touched anything during the step]
+        − near_per_s · dt · max(0, 1 − clearance / near_m)  # clearance: the nearest sonar reading
         − time_per_s · dt
         + success · [d_now ≤ success_radius_m]   # the episode then terminates
 
@@ -37,6 +38,9 @@ class RewardConfig:
         collision_per_s: penalty per second spent touching walls, rubble or movers.
         time_per_s: penalty per second elapsed.
         success_radius_m: centre-to-centre distance that counts as reaching the target.
+        near_per_s: penalty per second at zero clearance (the robot's nearest sonar reading,
+            m), falling linearly to 0 at a clearance of ``near_m``: a warning before contact.
+        near_m: the clearance (m, > 0) below which ``near_per_s`` applies.
         contact_limit_s: seconds of contact (summed over the episode) beyond which the
             episode terminates without success; None: no limit.
     """
@@ -46,6 +50,8 @@ class RewardConfig:
     collision_per_s: float = 2.0
     time_per_s: float = 0.1
     success_radius_m: float = 1.0
+    near_per_s: float = 0.0
+    near_m: float = 0.3
     contact_limit_s: float | None = None
 
     def __post_init__(self) -> None:
@@ -55,18 +61,26 @@ class RewardConfig:
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0):
                 allowed = "None or a finite number >= 0" if name == "contact_limit_s" else "a finite number >= 0"
                 raise ValueError(f"RewardConfig.{name} must be {allowed}, got {value!r}")
-        if self.success_radius_m <= 0.0:
-            raise ValueError(f"RewardConfig.success_radius_m must be > 0, got {self.success_radius_m}")
+        for name in ("success_radius_m", "near_m"):
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"RewardConfig.{name} must be > 0, got {getattr(self, name)}")
 
 
 def rescue_reward(
-    config: RewardConfig, dt_s: float, previous_distance_m: float, distance_m: float, collided: bool
+    config: RewardConfig,
+    dt_s: float,
+    previous_distance_m: float,
+    distance_m: float,
+    collided: bool,
+    clearance_m: float,
 ) -> tuple[float, bool]:
-    """The step's reward and whether the target was reached."""
+    """The step's reward and whether the target was reached (``clearance_m``: the robot's
+    nearest sonar reading after the step, m)."""
     success = distance_m <= config.success_radius_m
     reward = (
         config.progress_per_m * (previous_distance_m - distance_m)
         - config.collision_per_s * dt_s * float(collided)
+        - config.near_per_s * dt_s * max(0.0, 1.0 - clearance_m / config.near_m)
         - config.time_per_s * dt_s
         + config.success * float(success)
     )

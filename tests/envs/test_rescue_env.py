@@ -298,3 +298,32 @@ def test_contact_s_sums_the_episodes_collision_steps_and_its_limit_ends_the_epis
 def test_a_bad_contact_limit_is_refused_naming_what_is_allowed(limit):
     with pytest.raises(ValueError, match=r"contact_limit_s must be None or a finite number >= 0"):
         AttentiveRescueEnv(reward={"contact_limit_s": limit})
+
+
+def test_the_near_penalty_charges_the_clearance_below_near_m_and_nothing_above():
+    """With ``near_per_s`` the reward drops by near_per_s · dt · max(0, 1 − clearance / near_m),
+    the clearance being the robot's nearest sonar reading; the trajectory is unchanged."""
+    kwargs = {"arena_size_m": 7.0, "num_distractors": 4, "rubble_per_100m2": 15.0}
+    plain = AttentiveRescueEnv(**kwargs)
+    near = AttentiveRescueEnv(**kwargs, reward={"near_per_s": 10.0, "near_m": 0.4})
+    plain.reset(seed=3)
+    near.reset(seed=3)
+    rng = np.random.default_rng(3)
+    charged = 0
+    for _ in range(200):
+        action = np.array([1.0, rng.uniform(-0.3, 0.3)])
+        _, r_plain, *ends, _ = plain.step(action)
+        _, r_near, *_ = near.step(action)
+        clearance = near._reading.sonar.min()
+        np.testing.assert_array_equal(near._reading.sonar, plain._reading.sonar)
+        assert r_near == pytest.approx(r_plain - 10.0 * near.dt * max(0.0, 1.0 - clearance / 0.4), abs=1e-12)
+        charged += clearance < 0.4
+        if any(ends):
+            break
+    assert charged >= 5, "the crowded arena must bring the robot near something"
+
+
+@pytest.mark.parametrize(("field", "value"), [("near_m", 0.0), ("near_per_s", -1.0)])
+def test_a_bad_near_setting_is_refused(field, value):
+    with pytest.raises(ValueError, match=f"RewardConfig.{field} must be"):
+        AttentiveRescueEnv(reward={field: value})
