@@ -1,10 +1,14 @@
 """``docs/results/rl.md``: the RL comparison's tables and figures, from the merged CSVs.
 
 - ``load(root)``: the rows of ``docs/results/rl_comparison.csv`` and ``rl_clutter.csv``
-  (the second may be absent), checked for the columns ``report add`` writes.
+  (the second may be absent), checked for the columns ``report add`` writes (the
+  safe-success columns aside, which rows written before them lack).
+- ``safe_note(rows)``: the line saying which runs predate the safe-success measure
+  (``PREDATE_SAFE_SUCCESS`` when all of them do).
 - ``results_markdown(comparison, clutter, figures, sources, page_dir, write_figures)``: the
   learning-curve figures, then at every training budget the summary table and attention
-  against its bound and control, then the clutter tables; writes the figures into
+  against its bound and control, then the clutter tables (safe success and contact time
+  too where the rows record them); writes the figures into
   ``figures`` unless told not to.
 - ``page(root, write_figures)``: the whole page, with its banner and how to reproduce it.
 """
@@ -27,9 +31,10 @@ from attentive_gym.agents.merged import (
     ordered,
     targets,
 )
-from attentive_gym.agents.plots import plot_learning_curves, plot_success_vs_distractors, steps_label
-from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, summary_markdown
+from attentive_gym.agents.plots import plot_learning_curves, plot_success_vs_distractors, recorded, steps_label
+from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summarise, summary_markdown
 from attentive_gym.agents.sweep import sweep_tables
+from attentive_gym.envs.reward import SAFE_CONTACT_S
 from page_text import FIGURES, RESULTS, banner, interval, number, table
 
 NAME = "rl.md"
@@ -37,6 +42,11 @@ NAME = "rl.md"
 COMPARISON_ARENA = "an 8 m arena with 2 distractors and 3 rubble pieces per 100 m²"
 COMPARISON = RESULTS / "rl_comparison.csv"
 CLUTTER = RESULTS / "rl_clutter.csv"
+#: What rows without ``SAFE_COLUMNS`` are, in one line.
+PREDATE_SAFE_SUCCESS = (
+    f"These runs predate the safe-success measure (success with at most {SAFE_CONTACT_S:g} s in contact): they "
+    "trained and were evaluated on the v0 task, so they record no safe success or contact time."
+)
 
 
 def _intro(comparison: Sequence[Mapping[str, Any]]) -> str:
@@ -51,10 +61,11 @@ when that is not PPO with SB3's constant learning rate on normalised observation
 `({default})` is today's default, `(recurrent-ppo)` an LSTM policy, `(unscaled)` a policy
 that saw the observation in its own units. Intervals are 95 % stratified-bootstrap
 intervals across seeds, as `rliable` computes them; P(success > raw) is the probability
-that a seed of the variant beats a seed of raw. A run trained further than a table's
-budget counts there with its curve cut at the budget. `oracle` (the target's true state in
-the focus layout) bounds attention from above; `random-focus` (a region drawn at random,
-the same bottleneck) is its control.
+that a seed of the variant beats a seed of raw. Safe success is success with at most
+{SAFE_CONTACT_S:g} s in contact in the episode, contact time the seconds in contact per episode.
+A run trained further than a table's budget counts there with its curve cut at the budget.
+`oracle` (the target's true state in the focus layout) bounds attention from above;
+`random-focus` (a region drawn at random, the same bottleneck) is its control.
 """
 
 
@@ -103,10 +114,22 @@ def load(root: Path) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
 
 
 def check_columns(path: Path, rows: Sequence[Mapping[str, Any]], columns: Sequence[str], what: str) -> None:
-    """``ValueError`` naming the ``columns`` the first of ``rows`` (read from ``path``) lacks."""
-    missing = [c for c in columns if rows and c not in rows[0]]
+    """``ValueError`` naming the ``columns`` the first of ``rows`` (read from ``path``) lacks;
+    ``SAFE_COLUMNS`` may be missing (rows written before the safe-success measure)."""
+    missing = [c for c in columns if rows and c not in rows[0] and c not in SAFE_COLUMNS]
     if missing:
         raise ValueError(f"{path} lacks the columns {missing} ({what} has them)")
+
+
+def safe_note(rows: Sequence[Mapping[str, Any]]) -> str:
+    """One line for ``rows`` some of which do not record the safe-success measure
+    (``SAFE_COLUMNS``): they predate it (the v0 task); "" when every row records it."""
+    missing = [row for row in rows if not recorded([row], "safe_success_rate")]
+    if not missing:
+        return ""
+    if len(missing) == len(rows):
+        return PREDATE_SAFE_SUCCESS + "\n"
+    return "Runs whose safe success and contact time read — predate that measure (the v0 task).\n"
 
 
 def _attention_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
@@ -136,8 +159,9 @@ def _count_headers(first: str, counts: Sequence[int]) -> list[str]:
     return [first, *(f"{n} distractor{'s' * (n != 1)}" for n in counts)]
 
 
-def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[str]) -> str:
-    """A row per variant (in the order of ``variants``), a column per count: final success."""
+def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[str], key: str = "final_success") -> str:
+    """A row per variant (in the order of ``variants``), a column per count: the summary's
+    ``key`` (``<key>_mean`` [``_ci_low``, ``_ci_high``]; default final success)."""
     counts = sorted({row["num_distractors"] for row in summary})
     cell = {(row["variant"], row["num_distractors"]): row for row in summary}
     rows = []
@@ -148,11 +172,27 @@ def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[s
             values.append(
                 "—"
                 if row is None
-                else interval(row["final_success_mean"], row["final_success_ci_low"], row["final_success_ci_high"])
+                else interval(row[f"{key}_mean"], row[f"{key}_ci_low"], row[f"{key}_ci_high"])
                 + f" (n={row['n_seeds']})"
             )
         rows.append([variant, *values])
     return table(_count_headers("variant", counts), rows)
+
+
+def _clutter_safe_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[str]) -> list[str]:
+    """The parts of the final safe success and contact time tables by distractor count (as
+    ``_clutter_markdown``); none where ``summary`` does not record them."""
+    if not recorded(summary, "final_safe_success_mean"):
+        return []
+    return [
+        f"Final safe success (at most {SAFE_CONTACT_S:g} s in contact; mean [95 % bootstrap CI]) by the number "
+        "of distractors:",
+        "",
+        _clutter_markdown(summary, variants, "final_safe_success"),
+        "Final contact time (s in contact per episode; mean [95 % bootstrap CI]) by the number of distractors:",
+        "",
+        _clutter_markdown(summary, variants, "final_contact_s"),
+    ]
 
 
 def _clutter_margins_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
@@ -197,8 +237,8 @@ def results_markdown(
     parts = [
         "## Learning curves",
         "",
-        "Mean success rate over seeds at each evaluation, a figure per training setting; shaded: the 95 % "
-        "bootstrap interval.",
+        "Mean success rate over seeds at each evaluation (with safe success and contact time where the runs "
+        "record them), a figure per training setting; shaded: the 95 % bootstrap interval.",
         "",
     ]
     for name, setting, _ in figures_of_settings:
@@ -224,15 +264,15 @@ def results_markdown(
         clutter_budgets = budgets(clutter_rows, ("variant", "num_distractors", "seed"))
         for k, (budget, at_budget) in enumerate(clutter_budgets):
             clutter_summary = sweep_tables(at_budget)
+            shown = [v for v in variants if any(row["variant"] == v for row in clutter_summary)]
             after = f" after {steps_label(budget)} env steps" if len(clutter_budgets) > 1 else ""
             parts += [
                 f"## Against clutter{after}",
                 "",
                 "Final success (mean [95 % bootstrap CI]) by the number of distractors:",
                 "",
-                _clutter_markdown(
-                    clutter_summary, [v for v in variants if any(row["variant"] == v for row in clutter_summary)]
-                ),
+                _clutter_markdown(clutter_summary, shown),
+                *_clutter_safe_markdown(clutter_summary, shown),
                 "Final success over raw's at each count, and in brackets the share of the raw → oracle gap "
                 "closed (where the oracle was run at that count):",
                 "",
@@ -255,4 +295,6 @@ def page(root: Path, write_figures: bool = True) -> str:
     comparison, clutter = load(root)
     sources = [COMPARISON, *([CLUTTER] if clutter else [])]
     body = results_markdown(comparison, clutter, root / FIGURES, root / RESULTS, write_figures)
-    return "\n".join(["# RL comparison", "", banner(sources), _intro(comparison), body, _REPRODUCE])
+    note = safe_note([*comparison, *clutter])
+    intro = _intro(comparison) + (f"\n{note}" if note else "")
+    return "\n".join(["# RL comparison", "", banner(sources), intro, body, _REPRODUCE])

@@ -29,6 +29,7 @@ from attentive_gym.agents.config import (
     default_eval_episodes,
 )
 from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
+from attentive_gym.envs.reward import SAFE_CONTACT_S
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "parse_json_object"]
@@ -292,6 +293,8 @@ def _run_train(args: argparse.Namespace) -> int:
     print(
         f"{spec.run_name}: {metrics['env_steps']} env steps; "
         f"final success rate {final.get('success_rate', float('nan')):.2f}, "
+        f"safe success rate {final.get('safe_success_rate', float('nan')):.2f} (≤ {SAFE_CONTACT_S:g} s in contact), "
+        f"contact {final.get('mean_contact_s', float('nan')):.1f} s / episode, "
         f"return {final.get('mean_return', float('nan')):.2f}; wrote {out}"
     )
     return 0
@@ -316,7 +319,8 @@ def add_evaluate(subparsers) -> None:
         "evaluate",
         help="evaluate a trained model",
         description="Evaluate a model saved by 'train' (its run folder or a .zip in it) on fixed episode seeds: "
-        "success rate, mean return, collision steps and episode length. --video records MP4s "
+        f"success rate, safe success rate (success with at most {SAFE_CONTACT_S:g} s in contact), mean return, "
+        "contact time (s), collision steps and episode length. --video records MP4s "
         "(gymnasium RecordVideo, needs moviepy).",
     )
     parser.add_argument("model", type=Path, help="run folder or .zip model")
@@ -347,7 +351,9 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     else:
         print(
             f"{spec.variant}: {result.n_episodes} episodes, success rate {result.success_rate:.2f}, "
+            f"safe success rate {result.safe_success_rate:.2f} (≤ {SAFE_CONTACT_S:g} s in contact), "
             f"return {result.mean_return:.2f} ± {result.std_return:.2f}, "
+            f"contact {result.mean_contact_s:.1f} s / episode, "
             f"collision steps {result.mean_collision_steps:.1f}, "
             f"length {result.mean_episode_length:.0f} steps"
         )
@@ -364,10 +370,10 @@ def add_compare(subparsers) -> None:
         help="train every (variant, seed) pair and compare learning curves",
         description="Train every (variant, seed) pair in parallel, then write DIR/results.csv (one row per variant, "
         "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds) and "
-        "DIR/summary.md + summary.csv (final success rate and return with 95 % CIs, env steps to the "
-        "success threshold). Every run's spec is checked before anything is trained. Ctrl-C (or "
-        "SIGTERM) stops the runs in progress and starts no queued one; a rerun into DIR trains only "
-        "the unfinished runs, each from its last checkpoint.",
+        "DIR/summary.md + summary.csv (final success rate, safe success rate, contact time and return with "
+        "95 % CIs, env steps to the success threshold). Every run's spec is checked before anything is "
+        "trained. Ctrl-C (or SIGTERM) stops the runs in progress and starts no queued one; a rerun into DIR "
+        "trains only the unfinished runs, each from its last checkpoint.",
     )
     parser.add_argument(
         "--variants",
@@ -408,7 +414,7 @@ def add_compare(subparsers) -> None:
         metavar="LIST",
         help="a clutter sweep: the comparison at each distractor count of the comma list (e.g. 1,3,6), "
         "into DIR/distractors-N/, then DIR/sweep.csv, sweep_summary.csv and "
-        "success_vs_distractors.png (final success against distractors per variant)",
+        "success_vs_distractors.png (final success, safe success and contact time against distractors per variant)",
     )
     parser.add_argument("--extend", action="store_true", help=_EXTEND_HELP.format(what="the comparison in --out"))
     _add_run_options(parser, quick=True)

@@ -1,5 +1,7 @@
 """Figures of a comparison: learning curves (mean across seeds with a 95 % bootstrap band, per
-variant) and, for a clutter sweep, final success against the number of distractors."""
+variant) and, for a clutter sweep, final success, safe success and contact time against the
+number of distractors. Panels of the safe-success measure (``results.SAFE_COLUMNS``) are left
+out where the rows do not record it (rows written before it)."""
 
 from __future__ import annotations
 
@@ -14,23 +16,39 @@ import numpy as np
 from attentive_gym._atomic import save_figure
 from attentive_gym._optional import require
 from attentive_gym.agents.statistics import bootstrap_ci
+from attentive_gym.envs.reward import SAFE_CONTACT_S
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [
     "curve_stats",
+    "recorded",
     "plot_learning_curves",
     "plot_success_vs_distractors",
     "split_label",
     "steps_label",
     "METRIC_BOUNDS",
+    "METRIC_LABELS",
 ]
 
 #: The range of each bounded metric; confidence bands are clipped to it.
 METRIC_BOUNDS = {
     "success_rate": (0.0, 1.0),
+    "safe_success_rate": (0.0, 1.0),
     "mean_collision_steps": (0.0, float("inf")),
+    "mean_contact_s": (0.0, float("inf")),
     "mean_episode_length": (0.0, float("inf")),
 }
+#: The axis label of each metric of an evaluation row, with its unit.
+METRIC_LABELS = {
+    "success_rate": "success rate",
+    "safe_success_rate": f"safe success rate (≤ {SAFE_CONTACT_S:g} s in contact)",
+    "mean_return": "mean return",
+    "mean_collision_steps": "collision steps / episode",
+    "mean_contact_s": "contact time / episode (s)",
+    "mean_episode_length": "episode length (steps)",
+}
+#: The y range of a rate's panel: [0, 1] with a margin, so that markers at 0 and 1 show whole.
+_RATE_LIMITS = (-0.03, 1.03)
 
 
 def steps_label(steps: float, _position=None) -> str:
@@ -41,20 +59,32 @@ def steps_label(steps: float, _position=None) -> str:
     return f"{steps:.0f}"
 
 
+def recorded(rows: Sequence[Mapping[str, Any]], key: str) -> bool:
+    """Whether some row of ``rows`` holds a number (not NaN) under ``key``: rows written
+    before a column existed lack it, or hold NaN there."""
+    return any(isinstance(row.get(key), (int, float, np.number)) and not math.isnan(row[key]) for row in rows)
+
+
+def _rate_axis(ax, metric: str) -> None:
+    """Fix the y range of a panel of a rate (bounded to [0, 1] in ``METRIC_BOUNDS``) to [0, 1]."""
+    if METRIC_BOUNDS.get(metric) == (0.0, 1.0):
+        ax.set_ylim(*_RATE_LIMITS)
+
+
 def curve_stats(
     rows: Sequence[Mapping[str, Any]], variant: str, metric: str
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(env_steps, mean, ci_low, ci_high) of ``metric`` across seeds at each eval point of ``variant``.
 
     The band is the 95 % bootstrap interval of the mean, clipped to ``METRIC_BOUNDS``; NaN
-    (no band) with one seed. Only eval points every seed of the variant reached are kept
-    (so a band always spans the same seeds).
+    (no band) with one seed, NaN where no seed records ``metric``. Only eval points every
+    seed of the variant reached are kept (so a band always spans the same seeds).
     """
     by_steps: dict[int, list[float]] = {}
     seeds = {r["seed"] for r in rows if r["variant"] == variant}
     for row in rows:
         if row["variant"] == variant:
-            by_steps.setdefault(int(row["env_steps"]), []).append(float(row[metric]))
+            by_steps.setdefault(int(row["env_steps"]), []).append(float(row.get(metric, math.nan)))
     steps = sorted(s for s, v in by_steps.items() if len(v) == len(seeds))
     bounds = METRIC_BOUNDS.get(metric, (-float("inf"), float("inf")))
     stats = np.array([bootstrap_ci(by_steps[s], bounds=bounds) for s in steps]).reshape(-1, 3)
@@ -96,26 +126,32 @@ def _line_styles(labels: Sequence[str]) -> dict[str, dict[str, str]]:
 def plot_learning_curves(
     rows: Sequence[Mapping[str, Any]],
     path: str | os.PathLike,
-    metrics: Sequence[str] = ("success_rate", "mean_return"),
+    metrics: Sequence[str] = ("success_rate", "safe_success_rate", "mean_contact_s", "mean_return"),
     title: str | None = None,
 ) -> Path:
-    """Write a PNG with one panel per metric: per-variant mean curve and 95 % CI band vs env
-    steps; a variant has one colour, its settings (``split_label``) different line styles."""
+    """Write a PNG with one panel per metric that ``rows`` record (``recorded``; two panels a
+    row): per-variant mean curve and 95 % CI band vs env steps, rates on [0, 1]; a variant
+    has one colour, its settings (``split_label``) different line styles.
+
+    Raises:
+        ValueError: no rows, or none of ``metrics`` recorded in them.
+    """
     plt = _pyplot()
     from matplotlib.ticker import FuncFormatter
 
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     if not variants:
         raise ValueError("no evaluation rows to plot")
-    labels = {
-        "success_rate": "success rate",
-        "mean_return": "mean return",
-        "mean_collision_steps": "collision steps / episode",
-        "mean_episode_length": "episode length (steps)",
-    }
-    fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 3.8), squeeze=False)
+    shown = [metric for metric in metrics if recorded(rows, metric)]
+    if not shown:
+        raise ValueError(f"the evaluation rows record none of the metrics {list(metrics)} to plot")
+    columns = min(len(shown), 2)
+    panel_rows = math.ceil(len(shown) / columns)
+    fig, axes = plt.subplots(panel_rows, columns, figsize=(5.2 * columns, 3.8 * panel_rows), squeeze=False)
+    for ax in axes.flat[len(shown) :]:
+        ax.remove()
     styles = _line_styles(variants)
-    for ax, metric in zip(axes[0], metrics):
+    for ax, metric in zip(axes.flat, shown):
         for variant in variants:
             steps, mean, low, high = curve_stats(rows, variant, metric)
             n = len({r["seed"] for r in rows if r["variant"] == variant})
@@ -123,7 +159,8 @@ def plot_learning_curves(
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
         ax.set_xlabel("environment steps")
         ax.xaxis.set_major_formatter(FuncFormatter(steps_label))
-        ax.set_ylabel(labels.get(metric, metric))
+        ax.set_ylabel(METRIC_LABELS.get(metric, metric))
+        _rate_axis(ax, metric)
         ax.grid(alpha=0.3)
     fig.suptitle(title or "mean over seeds, shaded: 95 % bootstrap CI", fontsize=10)
     if len(variants) <= _LEGEND_INSIDE:
@@ -136,41 +173,56 @@ def plot_learning_curves(
         fontsize=8,
         frameon=False,
     )
-    rows = math.ceil(len(variants) / _LEGEND_COLUMNS)
-    fig.tight_layout(rect=(0, 0.06 * rows, 1, 1))  # room for the legend's rows below the panels
+    legend_rows = math.ceil(len(variants) / _LEGEND_COLUMNS)
+    fig.tight_layout(rect=(0, 0.06 * legend_rows / panel_rows, 1, 1))  # room for the legend's rows below the panels
     return _save(fig, path, layout=False)
+
+
+#: The panels of ``plot_success_vs_distractors``: summary key (``results.SUMMARY_COLUMNS``'s
+#: ``<key>_mean``, ``_ci_low``, ``_ci_high``) and the metric whose label and range it takes.
+_SWEEP_PANELS = (
+    ("final_success", "success_rate"),
+    ("final_safe_success", "safe_success_rate"),
+    ("final_contact_s", "mean_contact_s"),
+)
 
 
 def plot_success_vs_distractors(
     summary: Sequence[Mapping[str, Any]], path: str | os.PathLike, budget: int | None = None
 ) -> Path:
-    """Write a PNG of final success rate (mean, 95 % bootstrap CI as error bars) against the
-    number of distractors, one line per variant, from rows of ``sweep.sweep_tables``; a
-    variant has one colour, its settings (``split_label``) different line styles, as in
-    ``plot_learning_curves``; the legend sits beside the axes. ``budget`` (env steps), when
-    given, is named in the title: runs trained further are shown cut there."""
+    """Write a PNG of final success rate, and beside it final safe success rate and contact
+    time (s / episode) where ``summary`` records them (``recorded``), against the number of
+    distractors: means, 95 % bootstrap CIs as error bars, one line per variant, from rows of
+    ``sweep.sweep_tables``; a variant has one colour, its settings (``split_label``)
+    different line styles, as in ``plot_learning_curves``; the legend sits beside the last
+    panel. ``budget`` (env steps), when given, is named in the title: runs trained further
+    are shown cut there."""
     plt = _pyplot()
     variants = list(dict.fromkeys(r["variant"] for r in summary))
     if not variants:
         raise ValueError("no summary rows to plot")
-    fig, ax = plt.subplots(figsize=(7.6, 3.9))
+    panels = [(key, metric) for key, metric in _SWEEP_PANELS if recorded(summary, f"{key}_mean")]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels) + 3.0, 3.9), squeeze=False)
     styles = _line_styles(variants)
-    for variant in variants:
-        rows = sorted((r for r in summary if r["variant"] == variant), key=lambda r: r["num_distractors"])
-        x = np.array([r["num_distractors"] for r in rows], float)
-        y = np.array([r["final_success_mean"] for r in rows], float)
-        low = np.nan_to_num(y - np.array([r["final_success_ci_low"] for r in rows], float))
-        high = np.nan_to_num(np.array([r["final_success_ci_high"] for r in rows], float) - y)
-        seeds = min(r["n_seeds"] for r in rows)
-        ax.errorbar(x, y, yerr=[low, high], marker="o", capsize=3, label=f"{variant} (n={seeds})", **styles[variant])
-    ax.set_xlabel("distractors in the arena")
-    ax.set_ylabel("final success rate")
-    ax.set_ylim(0.0, 1.0)
-    ax.set_xticks(sorted({r["num_distractors"] for r in summary}))
-    ax.grid(alpha=0.3)
-    ax.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
+    for ax, (key, metric) in zip(axes[0], panels):
+        for variant in variants:
+            rows = sorted((r for r in summary if r["variant"] == variant), key=lambda r: r["num_distractors"])
+            x = np.array([r["num_distractors"] for r in rows], float)
+            y = np.array([r[f"{key}_mean"] for r in rows], float)
+            low = np.nan_to_num(y - np.array([r[f"{key}_ci_low"] for r in rows], float))
+            high = np.nan_to_num(np.array([r[f"{key}_ci_high"] for r in rows], float) - y)
+            seeds = min(r["n_seeds"] for r in rows)
+            ax.errorbar(
+                x, y, yerr=[low, high], marker="o", capsize=3, label=f"{variant} (n={seeds})", **styles[variant]
+            )
+        ax.set_xlabel("distractors in the arena")
+        ax.set_ylabel(f"final {METRIC_LABELS[metric]}")
+        _rate_axis(ax, metric)
+        ax.set_xticks(sorted({r["num_distractors"] for r in summary}))
+        ax.grid(alpha=0.3)
+    axes[0][-1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
     after = "" if budget is None else f"after {steps_label(budget)} env steps (longer runs cut there)\n"
-    ax.set_title(f"{after}mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
+    fig.suptitle(f"{after}mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
     return _save(fig, path)
 
 

@@ -4,8 +4,11 @@
   folder + ``os.replace``, so a reader (or a killed run) never sees half a file.
 - ``EVAL_COLUMNS``: the columns of every evaluation row (``eval.csv`` of a run and the
   ``results.csv`` of a comparison, one row per (variant, seed, eval point)).
-- ``summarise``: final success rate and return (mean and IQM with 95 % bootstrap CIs), the
-  probability of improvement over a baseline, and steps to a success threshold.
+- ``SAFE_COLUMNS``: the evaluation columns of the safe rescue task, which rows written before
+  it lack (their summaries read them as not recorded: NaN).
+- ``summarise``: final success rate, safe success rate and return (mean and IQM with 95 %
+  bootstrap CIs), final contact time (mean with its CI), the probability of improvement over
+  a baseline (in success and in safe success), and steps to a success threshold.
 """
 
 from __future__ import annotations
@@ -23,9 +26,11 @@ import numpy as np
 
 from attentive_gym._atomic import atomic_file
 from attentive_gym.agents.statistics import bootstrap_ci, iqm, mean, probability_of_improvement
+from attentive_gym.envs.reward import SAFE_CONTACT_S
 
 __all__ = [
     "EVAL_COLUMNS",
+    "SAFE_COLUMNS",
     "SUMMARY_COLUMNS",
     "write_text_atomic",
     "write_json_atomic",
@@ -54,6 +59,12 @@ EVAL_COLUMNS = (
     "mean_episode_length",
     "wall_s",
 )
+#: The columns of ``EVAL_COLUMNS`` that evaluations record since the safe rescue task; rows
+#: written before it lack them (or hold NaN there), and summaries read them as not recorded.
+SAFE_COLUMNS = ("safe_success_rate", "mean_contact_s")
+#: One variant's summary. Units: as in ``EVAL_COLUMNS`` (``final_contact_s_*``: s in contact
+#: per episode); the ``final_safe_success_*``, ``final_contact_s_*`` and ``prob_safe_improvement*``
+#: columns are NaN where the variant's rows do not record ``SAFE_COLUMNS``.
 SUMMARY_COLUMNS = (
     "variant",
     "n_seeds",
@@ -64,6 +75,15 @@ SUMMARY_COLUMNS = (
     "final_success_iqm",
     "final_success_iqm_ci_low",
     "final_success_iqm_ci_high",
+    "final_safe_success_mean",
+    "final_safe_success_ci_low",
+    "final_safe_success_ci_high",
+    "final_safe_success_iqm",
+    "final_safe_success_iqm_ci_low",
+    "final_safe_success_iqm_ci_high",
+    "final_contact_s_mean",
+    "final_contact_s_ci_low",
+    "final_contact_s_ci_high",
     "final_return_mean",
     "final_return_ci_low",
     "final_return_ci_high",
@@ -74,6 +94,9 @@ SUMMARY_COLUMNS = (
     "prob_improvement",
     "prob_improvement_ci_low",
     "prob_improvement_ci_high",
+    "prob_safe_improvement",
+    "prob_safe_improvement_ci_low",
+    "prob_safe_improvement_ci_high",
     "threshold",
     "seeds_reaching_threshold",
     "steps_to_threshold_mean",
@@ -144,46 +167,73 @@ def _finals(runs: Sequence[list[Mapping[str, Any]]], metric: str, final_points: 
     return [float(np.mean([r[metric] for r in run[-final_points:]])) for run in runs]
 
 
+def _recorded_finals(runs: Sequence[list[Mapping[str, Any]]], metric: str, final_points: int) -> list[float]:
+    """``_finals`` of a metric of ``SAFE_COLUMNS``, all NaN (not recorded) unless every run
+    records it at each of its last ``final_points`` evaluations: a variant's summary never
+    rests on a subset of its seeds."""
+    finals = [float(np.mean([r.get(metric, math.nan) for r in run[-final_points:]])) for run in runs]
+    return [math.nan] * len(finals) if any(math.isnan(value) for value in finals) else finals
+
+
+def _check_rates(row: Mapping[str, Any]) -> None:
+    """``ValueError`` naming the run and eval point of ``row`` unless its success rate is a
+    number in [0, 1], its safe success rate NaN/absent or in [0, success rate], and its
+    contact time NaN/absent or >= 0 s."""
+    where = f"{row['variant']} seed {row['seed']} at {row['env_steps']} env steps"
+    success = row["success_rate"]
+    if not (isinstance(success, (int, float, np.number)) and 0.0 <= success <= 1.0):
+        raise ValueError(f"success_rate must be a number in [0, 1] at every evaluation; {where} has {success!r}")
+    safe, contact = row.get("safe_success_rate", math.nan), row.get("mean_contact_s", math.nan)
+    if not (isinstance(safe, (int, float, np.number)) and (math.isnan(safe) or 0.0 <= safe <= success)):
+        raise ValueError(
+            f"safe_success_rate must be empty (not recorded) or a number in [0, success_rate]; {where} has "
+            f"{safe!r} with success_rate {success!r}"
+        )
+    if not (isinstance(contact, (int, float, np.number)) and (math.isnan(contact) or contact >= 0.0)):
+        raise ValueError(f"mean_contact_s must be empty (not recorded) or a number of s >= 0; {where} has {contact!r}")
+
+
 def summarise(
     rows: Sequence[Mapping[str, Any]], threshold: float = 0.5, final_points: int = 1, baseline: str | None = "raw"
 ) -> list[dict[str, Any]]:
     """One summary row per variant (in first-seen order) from tidy evaluation rows.
 
     Args:
-        rows: rows with ``EVAL_COLUMNS`` (several seeds and eval points per variant).
+        rows: rows with ``EVAL_COLUMNS`` (several seeds and eval points per variant);
+            ``SAFE_COLUMNS`` may be absent or NaN (rows written before them).
         threshold: success rate a seed must reach; its steps to threshold are its first
             eval point at or above it (seeds that never reach it are counted in
             ``seeds_reaching_threshold`` and left out of the mean).
         final_points: the last ``final_points`` eval points of each seed are averaged into
             its "final" value (1 = the last evaluation only).
-        baseline: the variant that ``prob_improvement`` compares with (default ``"raw"``;
-            the first variant when it is absent or None).
+        baseline: the variant that ``prob_improvement`` and ``prob_safe_improvement``
+            compare with (default ``"raw"``; the first variant when it is absent or None).
 
     Returns:
         Dicts with ``SUMMARY_COLUMNS``: means and interquartile means across seeds with
         95 % stratified bootstrap intervals (``attentive_gym.agents.statistics``) clipped to
-        the metric's range; NaN bounds for a single seed.
+        the metric's range; NaN bounds for a single seed; NaN safe-success and contact
+        columns for a variant not every seed of which records ``SAFE_COLUMNS`` (and NaN
+        ``prob_safe_improvement`` when the baseline does not).
     """
     if not 0.0 <= threshold <= 1.0:
         raise ValueError(f"threshold must be a success rate in [0, 1], got {threshold!r}")
     if final_points < 1:
         raise ValueError(f"final_points must be >= 1, got {final_points!r}")
     for row in rows:
-        success = row["success_rate"]
-        if not (isinstance(success, (int, float, np.number)) and 0.0 <= success <= 1.0):
-            raise ValueError(
-                f"success_rate must be a number in [0, 1] at every evaluation; {row['variant']} seed "
-                f"{row['seed']} at {row['env_steps']} env steps has {success!r}"
-            )
+        _check_rates(row)
     by_run = _by_run(rows)
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     runs = {variant: [run for key, run in by_run.items() if key[0] == variant] for variant in variants}
     if variants and baseline not in runs:
         baseline = variants[0]
     baseline_success = _finals(runs[baseline], "success_rate", final_points) if variants else []
+    baseline_safe = _recorded_finals(runs[baseline], "safe_success_rate", final_points) if variants else []
     summary = []
     for variant in variants:
         success = _finals(runs[variant], "success_rate", final_points)
+        safe = _recorded_finals(runs[variant], "safe_success_rate", final_points)
+        contact = _recorded_finals(runs[variant], "mean_contact_s", final_points)
         returns = _finals(runs[variant], "mean_return", final_points)
         reached = [
             float(hit)
@@ -198,6 +248,9 @@ def summarise(
         for key, values, statistic, bounds in (
             ("final_success", success, mean, (0.0, 1.0)),
             ("final_success_iqm", success, iqm, (0.0, 1.0)),
+            ("final_safe_success", safe, mean, (0.0, 1.0)),
+            ("final_safe_success_iqm", safe, iqm, (0.0, 1.0)),
+            ("final_contact_s", contact, mean, (0.0, math.inf)),
             ("final_return", returns, mean, (-math.inf, math.inf)),
             ("final_return_iqm", returns, iqm, (-math.inf, math.inf)),
         ):
@@ -205,15 +258,13 @@ def summarise(
             row.update(
                 {f"{key}{'' if key.endswith('iqm') else '_mean'}": point, f"{key}_ci_low": low, f"{key}_ci_high": high}
             )
-        improvement = probability_of_improvement(success, baseline_success)
-        row.update(
-            {
-                "improvement_over": baseline,
-                "prob_improvement": improvement[0],
-                "prob_improvement_ci_low": improvement[1],
-                "prob_improvement_ci_high": improvement[2],
-            }
-        )
+        row["improvement_over"] = baseline
+        for key, values, baseline_values in (
+            ("prob_improvement", success, baseline_success),
+            ("prob_safe_improvement", safe, baseline_safe),
+        ):
+            point, low, high = probability_of_improvement(values, baseline_values)
+            row.update({key: point, f"{key}_ci_low": low, f"{key}_ci_high": high})
         steps = bootstrap_ci(reached, mean, (0.0, longest))
         row.update(
             {
@@ -229,7 +280,8 @@ def summarise(
 
 
 def summary_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
-    """A markdown table of ``summarise``'s rows (values with [95 % CI])."""
+    """A markdown table of ``summarise``'s rows (values with [95 % CI]); "—" where a value is
+    not recorded (the safe-success and contact columns of rows written before them)."""
 
     def ci(row, point_key, key, fmt, why_none="1 seed: no CI"):
         """The value with its interval, or with ``why_none`` where it has none."""
@@ -244,18 +296,24 @@ def summary_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
         return "1 seed: no CI" if row["n_seeds"] == 1 else otherwise
 
     baseline = summary[0]["improvement_over"] if summary else "raw"
+    baseline_single = f"{baseline} has 1 seed: no CI"
     lines = [
-        "| variant | seeds | env steps | final success, mean [95 % CI] | final success, IQM [95 % CI] "
-        f"| P(success > {baseline}) [95 % CI] | final return, mean [95 % CI] | seeds reaching threshold "
+        "| variant | seeds | env steps | final success, mean [95 % CI] "
+        f"| final safe success (≤ {SAFE_CONTACT_S:g} s in contact), mean [95 % CI] | final success, IQM [95 % CI] "
+        f"| P(success > {baseline}) [95 % CI] | P(safe success > {baseline}) [95 % CI] "
+        "| final contact time (s / episode), mean [95 % CI] | final return, mean [95 % CI] | seeds reaching threshold "
         "| env steps to threshold, mean [95 % CI] |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for row in summary:
         lines.append(
             f"| {row['variant']} | {row['n_seeds']} | {row['final_env_steps']} "
             f"| {ci(row, 'final_success_mean', 'final_success', '.2f')} "
+            f"| {ci(row, 'final_safe_success_mean', 'final_safe_success', '.2f')} "
             f"| {ci(row, 'final_success_iqm', 'final_success_iqm', '.2f')} "
-            f"| {ci(row, 'prob_improvement', 'prob_improvement', '.2f', single(row, f'{baseline} has 1 seed: no CI'))} "
+            f"| {ci(row, 'prob_improvement', 'prob_improvement', '.2f', single(row, baseline_single))} "
+            f"| {ci(row, 'prob_safe_improvement', 'prob_safe_improvement', '.2f', single(row, baseline_single))} "
+            f"| {ci(row, 'final_contact_s_mean', 'final_contact_s', '.2f')} "
             f"| {ci(row, 'final_return_mean', 'final_return', '.2f')} "
             f"| {row['seeds_reaching_threshold']}/{row['n_seeds']} "
             f"(≥ {row['threshold']:.2f}) "

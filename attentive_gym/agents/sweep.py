@@ -6,9 +6,11 @@ writes into ``out``:
 
 - ``sweep.csv``: every evaluation row of every comparison with its ``num_distractors``
   (``SWEEP_COLUMNS``);
-- ``sweep_summary.csv``: per (distractors, variant), final success (mean, IQM) with 95 %
-  bootstrap CIs and the probability of improvement over the baseline (``SWEEP_SUMMARY_COLUMNS``);
-- ``success_vs_distractors.png``: final success rate against distractors, per variant.
+- ``sweep_summary.csv``: per (distractors, variant), final success and safe success (mean,
+  IQM) and contact time (mean) with 95 % bootstrap CIs and the probability of improvement
+  over the baseline (``SWEEP_SUMMARY_COLUMNS``);
+- ``success_vs_distractors.png``: final success rate, safe success rate and contact time
+  against distractors, per variant.
 
 If attention is worth anything, its advantage over the raw sensors should grow with
 clutter: the figure shows whether it does.

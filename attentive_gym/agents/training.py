@@ -282,7 +282,14 @@ def _make_callback(
             }
             rows.append(row)
             write_csv_atomic(run_dir / "eval.csv", rows, EVAL_COLUMNS)
-            for key in ("success_rate", "mean_return", "mean_collision_steps", "mean_episode_length"):
+            for key in (
+                "success_rate",
+                "safe_success_rate",
+                "mean_return",
+                "mean_collision_steps",
+                "mean_contact_s",
+                "mean_episode_length",
+            ):
                 self.logger.record(f"eval/{key}", row[key])
             self.last_eval = self.num_timesteps
 

@@ -481,9 +481,11 @@ def test_a_smoke_train_keeps_its_first_evaluation_and_evaluates_two_episodes_in_
         )
         == 0
     )
-    assert (
-        "focus-seed0: 512 env steps, evaluated on 1 episode at 0 env steps, every 51 and at the end"
-        in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "focus-seed0: 512 env steps, evaluated on 1 episode at 0 env steps, every 51 and at the end" in printed
+    assert re.search(
+        r"final success rate \d\.\d\d, safe success rate \d\.\d\d \(≤ 1 s in contact\), contact \d+\.\d s / episode",
+        printed,
     )
     rows = read_csv(out / "eval.csv")
     assert [(row["env_steps"], row["n_episodes"]) for row in rows] == [(0, 1), (1024, 1)]

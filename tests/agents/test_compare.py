@@ -67,8 +67,10 @@ def test_outputs_are_well_formed(compared):
     for row in summary:
         assert row["n_seeds"] == 2 and row["final_env_steps"] == 256
         assert row["final_success_ci_low"] <= row["final_success_mean"] <= row["final_success_ci_high"]
+        assert 0 <= row["final_safe_success_mean"] <= row["final_success_mean"] and row["final_contact_s_mean"] >= 0
     table = (out / "summary.md").read_text().splitlines()
     assert len(table) == 2 + len(VARIANTS) and all(line.startswith("|") for line in table)
+    assert "final safe success (≤ 1 s in contact)" in table[0] and "final contact time (s / episode)" in table[0]
 
 
 @pytest.mark.slow

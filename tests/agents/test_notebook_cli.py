@@ -1,6 +1,7 @@
 """The notebook runs end to end; the train/evaluate command lines and their input errors."""
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -54,8 +55,11 @@ def test_train_and_evaluate_commands(trained, capsys):
     assert main(["evaluate", str(trained), "--episodes", "3", "--json"]) == 0
     row = json.loads(capsys.readouterr().out)
     assert row["variant"] == "focus" and row["n_episodes"] == 3 and 0 <= row["success_rate"] <= 1
+    assert 0 <= row["safe_success_rate"] <= row["success_rate"] and row["mean_contact_s"] >= 0
     assert main(["evaluate", str(trained / "checkpoint" / "model.zip"), "--episodes", "1"]) == 0
-    assert "success rate" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "success rate" in out and "safe success rate" in out and "(≤ 1 s in contact)" in out
+    assert re.search(r"contact \d+\.\d s / episode", out)
 
 
 def test_evaluate_records_a_video(trained, tmp_path):

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from attentive_gym.agents.merged import budgets, clutter_targets, labelled, merge_rows, targets
-from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, summarise, write_csv_atomic
+from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summarise, write_csv_atomic
 from attentive_gym.agents.sweep import sweep_tables
 from support import load_tool
 
@@ -473,3 +473,66 @@ def test_a_variant_has_the_same_colour_in_every_figure():
     assert alone["focus (recurrent-ppo)"]["color"] == together["focus"]["color"]
     assert alone["oracle (recurrent-ppo)"]["color"] == together["oracle"]["color"] != together["focus"]["color"]
     assert alone["my-variant"]["color"] == together["my-variant (unscaled)"]["color"]  # after the project's variants
+
+
+def _v0(rows):
+    """``rows`` as written before the safe-success measure: without ``SAFE_COLUMNS``."""
+    return [{k: v for k, v in row.items() if k not in SAFE_COLUMNS} for row in rows]
+
+
+def _safe(rows, contact_s=1.5):
+    """``rows`` with half their success safe and ``contact_s`` s of contact per episode."""
+    return [{**row, "safe_success_rate": row["success_rate"] / 2, "mean_contact_s": contact_s} for row in rows]
+
+
+def test_runs_from_before_the_safe_success_measure_add_and_render_and_the_pages_say_so(tmp_path, capsys):
+    levels = {"raw": [0.4, 0.5], "random-focus": [0.45, 0.5], "focus": [0.6, 0.8], "oracle": [0.9, 0.8]}
+    (tmp_path / "compare.json").write_text(json.dumps({"run": {"algo": "ppo", "algo_defaults": 2}}))
+    results = tmp_path / "results.csv"
+    write_csv_atomic(results, _v0(_rows(levels)), [c for c in EVAL_COLUMNS if c not in SAFE_COLUMNS])
+    root = _root(tmp_path / "repo")
+    comparison = root / "docs" / "results" / "rl_comparison.csv"
+    assert main(["add", str(results), "--comparison", str(comparison)]) == 0
+    assert all(math.isnan(row["safe_success_rate"]) for row in read_csv(comparison))  # empty cells, not 0
+    assert main(["render", "--root", str(root)]) == 0
+    page = (root / "docs" / "results" / "rl.md").read_text()
+    block = (root / "README.md").read_text().split(headline.START)[1]
+    assert rl_page.PREDATE_SAFE_SUCCESS in page and rl_page.PREDATE_SAFE_SUCCESS in block
+    assert "| focus (ppo, lr lin_3e-4) | 2 | 200 | 0.70 [0.60, 0.80] | — |" in page
+    assert "safe success rate" not in block.split(rl_page.PREDATE_SAFE_SUCCESS)[0]  # no column of dashes
+
+    write_csv_atomic(results, _safe(_rows(levels)), EVAL_COLUMNS)  # the same runs, evaluated with the measure
+    assert main(["add", str(results), "--comparison", str(comparison)]) == 0
+    assert main(["render", "--root", str(root)]) == 0
+    page = (root / "docs" / "results" / "rl.md").read_text()
+    block = (root / "README.md").read_text().split(headline.START)[1]
+    assert "predate" not in page and "predate" not in block
+    assert "| focus (ppo, lr lin_3e-4) | 2 | 200 | 0.70 [0.60, 0.80] | 0.35 [0.30, 0.40] |" in page
+    assert (
+        "| variant | final success rate, mean [95 % CI] | final safe success rate (≤ 1 s in contact), mean [95 % CI] "
+        "| final contact time (s / episode), mean [95 % CI] |"
+    ) in block
+    assert "| focus | 0.70 [0.60, 0.80] | 0.35 [0.30, 0.40] | 1.50 [1.50, 1.50] |" in block
+    assert main(["render", "--check", "--root", str(root)]) == 0
+
+    write_csv_atomic(results, _v0(_rows({"saliency": [0.5]})), [c for c in EVAL_COLUMNS if c not in SAFE_COLUMNS])
+    assert main(["add", str(results), "--comparison", str(comparison)]) == 0
+    assert main(["render", "--root", str(root)]) == 0
+    page = (root / "docs" / "results" / "rl.md").read_text()
+    assert "Runs whose safe success and contact time read — predate that measure (the v0 task)." in page
+    assert rl_page.PREDATE_SAFE_SUCCESS not in page
+
+
+def test_the_clutter_tables_show_safe_success_and_contact_time_where_the_rows_record_them(tmp_path):
+    def sweep(rows):
+        return [{"algo": "ppo", "obs_scaling": "running", "num_distractors": 1, **r} for r in rows]
+
+    comparison = [{"algo": "ppo", "obs_scaling": "running", **r} for r in _rows({"raw": [0.5]})]
+    rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
+    block = render_block(comparison, sweep(_safe(rows, 2.5)), tmp_path, tmp_path, write_figures=False)
+    safe = block.split("Final safe success (at most 1 s in contact; mean [95 % bootstrap CI])")[1]
+    assert "| focus | 0.35 [0.35, 0.35] (n=2) |" in safe.split("Final contact time")[0]
+    assert "| focus | 2.50 [2.50, 2.50] (n=2) |" in safe.split("Final contact time (s in contact per episode")[1]
+    v0 = render_block(comparison, sweep(_v0(rows)), tmp_path, tmp_path, write_figures=False)
+    assert "Final safe success" not in v0 and "Final contact time" not in v0
+    assert "| focus | 0.70 [0.70, 0.70] (n=2) |" in v0

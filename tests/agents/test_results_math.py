@@ -9,6 +9,7 @@ import pytest
 
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
+    SAFE_COLUMNS,
     read_csv,
     summarise,
     summary_markdown,
@@ -278,3 +279,135 @@ def test_a_variant_keeps_its_colour_across_settings_which_differ_in_line_style(t
     assert style["raw"] == style["focus"] == "-" and style["raw (recurrent-ppo)"] == style["focus (recurrent-ppo)"]
     assert len({style["focus"], style["focus (recurrent-ppo)"], style["focus (ppo, lr lin_3e-4)"]}) == 3
     assert plots.split_label("focus (ppo, lr lin_3e-4)") == ("focus", " (ppo, lr lin_3e-4)")
+
+
+def _safe_rows():
+    """raw: 2 seeds, final safe success 0.2 and 0.4, contact 2 and 4 s; focus: 3 seeds, safe
+    success 0.5 and contact 0.5 s each; at 0 env steps every seed has safe success 0, 9 s."""
+    rows = []
+    for variant, finals in (("raw", ((0.2, 2.0), (0.4, 4.0))), ("focus", ((0.5, 0.5),) * 3)):
+        for seed, (safe, contact) in enumerate(finals):
+            for steps, values in ((0, (0.0, 9.0)), (100, (safe, contact))):
+                rows.append(
+                    {
+                        "variant": variant,
+                        "seed": seed,
+                        "env_steps": steps,
+                        "success_rate": 0.6,
+                        "safe_success_rate": values[0],
+                        "mean_contact_s": values[1],
+                        "mean_return": 1.0,
+                    }
+                )
+    return rows
+
+
+def test_summarise_gives_safe_success_and_contact_time_beside_success():
+    raw, focus = summarise(_safe_rows())
+    assert (raw["final_safe_success_mean"], raw["final_safe_success_ci_low"], raw["final_safe_success_ci_high"]) == (
+        bootstrap_ci([0.2, 0.4], bounds=(0, 1))
+    )
+    assert raw["final_safe_success_mean"] == pytest.approx(0.3) and raw["final_contact_s_mean"] == pytest.approx(3.0)
+    assert (raw["final_contact_s_ci_low"], raw["final_contact_s_ci_high"]) == (2.0, 4.0)  # as bootstrap_ci([0, 1])
+    assert focus["final_safe_success_mean"] == focus["final_safe_success_iqm"] == pytest.approx(0.5)
+    assert (focus["final_contact_s_ci_low"], focus["final_contact_s_ci_high"]) == (0.5, 0.5)
+    assert focus["improvement_over"] == "raw" and focus["prob_improvement"] == 0.5  # equal success
+    assert (focus["prob_safe_improvement"], focus["prob_safe_improvement_ci_low"]) == (1.0, 1.0)  # 0.5 beats 0.2, 0.4
+    assert raw["prob_safe_improvement"] == 0.5
+    # the last two evaluations of each seed averaged: raw's seeds (0 + 0.2) / 2 and (0 + 0.4) / 2
+    (early_raw, _) = summarise(_safe_rows(), final_points=2)
+    assert early_raw["final_safe_success_mean"] == pytest.approx(0.15)
+    assert early_raw["final_contact_s_mean"] == pytest.approx((5.5 + 6.5) / 2)
+    text = summary_markdown([raw, focus])
+    assert "final safe success (≤ 1 s in contact)" in text and "P(safe success > raw)" in text
+    assert "final contact time (s / episode)" in text
+    assert "| focus | 3 | 100 | 0.60 [0.60, 0.60] | 0.50 [0.50, 0.50] |" in text
+    assert "| 1.00 [1.00, 1.00] | 0.50 [0.50, 0.50] |" in text  # P(safe success > raw), then the contact time
+
+
+def test_rows_written_before_the_safe_success_measure_summarise_as_not_recorded(tmp_path):
+    old_columns = [c for c in EVAL_COLUMNS if c not in SAFE_COLUMNS]
+    path = write_csv_atomic(tmp_path / "v0.csv", _rows(), old_columns)  # an eval.csv written before the measure
+    for rows in (_rows(), read_csv(path)):
+        for row in summarise(rows):
+            for key in (
+                "final_safe_success_mean",
+                "final_safe_success_ci_low",
+                "final_safe_success_iqm",
+                "final_contact_s_mean",
+                "final_contact_s_ci_high",
+                "prob_safe_improvement",
+            ):
+                assert math.isnan(row[key]), key  # never 0
+            assert not math.isnan(row["final_success_mean"])
+    a = summary_markdown(summarise(_rows()))
+    assert "| a | 3 | 200 | 0.60 [0.40, 0.80] | — |" in a
+    # one seed without the measure: the variant's safe summary is not recorded, not that of a subset of its seeds
+    rows = _safe_rows()
+    rows[3] = {k: v for k, v in rows[3].items() if k not in SAFE_COLUMNS}  # raw seed 1 at 100 env steps
+    raw, focus = summarise(rows)
+    assert math.isnan(raw["final_safe_success_mean"]) and math.isnan(raw["final_contact_s_mean"])
+    assert math.isnan(focus["prob_safe_improvement"]) and focus["final_safe_success_mean"] == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (
+            {"safe_success_rate": 0.7},
+            r"safe_success_rate must be empty \(not recorded\) or a number in \[0, success_rate\]",
+        ),
+        ({"safe_success_rate": -0.1}, "raw seed 1 at 100 env steps has -0.1 with success_rate 0.6"),
+        ({"mean_contact_s": -1.0}, r"mean_contact_s must be empty \(not recorded\) or a number of s >= 0"),
+        ({"mean_contact_s": "1 s"}, "raw seed 1 at 100 env steps has '1 s'"),
+    ],
+)
+def test_summarise_refuses_an_impossible_safe_success_or_contact_time(change, message):
+    rows = _safe_rows()
+    rows[3] = {**rows[3], **change}
+    with pytest.raises(ValueError, match=message):
+        summarise(rows)
+
+
+def test_the_learning_curves_show_safe_success_and_contact_time_where_the_rows_record_them(tmp_path, monkeypatch):
+    from attentive_gym.agents import plots
+
+    figures = []
+    monkeypatch.setattr(plots, "_save", lambda fig, path, layout=True: figures.append(fig) or path)
+    plots.plot_learning_curves(_safe_rows(), tmp_path / "safe.png")
+    plots.plot_learning_curves(_rows(), tmp_path / "v0.png")
+    safe, v0 = figures
+    labels = [ax.get_ylabel() for ax in safe.axes]
+    assert labels == [
+        "success rate",
+        "safe success rate (≤ 1 s in contact)",
+        "contact time / episode (s)",
+        "mean return",
+    ]
+    for ax in safe.axes[:2]:  # the rates on [0, 1] (with a margin for markers at the ends)
+        low, high = ax.get_ylim()
+        assert -0.05 < low <= 0.0 and 1.0 <= high < 1.05
+    contact_means = [line.get_ydata().tolist() for line in safe.axes[2].get_lines()]
+    assert contact_means == [[9.0, 3.0], [9.0, 0.5]]
+    assert [ax.get_ylabel() for ax in v0.axes] == ["success rate", "mean return"]  # no empty safe panels
+    with pytest.raises(ValueError, match="record none of the metrics"):
+        plots.plot_learning_curves(_rows(), tmp_path / "none.png", metrics=("safe_success_rate",))
+
+
+def test_the_sweep_figure_shows_safe_success_and_contact_time_where_the_summary_records_them(tmp_path, monkeypatch):
+    from attentive_gym.agents import plots
+    from attentive_gym.agents.sweep import sweep_tables
+
+    figures = []
+    monkeypatch.setattr(plots, "_save", lambda fig, path, layout=True: figures.append(fig) or path)
+    safe_rows = [{"num_distractors": n, **row} for n in (1, 3) for row in _safe_rows()]
+    plots.plot_success_vs_distractors(sweep_tables(safe_rows), tmp_path / "safe.png")
+    plots.plot_success_vs_distractors(sweep_tables(_sweep_rows()), tmp_path / "v0.png")
+    safe, v0 = figures
+    assert [ax.get_ylabel() for ax in safe.axes] == [
+        "final success rate",
+        "final safe success rate (≤ 1 s in contact)",
+        "final contact time / episode (s)",
+    ]
+    assert safe.axes[1].get_ylim()[0] <= 0.0 and safe.axes[1].get_ylim()[1] >= 1.0
+    assert [ax.get_ylabel() for ax in v0.axes] == ["final success rate"]

@@ -35,6 +35,10 @@ def test_run_writes_outputs_and_is_deterministic(tmp_path, tiny):
         assert (tmp_path / "a" / name).is_file(), name
     assert any((tmp_path / "a" / "tb").rglob("events.out.tfevents*"))
     assert metrics["env_steps"] == 384 and json.loads((tmp_path / "a" / "metrics.json").read_text())["env_steps"] == 384
+    final = json.loads((tmp_path / "a" / "metrics.json").read_text())[
+        "final"
+    ]  # safe success and contact beside success
+    assert 0 <= final["safe_success_rate"] <= final["success_rate"] <= 1 and final["mean_contact_s"] >= 0
     rows = read_csv(tmp_path / "a" / "eval.csv")
     assert list(rows[0]) == list(EVAL_COLUMNS)
     assert [r["env_steps"] for r in rows] == [0, 128, 256, 384]

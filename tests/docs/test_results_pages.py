@@ -19,6 +19,38 @@ def test_the_committed_pages_and_readme_headline_are_what_the_csvs_give(capsys):
     assert report.main(["render", "--check"]) == 0, capsys.readouterr().err
 
 
+def test_the_committed_rl_results_say_whether_they_record_safe_success():
+    """Runs written before the safe-success measure are said to predate it, in the RL page and the
+    README's headline; runs that record it show it there, and neither page invents a number."""
+    root = report.ROOT
+    comparison, clutter = report.rl_page.load(root)
+    page = (root / "docs" / "results" / report.rl_page.NAME).read_text(encoding="utf-8")
+    readme = (root / "README.md").read_text(encoding="utf-8").split(report.headline.START)[1]
+    recorded = [row for row in comparison + clutter if not math.isnan(row.get("safe_success_rate", math.nan))]
+    assert "final safe success (≤ 1 s in contact), mean [95 % CI]" in page
+    if not recorded:  # the v0 task's runs
+        assert report.rl_page.PREDATE_SAFE_SUCCESS in page and report.rl_page.PREDATE_SAFE_SUCCESS in readme
+        assert "safe success rate (≤" not in readme and "Final safe success" not in page
+        assert set(_column(page, "final safe success (≤ 1 s in contact), mean [95 % CI]")) == {"—"}
+        assert set(_column(page, "final contact time (s / episode), mean [95 % CI]")) == {"—"}
+    else:
+        assert "final safe success rate (≤ 1 s in contact)" in readme
+
+
+def _column(page, header):
+    """The cells under ``header`` in every Markdown table of ``page`` that has it."""
+    cells, column = [], None
+    for line in page.splitlines():
+        row = [cell.strip() for cell in line.strip().strip("|").split("|")] if line.startswith("|") else None
+        if row is None:
+            column = None
+        elif header in row:
+            column = row.index(header)
+        elif column is not None and not row[0].startswith("---"):
+            cells.append(row[column])
+    return cells
+
+
 def _write(path, columns, rows):
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as handle:
