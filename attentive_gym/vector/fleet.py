@@ -29,8 +29,11 @@ numbers are those of its members stepped one by one, bit for bit:
    or a ``gymnasium.ObservationWrapper``'s ``observation``).
 
 A wrapper is allowed when it is a ``gymnasium.ActionWrapper`` or ``gymnasium.ObservationWrapper``
-that keeps their ``step``, or an ``ObservationStage`` whose ``step`` is
-``observe_step(*env.step(action)[::4])`` on the observation; any other raises ``ValueError``.
+that keeps their ``step``, an ``ObservationStage`` whose ``step`` is
+``observe_step(*env.step(action)[::4])`` on the observation, or an ``ActionWrapper`` that is
+also an ``ObservationStage`` (``GoalActionWrapper``), whose ``step`` is ``observe_step`` of
+``env.step(action(a))``: its ``action`` is one of stage 1's hooks and its ``observe_step`` one
+of stage 6's; any other raises ``ValueError``.
 The compiled stages run on ``threads`` numba threads (``attentive_gym.vector.threads``).
 """
 
@@ -289,13 +292,17 @@ def _observation_hook(stage):
 
 def _hooks(env: gym.Env, index: int) -> tuple[list, list]:
     """The action hooks of ``env``'s wrappers, outermost first, and its observation stages
-    (``ObservationStage`` or Gymnasium ``ObservationWrapper`` layers), innermost first."""
+    (``ObservationStage`` or Gymnasium ``ObservationWrapper`` layers), innermost first. An
+    ``ActionWrapper`` that is also an ``ObservationStage`` (``GoalActionWrapper``) gives both."""
     actions, observations = [], []
     layer = env
     while isinstance(layer, gym.Wrapper):
         cls = type(layer)
         if isinstance(layer, gym.ActionWrapper) and cls.step is gym.ActionWrapper.step:
             actions.append(layer.action)
+        elif isinstance(layer, gym.ActionWrapper) and isinstance(layer, ObservationStage):  # acts before and after
+            actions.append(layer.action)
+            observations.append(layer)
         elif isinstance(layer, gym.ObservationWrapper) and cls.step is gym.ObservationWrapper.step:
             observations.append(layer)
         elif isinstance(layer, ObservationStage):
@@ -304,7 +311,7 @@ def _hooks(env: gym.Env, index: int) -> tuple[list, list]:
             raise ValueError(
                 f"env {index}: the wrapper {cls.__name__} cannot be stepped in a fleet; allowed: gymnasium "
                 "ActionWrapper/ObservationWrapper subclasses that keep their step(), and observation stages "
-                "(attentive_gym.vector.protocol.ObservationStage)"
+                "(attentive_gym.vector.protocol.ObservationStage, ActionWrapper subclasses among them)"
             )
         layer = layer.env
     observations.reverse()

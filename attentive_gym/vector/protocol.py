@@ -7,7 +7,8 @@
   termination, info and the observation of a fresh reading). Its ``step(action)`` is
   ``complete_step(move(*command(action)), sensors.read(*sensing_request()))``.
 - ``ObservationStage``: a wrapper whose observation of a step is ``observe_step(observation,
-  info)`` of the observation and info below it (``OracleFocus``; ``AttentionWrapper``).
+  info)`` of the observation and info below it (``OracleFocus``; ``AttentionWrapper``;
+  ``GoalActionWrapper``, an ``ActionWrapper`` whose ``observe_step`` adds its choice to ``info``).
 - ``ModelStage``: an ``ObservationStage`` that runs an ``AttentionModel`` (``AttentionWrapper``):
   ``observe_step`` is ``observe_output(observation, info, model.step(*model_reading(observation,
   info)))``, so a fleet can step the members' models together (``ModelBatch``) between the two,

@@ -201,6 +201,16 @@ def test_bad_input_raises_a_clear_value_error_and_moves_nothing():
 def test_fleet_refuses_wrappers_it_cannot_step_and_other_envs():
     with pytest.raises(ValueError, match="TransformReward cannot be stepped in a fleet"):
         Fleet([gym.wrappers.TransformReward(make_env("raw"), lambda r: 2 * r)])
+
+    class OwnStep(gym.ActionWrapper):  # an action wrapper with a step of its own and no observe_step
+        def action(self, action):
+            return action
+
+        def step(self, action):
+            return self.env.step(self.action(action))
+
+    with pytest.raises(ValueError, match="OwnStep cannot be stepped in a fleet"):
+        Fleet([OwnStep(make_env("raw"))])
     with pytest.raises(ValueError, match="PendulumEnv, which lacks the stages a fleet steps"):
         Fleet([gym.make("Pendulum-v1").unwrapped])
     with pytest.raises(ValueError, match="other sensors"):

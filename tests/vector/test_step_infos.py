@@ -48,22 +48,29 @@ def _assert_identical(a, b, where=""):
         assert type(a) is type(b) and a == b, f"{where}: {a!r} vs {b!r}"
 
 
-@pytest.mark.parametrize("variant", ["raw", "focus"])
+@pytest.mark.parametrize("variant", ["raw", "focus", "goal-action"])
 def test_step_infos_from_arrays_equal_syncs_in_order_and_dtype(variant):
     native = gym.make_vec(VARIANT_IDS[variant], num_envs=3, vectorization_mode="vector_entry_point", **CROWDED)
     sync = gym.make_vec(VARIANT_IDS[variant], num_envs=3, vectorization_mode="sync", **CROWDED)
     for got, want in zip(native.reset(seed=4), sync.reset(seed=4)):
         _assert_identical(got, want, "reset")
     rng = np.random.default_rng(4)
-    touched = ended = 0
+    choices = np.random.default_rng(5)  # goal-action's goal scores and weights, beside the same motions
+    extra = native.single_action_space.shape[0] - 2
+    touched = ended = matched = 0
     for t in range(200):
-        actions = rng.uniform((0.2, -1.0), (1.0, 1.0), (3, 2)).astype(np.float32)
+        motions = rng.uniform((0.2, -1.0), (1.0, 1.0), (3, 2))
+        actions = np.hstack([motions, choices.uniform(-1, 1, (3, extra))]).astype(np.float32)
         got, want = native.step(actions), sync.step(actions)
         for k, name in enumerate(("obs", "reward", "terminated", "truncated", "info")):
             _assert_identical(got[k], want[k], f"step {t} {name}")
         touched += int(got[4]["collision"][got[4]["_collision"]].sum())
         ended += int(np.sum(got[2] | got[3]))
+        matched += int(got[4].get("goal_choice_matches", np.zeros(3, bool)).sum())
     assert touched > 0 and ended >= 3
+    if variant == "goal-action":  # the agent's choice in every member's info, the task's goal among them
+        assert {"goal_choice", "goal_choice_matches", "map_weights"} <= set(got[4]) and matched > 0
+        assert got[4]["goal_choice"].dtype == np.int64 and got[4]["map_weights"].shape == (3, 6)
     native.close(), sync.close()
 
 
