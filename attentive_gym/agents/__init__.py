@@ -4,6 +4,8 @@
 - ``train`` (``training``): one run with periodic evaluation, TensorBoard logs,
   checkpoints/resume, ``final_model.zip``, ``metrics.json`` and a ``done`` marker.
 - ``evaluate_policy`` (``evaluation``): success rate, return, collisions, episode length.
+- ``goal_choice``: what a ``goal-action`` agent chooses at each evaluation (its goal against
+  the task's, its map weights): a run's ``goal_choice.csv``.
 - ``compare.compare``: every (variant, seed) pair in parallel processes or on Ray, then
   ``results.csv``, ``learning_curves.png`` and ``summary.md``/``summary.csv``.
 - ``backends.run_many``: the runs in spawned processes or Ray tasks; ``stopping``: Ctrl-C and

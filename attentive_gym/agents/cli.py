@@ -241,8 +241,8 @@ def add_train(subparsers) -> None:
         "train",
         help="train an SB3 policy on one observation variant",
         description="Train PPO (or SAC, or RecurrentPPO) on one observation variant with periodic evaluation, "
-        "TensorBoard logs and checkpoints. Writes DIR/spec.json, eval.csv, checkpoint/, tb/, "
-        "final_model.zip, metrics.json, done. The spec is checked (one env built, the SB3 keywords "
+        "TensorBoard logs and checkpoints. Writes DIR/spec.json, eval.csv (goal-action: and goal_choice.csv), "
+        "checkpoint/, tb/, final_model.zip, metrics.json, done. The spec is checked (one env built, the SB3 keywords "
         "checked) before anything is written. Rerunning into an unfinished DIR, after Ctrl-C or a "
         "kill, resumes from its checkpoint; with --extend and a larger --steps, a finished run trains "
         "on from its final checkpoint.",
@@ -371,9 +371,10 @@ def add_compare(subparsers) -> None:
         description="Train every (variant, seed) pair in parallel, then write DIR/results.csv (one row per variant, "
         "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds) and "
         "DIR/summary.md + summary.csv (final success rate, safe success rate, contact time and return with "
-        "95 % CIs, env steps to the success threshold). Every run's spec is checked before anything is "
-        "trained. Ctrl-C (or SIGTERM) stops the runs in progress and starts no queued one; a rerun into DIR "
-        "trains only the unfinished runs, each from its last checkpoint.",
+        "95 % CIs, env steps to the success threshold) and, with the goal-action variant, DIR/goal_choice.csv + "
+        "goal_choice.png (its chosen goal against the task's, and its map weights). Every run's spec is checked "
+        "before anything is trained. Ctrl-C (or SIGTERM) stops the runs in progress and starts no queued one; a "
+        "rerun into DIR trains only the unfinished runs, each from its last checkpoint.",
     )
     parser.add_argument(
         "--variants",
@@ -469,6 +470,8 @@ def _run_compare(args: argparse.Namespace) -> int:
     if result.summary_md is not None:
         print(result.summary_md.read_text(), end="")
         print(f"wrote {result.results_csv}, {result.figure}, {result.summary_csv}, {result.summary_md}")
+    if result.goal_choice_figure is not None:
+        print(f"wrote {result.goal_choice_figure.with_suffix('.csv')}, {result.goal_choice_figure}")
     if result.failed:
         print(f"{len(result.failed)} run(s) failed: {', '.join(result.failed)}; rerun the same command to retry them")
         return 1

@@ -8,6 +8,9 @@
 - ``learning_curves.png``: success rate and return vs env steps, mean ± 95 % CI across seeds;
 - ``summary.csv`` / ``summary.md``: final success rate and return with 95 % CIs and env
   steps to reach the success threshold.
+- ``goal_choice.csv`` / ``goal_choice.png`` (with a ``goal-action`` variant): its runs'
+  ``goal_choice.csv`` rows together, and the figure of what the agent chooses
+  (``plots.plot_goal_choice``).
 
 Every run's spec is validated (``training.validate_spec``, once per variant) before anything
 is written or trained. A rerun (after Ctrl-C, a kill or a crash) trains only the runs without
@@ -31,7 +34,8 @@ from typing import Any
 
 from attentive_gym.agents.backends import JobOutcome, run_many
 from attentive_gym.agents.config import QUICK, RunSpec
-from attentive_gym.agents.plots import plot_learning_curves
+from attentive_gym.agents.goal_choice import GOAL_CHOICE_FILE
+from attentive_gym.agents.plots import plot_goal_choice, plot_learning_curves
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
     SUMMARY_COLUMNS,
@@ -59,6 +63,7 @@ class CompareResult:
     summary_csv: Path | None
     summary_md: Path | None
     summary: list[dict[str, Any]] = field(default_factory=list)
+    goal_choice_figure: Path | None = None  # goal_choice.png, with a goal-action variant
     trained: list[str] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
     failed: dict[str, str] = field(default_factory=dict)
@@ -209,11 +214,8 @@ def _resume_hint(out: Path, specs: Sequence[RunSpec]) -> str:
 def collect(out: str | os.PathLike, specs: Sequence[RunSpec], threshold: float = 0.5) -> CompareResult:
     """Write ``results.csv``, the figure and the summary from the finished runs among ``specs``."""
     out = Path(out)
-    rows: list[dict[str, Any]] = []
-    for spec in specs:
-        run_dir = run_dir_of(out, spec)
-        if is_done(run_dir, spec.total_steps):
-            rows.extend(read_csv(run_dir / "eval.csv"))
+    done = [run_dir_of(out, spec) for spec in specs if is_done(run_dir_of(out, spec), spec.total_steps)]
+    rows = [row for run_dir in done for row in read_csv(run_dir / "eval.csv")]
     if not rows:
         return CompareResult(out, None, None, None, None)
     results_csv = write_csv_atomic(out / "results.csv", rows, EVAL_COLUMNS)
@@ -221,4 +223,18 @@ def collect(out: str | os.PathLike, specs: Sequence[RunSpec], threshold: float =
     summary_csv = write_csv_atomic(out / "summary.csv", summary, SUMMARY_COLUMNS)
     summary_md = write_text_atomic(out / "summary.md", summary_markdown(summary))
     figure = plot_learning_curves(rows, out / "learning_curves.png")
-    return CompareResult(out, results_csv, figure, summary_csv, summary_md, summary)
+    result = CompareResult(out, results_csv, figure, summary_csv, summary_md, summary)
+    result.goal_choice_figure = _collect_goal_choice(out, done)
+    return result
+
+
+def _collect_goal_choice(out: Path, run_dirs: Sequence[Path]) -> Path | None:
+    """Write ``out/goal_choice.csv`` (the rows of the runs' ``goal_choice.csv``, in their
+    columns) and its figure ``out/goal_choice.png`` when some of ``run_dirs`` hold one
+    (goal-action runs); the figure's path, or None."""
+    files = [run_dir / GOAL_CHOICE_FILE for run_dir in run_dirs if (run_dir / GOAL_CHOICE_FILE).is_file()]
+    rows = [row for path in files for row in read_csv(path)]
+    if not rows:
+        return None
+    write_csv_atomic(out / GOAL_CHOICE_FILE, rows, list(rows[0]))
+    return plot_goal_choice(rows, out / "goal_choice.png")

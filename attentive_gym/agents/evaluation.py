@@ -134,6 +134,7 @@ def evaluate_policy(
     n_parallel: int = 4,
     deterministic: bool = True,
     envs: list[gym.Env] | None = None,
+    on_step: Callable[[dict[str, Any]], None] | None = None,
 ) -> EvalResult:
     """Run ``episodes`` episodes of ``model`` (anything with SB3's ``predict``).
 
@@ -147,6 +148,8 @@ def evaluate_policy(
         n_parallel: environments stepped side by side (batched forward passes).
         deterministic: greedy actions (True) or sampled ones.
         envs: environments to reuse (not closed here); they must match ``make_env_fn``.
+        on_step: called with each step's ``info``, every environment's, in the order they
+            step (e.g. ``goal_choice.GoalChoiceTally``); None: nothing is called.
     """
     check_int("episodes", episodes, 1)
     check_int("n_parallel", n_parallel, 1)
@@ -181,6 +184,8 @@ def evaluate_policy(
             still = []
             for (slot, index, _, _), action in zip(active, actions):
                 obs, reward, terminated, truncated, info = envs[slot].step(action)
+                if on_step is not None:
+                    on_step(info)
                 returns[index] += float(reward)
                 collisions[index] += bool(info.get("collision", False))
                 lengths[index] += 1

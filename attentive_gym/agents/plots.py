@@ -1,7 +1,8 @@
 """Figures of a comparison: learning curves (mean across seeds with a 95 % bootstrap band, per
-variant) and, for a clutter sweep, final success, safe success and contact time against the
-number of distractors. Panels of the safe-success measure (``results.SAFE_COLUMNS``) are left
-out where the rows do not record it (rows written before it)."""
+variant), what a goal-action agent chooses as it trains (``plot_goal_choice``) and, for a
+clutter sweep, final success, safe success and contact time against the number of distractors.
+Panels of the safe-success measure (``results.SAFE_COLUMNS``) are left out where the rows do
+not record it (rows written before it)."""
 
 from __future__ import annotations
 
@@ -15,8 +16,12 @@ import numpy as np
 
 from attentive_gym._atomic import save_figure
 from attentive_gym._optional import require
+from attentive_gym.agents.goal_choice import WEIGHT_COLUMNS, goal_share_columns, menu_labels
 from attentive_gym.agents.statistics import bootstrap_ci
+from attentive_gym.attention import Goal
+from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES
 from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, DEFAULT_MAX_WEIGHT
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [
@@ -24,6 +29,7 @@ __all__ = [
     "recorded",
     "plot_learning_curves",
     "plot_success_vs_distractors",
+    "plot_goal_choice",
     "split_label",
     "steps_label",
     "METRIC_BOUNDS",
@@ -72,13 +78,14 @@ def _rate_axis(ax, metric: str) -> None:
 
 
 def curve_stats(
-    rows: Sequence[Mapping[str, Any]], variant: str, metric: str
+    rows: Sequence[Mapping[str, Any]], variant: str, metric: str, bounds: tuple[float, float] | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(env_steps, mean, ci_low, ci_high) of ``metric`` across seeds at each eval point of ``variant``.
 
-    The band is the 95 % bootstrap interval of the mean, clipped to ``METRIC_BOUNDS``; NaN
-    (no band) with one seed, NaN where no seed records ``metric``. Only eval points every
-    seed of the variant reached are kept (so a band always spans the same seeds).
+    The band is the 95 % bootstrap interval of the mean, clipped to ``bounds`` (default: the
+    metric's ``METRIC_BOUNDS``, else none); NaN (no band) with one seed, NaN where no seed
+    records ``metric``. Only eval points every seed of the variant reached are kept (so a
+    band always spans the same seeds).
     """
     by_steps: dict[int, list[float]] = {}
     seeds = {r["seed"] for r in rows if r["variant"] == variant}
@@ -86,7 +93,8 @@ def curve_stats(
         if row["variant"] == variant:
             by_steps.setdefault(int(row["env_steps"]), []).append(float(row.get(metric, math.nan)))
     steps = sorted(s for s, v in by_steps.items() if len(v) == len(seeds))
-    bounds = METRIC_BOUNDS.get(metric, (-float("inf"), float("inf")))
+    if bounds is None:
+        bounds = METRIC_BOUNDS.get(metric, (-float("inf"), float("inf")))
     stats = np.array([bootstrap_ci(by_steps[s], bounds=bounds) for s in steps]).reshape(-1, 3)
     return np.array(steps), stats[:, 0], stats[:, 1], stats[:, 2]
 
@@ -224,6 +232,75 @@ def plot_success_vs_distractors(
     after = "" if budget is None else f"after {steps_label(budget)} env steps (longer runs cut there)\n"
     fig.suptitle(f"{after}mean over seeds, bars: 95 % bootstrap CI", fontsize=10)
     return _save(fig, path)
+
+
+def plot_goal_choice(
+    rows: Sequence[Mapping[str, Any]],
+    path: str | os.PathLike,
+    menu: Sequence[Goal | None] = DEFAULT_GOAL_MENU,
+    max_weight: float = DEFAULT_MAX_WEIGHT,
+    title: str | None = None,
+) -> Path:
+    """Write a PNG of what a goal-action agent chooses as it trains, from the rows of its runs'
+    ``goal_choice.csv`` (one variant, any number of seeds; ``goal_choice.goal_choice_columns``).
+
+    Left: the share of the evaluation steps whose chosen goal is the task's (black), and each
+    entry of ``menu``'s share, on [0, 1]. Right: each map's mean weight (F1..F6), on [0,
+    ``max_weight``] (``GoalActionWrapper``'s). Each curve is the mean across seeds vs env
+    steps with its 95 % bootstrap CI band (``curve_stats``), as in ``plot_learning_curves``.
+
+    Raises:
+        ValueError: no rows, rows of more than one variant, or rows whose menu shares are not
+            those of ``menu`` (one ``goal_share_<i>`` column per entry).
+    """
+    plt = _pyplot()
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    if not variants:
+        raise ValueError("no goal-choice rows to plot")
+    if len(variants) > 1:
+        raise ValueError(f"plot_goal_choice draws one variant's rows; got the variants {variants}")
+    shares = goal_share_columns(len(menu))
+    found = tuple(key for key in rows[0] if key.startswith("goal_share_"))
+    if found != shares:
+        raise ValueError(
+            f"the rows hold the menu shares {list(found)}, the menu of {len(menu)} entries needs {list(shares)}"
+        )
+    fig, (goals_ax, weights_ax) = plt.subplots(1, 2, figsize=(11.0, 4.6))
+    names = {name: alias.replace("_", " ") for alias, name in MAP_ALIASES.items()}
+    goal_curves = [
+        ("task_goal_share", "the task's goal", {"color": "black", "linewidth": 2.2}),
+        *((column, label, {"color": f"C{i}"}) for i, (column, label) in enumerate(zip(shares, menu_labels(menu)))),
+    ]
+    weight_curves = [
+        (column, f"{name} ({names[name]})", {"color": f"C{i}"})
+        for i, (column, name) in enumerate(zip(WEIGHT_COLUMNS, MAP_NAMES))
+    ]
+    _draw_curves(goals_ax, rows, goal_curves, (0.0, 1.0), "chosen goal's share of evaluation steps")
+    _draw_curves(weights_ax, rows, weight_curves, (0.0, max_weight), f"mean map weight (0 to {max_weight:g})")
+    goals_ax.set_ylim(*_RATE_LIMITS)
+    weights_ax.set_ylim(-0.03 * max_weight, 1.03 * max_weight)
+    seeds = len({r["seed"] for r in rows})
+    fig.suptitle(title or f"{variants[0]}, n={seeds} seeds: mean over seeds, shaded: 95 % bootstrap CI", fontsize=10)
+    return _save(fig, path)
+
+
+def _draw_curves(
+    ax, rows: Sequence[Mapping[str, Any]], curves: Sequence[tuple[str, str, dict]], bounds: tuple, ylabel: str
+) -> None:
+    """Draw each ``(column, label, line style)`` of ``curves`` on ``ax``: the mean across the
+    rows' seeds vs env steps with its 95 % CI band clipped to ``bounds``; the legend below."""
+    from matplotlib.ticker import FuncFormatter
+
+    variant = rows[0]["variant"]
+    for column, label, style in curves:
+        steps, mean, low, high = curve_stats(rows, variant, column, bounds)
+        (line,) = ax.plot(steps, mean, marker=".", label=label, **style)
+        ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.15, linewidth=0)
+    ax.set_xlabel("environment steps")
+    ax.xaxis.set_major_formatter(FuncFormatter(steps_label))
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=8, frameon=False)
 
 
 def _pyplot():

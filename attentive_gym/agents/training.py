@@ -8,6 +8,9 @@ into ``run_dir``:
   the same spec, or, with ``extend``, the same with a larger ``total_steps``);
 - ``eval.csv``: one row per evaluation (``results.EVAL_COLUMNS``), at 0, every
   ``spec.eval_every`` env steps and at the end;
+- ``goal_choice.csv`` (``goal-action`` runs only): one row per evaluation
+  (``goal_choice.goal_choice_columns``): the share of the evaluation's steps whose chosen goal
+  is the task's, each menu entry's share, and each map weight's mean;
 - ``checkpoint/model.zip`` (+ ``replay_buffer.pkl`` for SAC, + ``meta.json``, +
   ``obs_normalization.npz`` when ``spec.obs_scaling`` is ``"running"``): the latest
   checkpoint, every ``spec.checkpoint_every`` env steps;
@@ -50,6 +53,7 @@ import gymnasium as gym
 
 from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.evaluation import EVAL_SEED_OFFSET, evaluate_policy
+from attentive_gym.agents.goal_choice import GOAL_CHOICE_FILE, GoalChoiceTally, goal_choice_columns
 from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, load_stats, normalize, save_stats
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
 from attentive_gym.agents.stopping import raise_if_stopped, signals_blocked
@@ -231,8 +235,19 @@ def _write_checkpoint(model, run_dir: Path, wall_s: float, is_off_policy: bool, 
     write_json_atomic(folder / "meta.json", {"env_steps": int(model.num_timesteps), "wall_s": wall_s})
 
 
+def _records_goal_choice(spec: RunSpec) -> bool:
+    """Whether a run's evaluations write ``goal_choice.csv``: those of ``goal-action``."""
+    return spec.variant == "goal-action"
+
+
 def _make_callback(
-    spec: RunSpec, run_dir: Path, rows: list[dict], start_wall: float, eval_envs: list[gym.Env], vec_normalize
+    spec: RunSpec,
+    run_dir: Path,
+    rows: list[dict],
+    choice_rows: list[dict],
+    start_wall: float,
+    eval_envs: list[gym.Env],
+    vec_normalize,
 ):
     from stable_baselines3.common.callbacks import BaseCallback
 
@@ -272,16 +287,19 @@ def _make_callback(
 
         def evaluate(self) -> None:
             policy = self.model if vec_normalize is None else NormalizedPolicy(self.model, vec_normalize)
-            result = evaluate_policy(policy, env_factory(spec), spec.eval_episodes, eval_seed(spec), envs=eval_envs)
-            row = {
-                "variant": spec.variant,
-                "seed": spec.seed,
-                "env_steps": int(self.num_timesteps),
-                **result.row(),
-                "wall_s": self.wall(),
-            }
+            menu_size = len(eval_envs[0].get_wrapper_attr("goal_menu")) if _records_goal_choice(spec) else None
+            tally = None if menu_size is None else GoalChoiceTally(menu_size)
+            result = evaluate_policy(
+                policy, env_factory(spec), spec.eval_episodes, eval_seed(spec), envs=eval_envs, on_step=tally
+            )
+            run = {"variant": spec.variant, "seed": spec.seed, "env_steps": int(self.num_timesteps)}
+            row = {**run, **result.row(), "wall_s": self.wall()}
             rows.append(row)
             write_csv_atomic(run_dir / "eval.csv", rows, EVAL_COLUMNS)
+            if tally is not None:
+                choice_rows.append({**run, **tally.row()})
+                write_csv_atomic(run_dir / GOAL_CHOICE_FILE, choice_rows, goal_choice_columns(menu_size))
+                self.logger.record("eval/task_goal_share", choice_rows[-1]["task_goal_share"])
             for key in (
                 "success_rate",
                 "safe_success_rate",
@@ -400,6 +418,7 @@ def train(
     try:
         tb = str(run_dir / "tb") if tensorboard else None
         rows: list[dict] = []
+        choice_rows: list[dict] = []
         start_wall = 0.0
         if ckpt.is_file():
             model = algo_cls.load(ckpt, env=vec, device="cpu", tensorboard_log=tb)
@@ -408,11 +427,11 @@ def train(
             meta_path = run_dir / _CHECKPOINT / "meta.json"
             start_wall = json.loads(meta_path.read_text())["wall_s"] if meta_path.is_file() else 0.0
             model.set_random_seed(spec.seed + model.num_timesteps)
-            if (run_dir / "eval.csv").is_file():
-                rows = [r for r in read_csv(run_dir / "eval.csv") if r["env_steps"] <= model.num_timesteps]
+            rows = _rows_until(run_dir / "eval.csv", model.num_timesteps)
+            choice_rows = _rows_until(run_dir / GOAL_CHOICE_FILE, model.num_timesteps)
             resumed_from = int(model.num_timesteps)
         else:
-            for leftover in ("eval.csv",):
+            for leftover in ("eval.csv", GOAL_CHOICE_FILE):
                 (run_dir / leftover).unlink(missing_ok=True)
             model = algo_cls(
                 _policy_name(spec.algo, vec.observation_space),
@@ -426,7 +445,7 @@ def train(
             resumed_from = 0
         if tb is None:  # SB3's own logger would make an empty folder in the temp directory
             model.set_logger(_logger_without_folder(verbose))
-        callback = _make_callback(spec, run_dir, rows, start_wall, eval_envs, vec_normalize)
+        callback = _make_callback(spec, run_dir, rows, choice_rows, start_wall, eval_envs, vec_normalize)
         remaining = spec.total_steps - int(model.num_timesteps)
         t0 = time.perf_counter()
         if remaining > 0:
@@ -465,6 +484,12 @@ def train(
         vec.close()
         for env in eval_envs:
             env.close()
+
+
+def _rows_until(path: Path, env_steps: int) -> list[dict[str, Any]]:
+    """The rows of a run's CSV at ``path`` up to ``env_steps`` (a checkpoint's: the later ones
+    are evaluated again); none without the file."""
+    return [row for row in read_csv(path) if row["env_steps"] <= env_steps] if path.is_file() else []
 
 
 def find_spec(model_path: str | os.PathLike) -> tuple[Path, RunSpec]:
