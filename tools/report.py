@@ -10,14 +10,14 @@ Two commands, so that batches of runs trained at different times add up:
   ``compare.json`` beside the file tells it) and ``obs_scaling``; a (variant, algo,
   obs_scaling, seed[, num_distractors]) already there is replaced.
 - ``python tools/report.py render [--check]``: write ``docs/results/rl.md``,
-  ``perception.md``, ``checks.md`` and ``performance.md`` from the CSVs beside them, the
+  ``perception.md``, ``checks.md``, ``performance.md`` and ``safe_rescue.md`` from the CSVs beside them, the
   figures under ``docs/figures/``, and the README's block between
   ``<!-- results-headline:start -->`` and ``<!-- results-headline:end -->``. ``--check``
   writes nothing and exits 1 naming every file that differs from what the CSVs give.
 
 The CSVs come from ``tools/report.py add`` (RL), ``benchmarks/bench_perception.py --csv``
-(perception), ``tools/experiments_table.py`` (the experiments' checks) and the benchmarks'
-``--csv`` option (performance).
+(perception), ``tools/experiments_table.py`` (the experiments' checks), the benchmarks'
+``--csv`` option (performance) and ``tools/safe_rescue_table.py`` (safe rescue).
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ import headline
 import perception_page
 import performance_page
 import rl_page
+import safe_rescue_page
 from attentive_gym.agents.config import ALGOS, OBS_SCALINGS
 from attentive_gym.agents.merged import CLUTTER_COLUMNS, COMPARISON_COLUMNS, SCALED, algo_tag, merge_rows, tagged_rate
 from attentive_gym.agents.results import read_csv, write_csv_atomic, write_text_atomic
@@ -47,6 +48,7 @@ PAGES: dict[str, Callable[[Path, bool], str]] = {
     perception_page.NAME: perception_page.page,
     checks_page.NAME: checks_page.page,
     performance_page.NAME: performance_page.page,
+    safe_rescue_page.NAME: safe_rescue_page.page,
 }
 
 

@@ -30,6 +30,7 @@ def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
         "perception_clutter.csv",
         "perception_motion.csv",
         "experiment_checks.csv",
+        "safe_rescue.csv",
         "performance.csv",
     ):
         shutil.copy(RESULTS / name, tmp_path / "docs" / "results" / name)

@@ -208,3 +208,33 @@ def test_the_perception_tables_read_each_mode_and_setting_from_its_rows():
     focus_steered = next(line for key, line in lines.items() if key.startswith("focus-steered controller"))
     assert "true bearing's 0.80; random actions 0.25" in focus_steered
     assert focus_steered.endswith("| 0.70 (0.88×) | — | — |")
+
+
+def test_the_safe_rescue_page_tabulates_each_setting_and_controller_over_its_seeds(tmp_path):
+    """Each (setting, controller) line holds the mean over its seeds with a bootstrap interval
+    inside the metric's range; episode lengths in steps of 0.05 s read in s."""
+    safe_rescue_page = report.safe_rescue_page
+    columns = ["setting", "controller", "seed", "env_steps", "n_episodes", "success_rate", "safe_success_rate"]
+    columns += ["mean_contact_s", "mean_episode_length"]
+    rows = [
+        {"setting": "contact_limit_s=1", "controller": "ppo oracle", "seed": seed, "env_steps": 250880}
+        | {"n_episodes": 40, "success_rate": rate, "safe_success_rate": rate, "mean_contact_s": 0.5}
+        | {"mean_episode_length": 100}
+        for seed, rate in ((41, 0.6), (42, 0.8))
+    ]
+    rows.append(rows[0] | {"controller": "true-bearing", "env_steps": 0, "success_rate": 0.9})
+    _write(tmp_path / "docs/results/safe_rescue.csv", columns, rows)
+    page = safe_rescue_page.page(tmp_path)
+    assert "at 250,880 env steps" in page
+    (line,) = [row for row in page.splitlines() if row.startswith("| contact_limit_s=1 | ppo oracle |")]
+    cells = [cell.strip() for cell in line.strip("|").split("|")]
+    assert cells[2:4] == ["2", "80"]
+    assert cells[4].startswith("0.70 [0.60, 0.80]") and cells[5].startswith("0.70 [0.60, 0.80]")
+    assert cells[6] == "0.50 [0.50, 0.50]" and cells[7] == "5.0 [5.0, 5.0]"
+    (bound,) = [row for row in page.splitlines() if row.startswith("| contact_limit_s=1 | true-bearing |")]
+    assert "| 1 | 40 | 0.90 |" in bound  # one seed: the point alone
+
+
+def test_the_safe_rescue_page_names_its_writer_when_the_csv_is_missing(tmp_path):
+    with pytest.raises(FileNotFoundError, match="safe_rescue.csv is missing; python tools/safe_rescue_table.py"):
+        report.safe_rescue_page.page(tmp_path)

@@ -1,0 +1,84 @@
+"""``docs/results/safe_rescue.md``: the oracle under candidate safe-rescue tasks.
+
+From ``docs/results/safe_rescue.csv`` (written by ``tools/safe_rescue_table.py``): per task
+setting and controller, the mean over seeds of the final success, safe success, contact
+time and episode length, with 95 % bootstrap intervals (``agents.statistics``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from attentive_gym.agents.statistics import bootstrap_ci
+from page_text import RESULTS, banner, interval, read_rows, table
+
+NAME = "safe_rescue.md"
+SOURCE = RESULTS / "safe_rescue.csv"
+WRITTEN_BY = "python tools/safe_rescue_table.py"
+#: column → (header, bounds of the metric, decimals, scale from the CSV's unit)
+_METRICS = {
+    "success_rate": ("success", (0.0, 1.0), 2, 1.0),
+    "safe_success_rate": ("safe success", (0.0, 1.0), 2, 1.0),
+    "mean_contact_s": ("contact (s / episode)", (0.0, float("inf")), 2, 1.0),
+    "mean_episode_length": ("episode (s)", (0.0, float("inf")), 1, 0.05),
+}
+
+
+def _cells(rows: Sequence[Mapping[str, str]]) -> list[str]:
+    """One cell per metric: the mean over the rows (seeds) with its 95 % bootstrap interval."""
+    cells = []
+    for column, (_, bounds, digits, scale) in _METRICS.items():
+        point, low, high = bootstrap_ci([float(row[column]) * scale for row in rows], bounds=bounds)
+        cells.append(interval(point, low, high, digits))
+    return cells
+
+
+def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
+    """The Markdown table: a line per (setting, controller) in first-seen order."""
+    groups: dict[tuple[str, str], list[Mapping[str, str]]] = {}
+    for row in rows:
+        groups.setdefault((row["setting"], row["controller"]), []).append(row)
+    lines = [
+        [setting, controller, str(len(group)), str(sum(int(row["n_episodes"]) for row in group)), *_cells(group)]
+        for (setting, controller), group in groups.items()
+    ]
+    headers = ["task setting", "controller", "seeds", "episodes", *(header for header, *_ in _METRICS.values())]
+    return table(headers, lines)
+
+
+def page(root: Path, write_figures: bool = True) -> str:
+    """The text of ``docs/results/safe_rescue.md`` under ``root`` (it has no figures)."""
+    rows = read_rows(root, SOURCE.name, WRITTEN_BY)
+    steps = sorted({int(row["env_steps"]) for row in rows if row["controller"] != "true-bearing"})
+    budget = ", ".join(f"{s:,}" for s in steps)
+    return "\n".join(
+        [
+            "# Safe rescue: the oracle under candidate tasks",
+            "",
+            banner([SOURCE]),
+            "A success is **safe** when the robot reached the target with at most 1 s in contact in the episode. "
+            "Each task setting below changes the defaults (`RewardConfig()`, the focus layout without `proximity`) "
+            "by the fields it names; the arena is the main comparison's (8 m, 2 distractors, 3 rubble pieces per "
+            f"100 m²). `ppo oracle`: PPO on the `oracle` variant at {budget} env steps, its final evaluation. "
+            "`true-bearing`: a scripted controller that steers at the target's true bearing at full speed, on the "
+            "same episodes: it reaches the target on the straight line and avoids nothing. Cells: mean over seeds "
+            "[95 % bootstrap interval].",
+            "",
+            summary_table(rows),
+            "## Reproduce",
+            "",
+            "```bash",
+            'ARENA=\'"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0\'',
+            "for seed in 41 42 43; do  # one setting; about 6 min per run on 2 cores",
+            "  attentive-gym train --variant oracle --seed $seed --steps 250000 --eval-every 125000 "
+            "--eval-episodes 40 \\",
+            "    --out runs/safe/limit1-prox-s$seed --env-kwargs "
+            '"{$ARENA, \\"proximity\\": true, \\"reward\\": {\\"contact_limit_s\\": 1.0}}"',
+            "done",
+            f"{WRITTEN_BY} runs/safe/*-s4[123]   # adds the true-bearing rows; writes {SOURCE.as_posix()}",
+            "python tools/report.py render",
+            "```",
+            "",
+        ]
+    )

@@ -1,0 +1,113 @@
+"""Tabulate trained oracle runs under candidate safe-rescue tasks, beside a scripted bound.
+
+For each run folder given (``attentive-gym train --variant oracle`` with its task's
+``--env-kwargs``), the last evaluation row of its ``eval.csv``; and, on the same evaluation
+episodes (the run's ``eval_seed`` onwards), the scripted controller that steers at the
+target's true bearing at full speed (``perception.controllers.true_bearing_controller``): a
+bound that reaches the target on the straight line and avoids nothing. Each row names its
+setting by the fields that differ from the defaults (``RewardConfig()``, no proximity)::
+
+    python tools/safe_rescue_table.py runs/safe/*-s4[123] --csv docs/results/safe_rescue.csv
+
+``python tools/report.py render`` then writes the table into ``docs/results/rl.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.results import read_csv, write_csv_atomic
+from attentive_gym.agents.training import eval_seed
+from attentive_gym.envs import AttentiveRescueEnv, RewardConfig
+from attentive_gym.envs.config_mappings import config_as_mapping
+from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.perception.controllers import true_bearing_controller
+
+#: The repository's root (this file is in ``tools/``).
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_CSV = ROOT / "docs" / "results" / "safe_rescue.csv"
+COLUMNS = (
+    "setting",
+    "controller",
+    "seed",
+    "env_steps",
+    "n_episodes",
+    "success_rate",
+    "safe_success_rate",
+    "mean_contact_s",
+    "mean_episode_length",
+)
+
+
+def setting_label(env_kwargs: Mapping[str, Any]) -> str:
+    """The task's fields that differ from the defaults, e.g. ``contact_limit_s=1, proximity``;
+    ``v0 reward`` when none does."""
+    defaults = config_as_mapping(RewardConfig())
+    reward = {**defaults, **env_kwargs.get("reward", {})}
+    parts = [f"{key}={reward[key]:g}" for key in defaults if reward[key] != defaults[key]]
+    if env_kwargs.get("proximity"):
+        parts.append("proximity")
+    return ", ".join(parts) or "v0 reward"
+
+
+def scripted_row(spec: RunSpec, episodes: int) -> dict[str, Any]:
+    """The true-bearing controller on ``spec``'s task and evaluation episodes."""
+    env = AttentiveRescueEnv(**{key: value for key, value in spec.env_kwargs.items() if key != "proximity"})
+    first = eval_seed(spec)
+    successes, safe, contacts, lengths = [], [], [], []
+    for episode in range(episodes):
+        observation, info = env.reset(seed=first + episode)
+        steps, ended = 0, False
+        while not ended:
+            observation, _, terminated, truncated, info = env.step(true_bearing_controller(observation, info))
+            steps, ended = steps + 1, terminated or truncated
+        successes.append(info["success"])
+        safe.append(info["success"] and info["contact_s"] <= SAFE_CONTACT_S)
+        contacts.append(info["contact_s"])
+        lengths.append(steps)
+    return {
+        "controller": "true-bearing",
+        "env_steps": 0,
+        "n_episodes": episodes,
+        "success_rate": float(np.mean(successes)),
+        "safe_success_rate": float(np.mean(safe)),
+        "mean_contact_s": float(np.mean(contacts)),
+        "mean_episode_length": float(np.mean(lengths)),
+    }
+
+
+def rows_of(run: Path) -> list[dict[str, Any]]:
+    """The run's last evaluation and the scripted bound on the same episodes."""
+    spec = RunSpec.from_dict(json.loads((run / "spec.json").read_text()))
+    last = read_csv(run / "eval.csv")[-1]
+    common = {"setting": setting_label(spec.env_kwargs), "seed": spec.seed}
+    trained = {key: last[key] for key in COLUMNS[3:]} | {"controller": f"ppo {spec.variant}"}
+    return [common | trained, common | scripted_row(spec, int(last["n_episodes"]))]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python tools/safe_rescue_table.py", description=__doc__.split("\n")[0])
+    parser.add_argument("runs", nargs="+", type=Path, help="finished run folders (each with spec.json and eval.csv)")
+    parser.add_argument(
+        "--csv", type=Path, default=DEFAULT_CSV, help=f"where to write the rows (default {DEFAULT_CSV})"
+    )
+    args = parser.parse_args(argv)
+    missing = [str(run) for run in args.runs if not (run / "done").is_file()]
+    if missing:
+        parser.error(f"not finished runs (no 'done' marker): {missing}")
+    rows = [row for run in args.runs for row in rows_of(run)]
+    write_csv_atomic(args.csv, rows, COLUMNS)
+    print(f"wrote {len(rows)} rows to {args.csv}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
