@@ -50,7 +50,7 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
 def page(root: Path, write_figures: bool = True) -> str:
     """The text of ``docs/results/safe_rescue.md`` under ``root`` (it has no figures)."""
     rows = read_rows(root, SOURCE.name, WRITTEN_BY)
-    steps = sorted({int(row["env_steps"]) for row in rows if row["controller"] != "true-bearing"})
+    steps = sorted({int(row["env_steps"]) for row in rows if row["controller"].startswith("ppo")})
     budget = ", ".join(f"{s:,}" for s in steps)
     return "\n".join(
         [
@@ -61,9 +61,11 @@ def page(root: Path, write_figures: bool = True) -> str:
             "Each task setting below changes the defaults (`RewardConfig()`, the focus layout without `proximity`) "
             "by the fields it names; the arena is the main comparison's (8 m, 2 distractors, 3 rubble pieces per "
             f"100 m²). `ppo oracle`: PPO on the `oracle` variant at {budget} env steps, its final evaluation. "
-            "`true-bearing`: a scripted controller that steers at the target's true bearing at full speed, on the "
-            "same episodes: it reaches the target on the straight line and avoids nothing. Cells: mean over seeds "
-            "[95 % bootstrap interval].",
+            "Two scripted controllers on the same episodes: `true-bearing` steers at the target's true bearing at "
+            "full speed, so it reaches the target on the straight line and avoids nothing; `clearance` reads the "
+            "oracle's observation with `proximity` and nothing else, and heads for the target through the free "
+            "heading nearest to it (`perception.controllers.clearance_controller`): what that observation allows "
+            "a policy. Cells: mean over seeds [95 % bootstrap interval].",
             "",
             summary_table(rows),
             "## Reproduce",

@@ -2,10 +2,16 @@
 
 For each run folder given (``attentive-gym train --variant oracle`` with its task's
 ``--env-kwargs``), the last evaluation row of its ``eval.csv``; and, on the same evaluation
-episodes (the run's ``eval_seed`` onwards), the scripted controller that steers at the
-target's true bearing at full speed (``perception.controllers.true_bearing_controller``): a
-bound that reaches the target on the straight line and avoids nothing. Each row names its
-setting by the fields that differ from the defaults (``RewardConfig()``, no proximity)::
+episodes (the run's ``eval_seed`` onwards), two scripted controllers
+(``perception.controllers``):
+
+- ``true-bearing``: steers at the target's true bearing at full speed; it reaches the target
+  on the straight line and avoids nothing;
+- ``clearance``: reads the oracle's observation with ``proximity`` and nothing else, and heads
+  for the target through the free heading nearest to it: what that observation allows.
+
+Each row names its setting by the fields that differ from the defaults (``RewardConfig()``,
+no proximity)::
 
     python tools/safe_rescue_table.py runs/safe/*-s4[123] --csv docs/results/safe_rescue.csv
 
@@ -29,7 +35,8 @@ from attentive_gym.agents.training import eval_seed
 from attentive_gym.envs import AttentiveRescueEnv, RewardConfig
 from attentive_gym.envs.config_mappings import config_as_mapping
 from attentive_gym.envs.reward import SAFE_CONTACT_S
-from attentive_gym.perception.controllers import true_bearing_controller
+from attentive_gym.perception.controllers import Policy, clearance_controller, true_bearing_controller
+from attentive_gym.wrappers import make_env
 
 #: The repository's root (this file is in ``tools/``).
 ROOT = Path(__file__).resolve().parents[1]
@@ -58,23 +65,31 @@ def setting_label(env_kwargs: Mapping[str, Any]) -> str:
     return ", ".join(parts) or "v0 reward"
 
 
-def scripted_row(spec: RunSpec, episodes: int) -> dict[str, Any]:
-    """The true-bearing controller on ``spec``'s task and evaluation episodes."""
-    env = AttentiveRescueEnv(**{key: value for key, value in spec.env_kwargs.items() if key != "proximity"})
+def scripted_rows(spec: RunSpec, episodes: int) -> list[dict[str, Any]]:
+    """Each scripted controller on ``spec``'s task and evaluation episodes."""
+    task = {key: value for key, value in spec.env_kwargs.items() if key != "proximity"}
+    return [
+        scripted_row("true-bearing", true_bearing_controller, AttentiveRescueEnv(**task), spec, episodes),
+        scripted_row("clearance", clearance_controller, make_env("oracle", proximity=True, **task), spec, episodes),
+    ]
+
+
+def scripted_row(name: str, policy: Policy, env, spec: RunSpec, episodes: int) -> dict[str, Any]:
+    """``policy`` on ``env`` over ``spec``'s evaluation episodes, as a row named ``name``."""
     first = eval_seed(spec)
     successes, safe, contacts, lengths = [], [], [], []
     for episode in range(episodes):
         observation, info = env.reset(seed=first + episode)
         steps, ended = 0, False
         while not ended:
-            observation, _, terminated, truncated, info = env.step(true_bearing_controller(observation, info))
+            observation, _, terminated, truncated, info = env.step(policy(observation, info))
             steps, ended = steps + 1, terminated or truncated
         successes.append(info["success"])
         safe.append(info["success"] and info["contact_s"] <= SAFE_CONTACT_S)
         contacts.append(info["contact_s"])
         lengths.append(steps)
     return {
-        "controller": "true-bearing",
+        "controller": name,
         "env_steps": 0,
         "n_episodes": episodes,
         "success_rate": float(np.mean(successes)),
@@ -85,12 +100,12 @@ def scripted_row(spec: RunSpec, episodes: int) -> dict[str, Any]:
 
 
 def rows_of(run: Path) -> list[dict[str, Any]]:
-    """The run's last evaluation and the scripted bound on the same episodes."""
+    """The run's last evaluation and the scripted controllers on the same episodes."""
     spec = RunSpec.from_dict(json.loads((run / "spec.json").read_text()))
     last = read_csv(run / "eval.csv")[-1]
     common = {"setting": setting_label(spec.env_kwargs), "seed": spec.seed}
     trained = {key: last[key] for key in COLUMNS[3:]} | {"controller": f"ppo {spec.variant}"}
-    return [common | trained, common | scripted_row(spec, int(last["n_episodes"]))]
+    return [common | trained, *(common | row for row in scripted_rows(spec, int(last["n_episodes"])))]
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -8,6 +8,8 @@ a fraction in [−1, 1] of the robot's top speeds (0.7 m/s and 140°/s).
 - ``memory_controller``: steer towards the first row of a ``focus`` observation's working
   memory when that body matched the goal: it reads nothing but the observation a policy gets.
 - ``true_bearing_controller``: steer towards the target's true bearing (a privileged oracle).
+- ``clearance_controller``: steer towards the first working-memory row's bearing through the
+  free heading nearest to it, from the ``proximity`` entry alone (a reactive avoider).
 - ``RandomController``: seeded random actions.
 - ``Wander``: a seeded scripted exploration; ``stand_still``: the zero action.
 - ``control_success``: how often a policy reaches the target, over seeded episodes.
@@ -22,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from attentive_gym.attention import ORIGIN_TOP_DOWN
+from attentive_gym.attention.regions import Grid
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
 from attentive_gym.perception.geometry import bearing_of, true_target_bearing, wrap_angle
 
@@ -32,6 +35,8 @@ __all__ = [
     "FocusController",
     "memory_controller",
     "true_bearing_controller",
+    "clearance_controller",
+    "free_heading",
     "RandomController",
     "Wander",
     "stand_still",
@@ -65,8 +70,22 @@ STEER_LINEAR = 1.0
 STEER_GAIN_PER_RAD = 2.0
 #: ``steer``'s angular command while there is no bearing to steer to.
 SEARCH_SPIN = 0.5
+#: ``free_heading``: a reading closer than this to a heading's line blocks it (m; the
+#: robot's half width, 0.25 m, and a margin).
+CLEARANCE_HALF_WIDTH_M = 0.35
+#: ``free_heading``: how far ahead (m) a heading must be free, or up to the target if nearer.
+CLEARANCE_AHEAD_M = 0.9
+#: ``clearance_controller`` stops when the front regions read this close (m) and drives at
+#: full speed from this plus 1 m.
+CLEARANCE_STOP_M = 0.25
+#: ``clearance_controller``'s front: the regions within this bearing (rad) of straight ahead.
+CLEARANCE_FRONT_RAD = math.radians(35.0)
 #: Columns of a working-memory row that ``memory_controller`` reads.
 _COS, _SIN, _MATCH = (MEMORY_FIELDS.index(f) for f in ("cos_bearing", "sin_bearing", "goal_match"))
+_DISTANCE = MEMORY_FIELDS.index("distance_m")
+_GRID = Grid.make("sonar")
+#: (180,) bearing (rad) of each laser beam's centre, −89.5° .. +89.5°.
+_BEAM_RAD = np.radians(np.arange(len(_GRID.beam_region)) - 0.5 * (len(_GRID.beam_region) - 1))
 
 
 def steer(bearing_rad: float | None) -> np.ndarray:
@@ -123,6 +142,44 @@ def memory_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) ->
 def true_bearing_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
     """``steer`` towards the target's true bearing (a privileged oracle)."""
     return steer(true_target_bearing(info))
+
+
+def free_heading(proximity: np.ndarray, bearing_rad: float, distance_m: float) -> float | None:
+    """The beam bearing nearest ``bearing_rad`` along which the robot's corridor is free, from
+    the ``proximity`` entry ``(J,)`` (each region's nearest reading, m, spread over its beams);
+    None when every heading is blocked.
+
+    A heading is blocked when some beam's reading lies ahead along it, nearer than
+    min(``CLEARANCE_AHEAD_M``, the target's distance − 0.3 m, at least 0.3 m), and within
+    ``CLEARANCE_HALF_WIDTH_M`` of its line.
+    """
+    ranges = np.asarray(proximity, float)[_GRID.beam_region]
+    need = min(CLEARANCE_AHEAD_M, max(distance_m - 0.3, 0.3))
+    offsets = _BEAM_RAD[None, :] - _BEAM_RAD[:, None]  # (heading, beam)
+    ahead, lateral = ranges * np.cos(offsets), np.abs(ranges * np.sin(offsets))
+    free = ~((ahead > 0.0) & (ahead < need) & (lateral < CLEARANCE_HALF_WIDTH_M)).any(axis=1)
+    if not free.any():
+        return None
+    candidates = _BEAM_RAD[free]
+    return float(candidates[np.argmin(np.abs(candidates - bearing_rad))])
+
+
+def clearance_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+    """A reactive avoider on a focus-layout observation with ``proximity`` (the oracle's, where
+    the first memory row is the target): head for the first memory row's bearing through
+    ``free_heading``, slowing as the front regions close in, turning towards the most open
+    region when every heading is blocked; it reads nothing but the observation."""
+    row = np.asarray(obs["memory"]).reshape(-1, len(MEMORY_FIELDS))[0]
+    bearing, distance = math.atan2(row[_SIN], row[_COS]), float(row[_DISTANCE])
+    proximity = np.asarray(obs["proximity"], float)
+    heading = bearing
+    if abs(bearing) <= 0.5 * math.pi:
+        free = free_heading(proximity, bearing, distance)
+        heading = float(_GRID.bearings_rad[np.argmax(proximity)]) if free is None else free
+    front = proximity[np.abs(_GRID.bearings_rad) < CLEARANCE_FRONT_RAD].min()
+    linear = float(np.clip(front - CLEARANCE_STOP_M, 0.0, 1.0)) * max(0.0, math.cos(heading))
+    angular = float(np.clip(STEER_GAIN_PER_RAD * heading, -1.0, 1.0))
+    return np.array([linear, angular], np.float32)
 
 
 class RandomController:
