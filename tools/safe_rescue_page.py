@@ -35,15 +35,24 @@ def _cells(rows: Sequence[Mapping[str, str]]) -> list[str]:
 
 
 def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
-    """The Markdown table: a line per (setting, controller) in first-seen order."""
-    groups: dict[tuple[str, str], list[Mapping[str, str]]] = {}
+    """The Markdown table: a line per (setting, controller, env steps) in first-seen order
+    (the scripted controllers' env steps are 0: they are not trained)."""
+    groups: dict[tuple[str, str, int], list[Mapping[str, str]]] = {}
     for row in rows:
-        groups.setdefault((row["setting"], row["controller"]), []).append(row)
+        groups.setdefault((row["setting"], row["controller"], int(row["env_steps"])), []).append(row)
     lines = [
-        [setting, controller, str(len(group)), str(sum(int(row["n_episodes"]) for row in group)), *_cells(group)]
-        for (setting, controller), group in groups.items()
+        [
+            setting,
+            controller,
+            f"{steps:,}" if steps else "—",
+            str(len(group)),
+            str(sum(int(row["n_episodes"]) for row in group)),
+            *_cells(group),
+        ]
+        for (setting, controller, steps), group in groups.items()
     ]
-    headers = ["task setting", "controller", "seeds", "episodes", *(header for header, *_ in _METRICS.values())]
+    headers = ["task setting", "controller", "env steps", "seeds", "episodes"]
+    headers += [header for header, *_ in _METRICS.values()]
     return table(headers, lines)
 
 
@@ -60,7 +69,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "A success is **safe** when the robot reached the target with at most 1 s in contact in the episode. "
             "Each task setting below changes the defaults (`RewardConfig()`, the focus layout without `proximity`) "
             "by the fields it names; the arena is the main comparison's (8 m, 2 distractors, 3 rubble pieces per "
-            f"100 m²). `ppo oracle`: PPO on the `oracle` variant at {budget} env steps, its final evaluation. "
+            f"100 m²). `ppo oracle`: PPO on the `oracle` variant (at {budget} env steps), its final evaluation. "
             "Two scripted controllers on the same episodes: `true-bearing` steers at the target's true bearing at "
             "full speed, so it reaches the target on the straight line and avoids nothing; `clearance` reads the "
             "oracle's observation with `proximity` and nothing else, and heads for the target through the free "

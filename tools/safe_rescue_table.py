@@ -23,7 +23,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -108,6 +108,15 @@ def rows_of(run: Path) -> list[dict[str, Any]]:
     return [common | trained, *(common | row for row in scripted_rows(spec, int(last["n_episodes"])))]
 
 
+def unique_rows(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``rows`` without repeats of a (setting, controller, seed, env steps): runs of one seed
+    at several budgets share their evaluation episodes, so their scripted rows are one."""
+    seen: dict[tuple, dict[str, Any]] = {}
+    for row in rows:
+        seen.setdefault((row["setting"], row["controller"], row["seed"], row["env_steps"]), row)
+    return list(seen.values())
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python tools/safe_rescue_table.py", description=__doc__.split("\n")[0])
     parser.add_argument("runs", nargs="+", type=Path, help="finished run folders (each with spec.json and eval.csv)")
@@ -118,7 +127,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     missing = [str(run) for run in args.runs if not (run / "done").is_file()]
     if missing:
         parser.error(f"not finished runs (no 'done' marker): {missing}")
-    rows = [row for run in args.runs for row in rows_of(run)]
+    rows = unique_rows(row for run in args.runs for row in rows_of(run))
     write_csv_atomic(args.csv, rows, COLUMNS)
     print(f"wrote {len(rows)} rows to {args.csv}")
     return 0

@@ -225,14 +225,14 @@ def test_the_safe_rescue_page_tabulates_each_setting_and_controller_over_its_see
     rows.append(rows[0] | {"controller": "true-bearing", "env_steps": 0, "success_rate": 0.9})
     _write(tmp_path / "docs/results/safe_rescue.csv", columns, rows)
     page = safe_rescue_page.page(tmp_path)
-    assert "at 250,880 env steps" in page
+    assert "(at 250,880 env steps)" in page
     (line,) = [row for row in page.splitlines() if row.startswith("| contact_limit_s=1 | ppo oracle |")]
     cells = [cell.strip() for cell in line.strip("|").split("|")]
-    assert cells[2:4] == ["2", "80"]
-    assert cells[4].startswith("0.70 [0.60, 0.80]") and cells[5].startswith("0.70 [0.60, 0.80]")
-    assert cells[6] == "0.50 [0.50, 0.50]" and cells[7] == "5.0 [5.0, 5.0]"
+    assert cells[2:5] == ["250,880", "2", "80"]
+    assert cells[5].startswith("0.70 [0.60, 0.80]") and cells[6].startswith("0.70 [0.60, 0.80]")
+    assert cells[7] == "0.50 [0.50, 0.50]" and cells[8] == "5.0 [5.0, 5.0]"
     (bound,) = [row for row in page.splitlines() if row.startswith("| contact_limit_s=1 | true-bearing |")]
-    assert "| 1 | 40 | 0.90 |" in bound  # one seed: the point alone
+    assert "| — | 1 | 40 | 0.90 |" in bound  # not trained; one seed: the point alone
 
 
 def test_the_safe_rescue_page_names_its_writer_when_the_csv_is_missing(tmp_path):
