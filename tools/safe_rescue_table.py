@@ -15,6 +15,8 @@ no proximity)::
 
     python tools/safe_rescue_table.py runs/safe/*-s4[123] --csv docs/results/safe_rescue.csv
 
+The rows of the runs given replace the CSV's rows of the same (setting, controller, seed, env
+steps) and the others are kept, so that runs of one session add to those of another.
 ``python tools/report.py render`` then writes the table into ``docs/results/rl.md``.
 """
 
@@ -108,13 +110,26 @@ def rows_of(run: Path) -> list[dict[str, Any]]:
     return [common | trained, *(common | row for row in scripted_rows(spec, int(last["n_episodes"])))]
 
 
+def row_key(row: Mapping[str, Any]) -> tuple[str, str, int, int]:
+    """What a row measures: its (setting, controller, seed, env steps)."""
+    return row["setting"], row["controller"], int(row["seed"]), int(row["env_steps"])
+
+
 def unique_rows(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
-    """``rows`` without repeats of a (setting, controller, seed, env steps): runs of one seed
-    at several budgets share their evaluation episodes, so their scripted rows are one."""
+    """``rows`` without repeats of a ``row_key``: runs of one seed at several budgets share
+    their evaluation episodes, so their scripted rows are one."""
     seen: dict[tuple, dict[str, Any]] = {}
     for row in rows:
-        seen.setdefault((row["setting"], row["controller"], row["seed"], row["env_steps"]), row)
+        seen.setdefault(row_key(row), row)
     return list(seen.values())
+
+
+def merged_rows(kept: Iterable[Mapping[str, Any]], new: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The rows ``kept`` (a CSV's) with those of the same ``row_key`` as a row of ``new``
+    replaced in place, then the rest of ``new`` in its order."""
+    fresh = {row_key(row): row for row in new}
+    rows = [fresh.pop(row_key(row), dict(row)) for row in kept]
+    return rows + list(fresh.values())
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -127,9 +142,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     missing = [str(run) for run in args.runs if not (run / "done").is_file()]
     if missing:
         parser.error(f"not finished runs (no 'done' marker): {missing}")
-    rows = unique_rows(row for run in args.runs for row in rows_of(run))
+    new = unique_rows(row for run in args.runs for row in rows_of(run))
+    rows = merged_rows(read_csv(args.csv) if args.csv.is_file() else [], new)
     write_csv_atomic(args.csv, rows, COLUMNS)
-    print(f"wrote {len(rows)} rows to {args.csv}")
+    print(f"wrote {len(new)} rows of {len(args.runs)} runs to {args.csv} ({len(rows)} rows in all)")
     return 0
 
 

@@ -238,3 +238,17 @@ def test_the_safe_rescue_page_tabulates_each_setting_and_controller_over_its_see
 def test_the_safe_rescue_page_names_its_writer_when_the_csv_is_missing(tmp_path):
     with pytest.raises(FileNotFoundError, match="safe_rescue.csv is missing; python tools/safe_rescue_table.py"):
         report.safe_rescue_page.page(tmp_path)
+
+
+def test_the_safe_rescue_table_replaces_the_rows_it_measures_again_and_keeps_the_others():
+    """Runs of one session add to the CSV of another: a row of the same (setting, controller,
+    seed, env steps) is replaced in place, a new one is appended, the rest stay."""
+    table = load_tool("safe_rescue_table")
+    key = {"setting": "v0 reward", "controller": "ppo oracle", "env_steps": 1000448}
+    kept = [key | {"seed": 41, "success_rate": 0.9}, key | {"seed": 42, "success_rate": 0.8}]
+    new = [key | {"seed": 42, "success_rate": 0.7}, key | {"seed": 43, "success_rate": 0.6}]
+    merged = table.merged_rows(kept, new)
+    assert [(row["seed"], row["success_rate"]) for row in merged] == [(41, 0.9), (42, 0.7), (43, 0.6)]
+    other_budget = key | {"seed": 41, "env_steps": 250880, "success_rate": 0.5}
+    assert table.merged_rows(kept, [other_budget])[-1] is other_budget
+    assert len(table.merged_rows(kept, [other_budget])) == 3
