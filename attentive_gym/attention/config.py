@@ -215,6 +215,17 @@ class AttentionConfig:
         free_space_none_log_odds: what they gain at a scan without (≤ 0): motion that leaves
             no trace in free space (a centroid shifting as structure is hidden and shown)
             fades.
+        track_onset_speed_sigma_mps: at a start (a track's probability of moving crosses
+            0.5 upwards), the constant-velocity filter's velocity σ restarts at this, per
+            axis (m/s; 0 turns it off): the filter, sure that a standing body's velocity is
+            0, would otherwise follow the start over 0.3–0.5 s and overshoot once its lag
+            is absorbed (``tracker.onset_velocity``).
+        track_standing_speed_sigma_mps: a track judged standing keeps at least this
+            velocity σ per axis (m/s; 0 turns it off), so that its constant-velocity
+            hypothesis stays ready to explain a start.
+        track_runaway_speed_mps: a track whose velocity estimate exceeds this (m/s; 0 turns
+            it off; above the fastest body of the scene) was matched to another body's
+            segment or to structure sliding into view; it restarts standing.
 
     Sensors (§1).
 
@@ -317,6 +328,9 @@ class AttentionConfig:
     free_space_born_moving: float = 0.9
     free_space_evidence_log_odds: float = 2.0
     free_space_none_log_odds: float = -0.5
+    track_onset_speed_sigma_mps: float = 0.0
+    track_standing_speed_sigma_mps: float = 0.0
+    track_runaway_speed_mps: float = 0.0
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
     laser_mount_y_m: float = 0.0
@@ -534,6 +548,8 @@ class AttentionConfig:
             low_inclusive=True,
             high=0.0,
         )
+        for name in ("track_onset_speed_sigma_mps", "track_standing_speed_sigma_mps", "track_runaway_speed_mps"):
+            _check_number(name, getattr(self, name), "m/s", low=0.0, low_inclusive=True, high=100.0)
 
     # --- derived quantities ---------------------------------------------------------
     @property

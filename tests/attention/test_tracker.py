@@ -16,7 +16,7 @@ from attentive_gym.attention.tracking.segmentation import (
     measure_segments,
     segment_scan,
 )
-from attentive_gym.attention.tracking.tracker import advance_pose
+from attentive_gym.attention.tracking.tracker import ONSET_POSITION_VAR_M2, advance_pose, onset_velocity
 
 DT_S = 0.05  # the scenes' laser sits at the robot's centre: AttentionConfig(laser_mount_x_m=0)
 RADIUS_M = 0.25  # a victim
@@ -287,6 +287,9 @@ def test_the_focus_names_the_track_it_holds(scene):
         ("track_gate_chi2", -1.0),
         ("range_noise_rel", float("nan")),
         ("segment_min_beams", 1.5),
+        ("track_onset_speed_sigma_mps", -1.0),
+        ("track_standing_speed_sigma_mps", float("nan")),
+        ("track_runaway_speed_mps", float("inf")),
     ],
 )
 def test_bad_tracker_settings_are_refused(field, value):
@@ -352,3 +355,78 @@ def test_dead_reckoning_weighs_the_previous_velocity(weight, expected):
     advance_pose(0.1, 0.0, 1.0, pose, odometry, weight)
     assert pose[2] == pytest.approx((1.0 - expected) * 0.1)
     assert odometry.tolist() == [0.0, 1.0, 1.0]
+
+
+# --- starts: the velocity restarted, the standing hypothesis kept open, runaways (§10) -----------
+_ONSET = {"track_onset_speed_sigma_mps": 1.0, "track_standing_speed_sigma_mps": 0.3}
+
+
+def _tracks(n=4):
+    """Track arrays of ``n`` slots (``Tracker``'s), each standing with a learnt, small velocity variance."""
+    cv_x, cv_P = np.zeros((n, 4)), np.tile(np.diag([0.01, 0.01, 0.004, 0.004]), (n, 1, 1))
+    cv_P[:, 0, 2] = cv_P[:, 2, 0] = 0.001
+    return cv_x, cv_P, np.full(n, 0.1), np.ones(n, np.bool_), np.zeros(n)
+
+
+def test_the_onset_rules_are_off_by_default():
+    config = AttentionConfig()
+    assert (config.track_onset_speed_sigma_mps, config.track_standing_speed_sigma_mps) == (0.0, 0.0)
+    assert config.track_runaway_speed_mps == 0.0
+
+
+def test_a_start_restarts_the_velocity_and_a_standing_track_keeps_it_open():
+    """Slot 0 starts at this scan (0.1 → 0.8): velocity variance σ² per axis, no correlation with
+    its position, whose variance grows by ONSET_POSITION_VAR_M2. Slot 1 was moving already,
+    slot 2 is born this scan: both untouched. Slot 3 stands: its velocity variance is raised
+    to the standing σ² and nothing else changes."""
+    cv_x, cv_P, p_moving, alive, born_s = _tracks()
+    before = p_moving.copy()
+    before[1] = 0.9
+    p_moving[:3] = 0.8
+    born_s[2] = 2.0
+    original = cv_P.copy()
+    onset_velocity(2.0, 1.0, 0.3, 0.0, before, cv_x, cv_P, p_moving, alive, born_s)
+    assert np.allclose(cv_P[0, 2:, 2:], np.eye(2))
+    assert not cv_P[0, :2, 2:].any() and not cv_P[0, 2:, :2].any()
+    assert np.allclose(np.diag(cv_P[0, :2, :2]), np.diag(original[0, :2, :2]) + ONSET_POSITION_VAR_M2)
+    assert np.array_equal(cv_P[1:3], original[1:3])
+    assert np.allclose(np.diag(cv_P[3]), [0.01, 0.01, 0.09, 0.09]) and cv_P[3, 0, 2] == 0.001
+    assert not cv_x.any() and p_moving.tolist() == [0.8, 0.8, 0.8, 0.1]
+
+
+def test_a_runaway_track_restarts_standing():
+    """A velocity above the runaway speed (2 m/s against 1.5) is a wrong association: the track
+    keeps its place, stands with a restarted velocity variance and the prior 0.5; one at 1.4
+    m/s keeps its velocity and label."""
+    cv_x, cv_P, p_moving, alive, born_s = _tracks(2)
+    cv_x[:, :2] = 3.0, 1.0
+    cv_x[0, 2:], cv_x[1, 2:] = (1.2, 1.6), (1.4, 0.0)
+    p_moving[:] = 0.99
+    onset_velocity(2.0, 1.0, 0.0, 1.5, p_moving.copy(), cv_x, cv_P, p_moving, alive, born_s)
+    assert cv_x[0].tolist() == [3.0, 1.0, 0.0, 0.0] and p_moving[0] == 0.5
+    assert np.allclose(cv_P[0, 2:, 2:], np.eye(2))
+    assert cv_x[1].tolist() == [3.0, 1.0, 1.4, 0.0] and p_moving[1] == 0.99
+
+
+def test_with_the_onset_rules_a_start_reaches_the_goals_band_in_half_the_scans(scene):
+    """A victim 3 m ahead stands 1 s, then crosses at 0.7 m/s (5 % noise, 3 seeds). Its track's
+    reported speed enters the walking band [0.5, 0.9] m/s within 6 scans of the start with the
+    onset rules, and stays in it for the next 10; without them it takes 10 scans or more."""
+
+    def victim(t):
+        return (3.0, -0.8 + 0.7 * max(t - 1.0, 0.0))
+
+    for seed in range(3):
+        for extra, within in ((_ONSET, range(7)), ({}, range(10, 25))):
+            config = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0, **extra)
+            outs = _run(scene, lambda t: [victim(t)], 45, sigma=0.05, seed=seed, config=config)
+            speeds = []
+            for k, out in enumerate(outs[20:], start=20):
+                x, y = victim(k * DT_S)
+                row = _nearest_track(out, (x + RADIUS_M, y))
+                speeds.append(math.nan if row is None else float(out.tracks.speed_mps[row]))
+            in_band = [0.5 <= speed <= 0.9 for speed in speeds]
+            first = in_band.index(True)
+            assert first in within, (seed, extra, speeds)
+            if extra:
+                assert all(in_band[first : first + 11]), (seed, speeds)

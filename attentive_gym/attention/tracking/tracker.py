@@ -63,7 +63,7 @@ from attentive_gym.attention.tracking.segmentation import (
     segment_scan,
     split_foreground,
 )
-from attentive_gym.attention.tracking.track_regions import track_channels, track_table
+from attentive_gym.attention.tracking.track_regions import MOVING_PROBABILITY, track_channels, track_table
 
 __all__ = [
     "Tracker",
@@ -82,6 +82,8 @@ __all__ = [
 _MOTION_PRIOR = 0.5
 #: Bounds of that probability, so that either hypothesis can always win back.
 _MOTION_FLOOR = 1e-3
+#: What a started track's position variance grows by (m²): a tenth of a metre's σ.
+ONSET_POSITION_VAR_M2 = 0.01
 #: Weight of a new match in a track's extent average (a tenth: ≈ the last ten scans).
 _EXTENT_SMOOTHING = 0.1
 #: Only a track this probably moving looks for its body inside longer segments: static
@@ -119,10 +121,13 @@ _CARVE_PROBABILITY = 0.5
     _FS_BORN_MOVING,
     _FS_EVIDENCE,
     _FS_NONE,
+    _ONSET_SIGMA,
+    _READY_SIGMA,
+    _RUNAWAY,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(33)
+) = range(36)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
 _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (
     SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
@@ -315,6 +320,9 @@ class Tracker:
         params[_FS_ON], params[_FS_RUN_SIGMAS] = config.free_space_evidence, config.free_space_run_sigmas
         params[_FS_BORN_MOVING] = config.free_space_born_moving
         params[_FS_EVIDENCE], params[_FS_NONE] = config.free_space_evidence_log_odds, config.free_space_none_log_odds
+        params[_ONSET_SIGMA] = config.track_onset_speed_sigma_mps
+        params[_READY_SIGMA] = config.track_standing_speed_sigma_mps
+        params[_RUNAWAY] = config.track_runaway_speed_mps
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -522,6 +530,8 @@ def track_step(
     advance_pose(dt_s, linear, angular, pose, odometry, params[_ODOMETRY_WEIGHT])
     n_sonar = region_slot.shape[0]
     if laser_new:
+        onsets = params[_ONSET_SIGMA] > 0.0 or params[_READY_SIGMA] > 0.0 or params[_RUNAWAY] > 0.0
+        before = p_moving.copy() if onsets else p_moving
         track_scan(
             t_s,
             pose,
@@ -563,6 +573,19 @@ def track_step(
                 alive,
                 born_s,
                 p_moving,
+            )
+        if onsets:
+            onset_velocity(
+                t_s,
+                params[_ONSET_SIGMA],
+                params[_READY_SIGMA],
+                params[_RUNAWAY],
+                before,
+                cv_x,
+                cv_P,
+                p_moving,
+                alive,
+                born_s,
             )
     if sonar_new:
         sonar_filters(
@@ -626,6 +649,60 @@ def track_step(
         rows,
         covariance,
     )
+
+
+@njit(cache=True)
+def onset_velocity(t_s, onset_sigma_mps, standing_sigma_mps, runaway_mps, before, cv_x, cv_P, p_moving, alive, born_s):
+    """Keep each track's constant-velocity filter ready for a start, in place (``cv_P``
+    ``(K, 4, 4)``), after the scan at ``t_s`` (s) has set the probabilities of moving
+    (``before`` ``(K,)`` → ``p_moving`` ``(K,)``, by the filters and by free-space evidence).
+
+    - A track judged standing (``p_moving ≤ MOVING_PROBABILITY``) keeps a velocity variance
+      of at least ``standing_sigma_mps²`` per axis: its moving hypothesis stays open to a
+      start. Learnt on a standing body, the variance would shrink until the filter, sure the
+      velocity is 0, explained a start no better than the static filter does.
+    - A track whose velocity estimate ``cv_x[k, 2:4]`` exceeds ``runaway_mps`` (faster than
+      any body the scene holds: the track was matched to another body's segment, or to
+      structure whose visible part slid along it as the robot drove) restarts standing: its
+      velocity 0 with the started track's variances below, its probability of moving
+      ``_MOTION_PRIOR`` (not moving until the next scans say so).
+    - A track older than this scan whose probability crossed ``MOVING_PROBABILITY`` upwards
+      has started: its velocity variance restarts at ``onset_sigma_mps²`` per axis and its
+      position variance grows by ``ONSET_POSITION_VAR_M2`` (m²), both uncorrelated, so the
+      next scans set its position and velocity afresh, as a new track's, instead of
+      following the start slowly and overshooting once its lag is absorbed.
+
+    A σ of 0 turns that rule off.
+    """
+    onset_variance, standing_variance = onset_sigma_mps * onset_sigma_mps, standing_sigma_mps * standing_sigma_mps
+    for k in range(alive.shape[0]):
+        if not alive[k]:
+            continue
+        if runaway_mps > 0.0 and math.hypot(cv_x[k, 2], cv_x[k, 3]) > runaway_mps:
+            cv_x[k, 2], cv_x[k, 3] = 0.0, 0.0
+            p_moving[k] = _MOTION_PRIOR
+            _restart_velocity(k, onset_variance, cv_P)
+            continue
+        if p_moving[k] <= MOVING_PROBABILITY:
+            for i in range(2, 4):
+                cv_P[k, i, i] = max(cv_P[k, i, i], standing_variance)
+            continue
+        if onset_variance > 0.0 and born_s[k] != t_s and before[k] <= MOVING_PROBABILITY:
+            _restart_velocity(k, onset_variance, cv_P)
+
+
+@njit(cache=True, inline="always")
+def _restart_velocity(k, variance, cv_P):
+    """Track ``k``'s velocity variance becomes ``variance`` per axis (m²/s²), uncorrelated with its
+    position, whose variance grows by ``ONSET_POSITION_VAR_M2`` (m²); nothing without a variance."""
+    if variance == 0.0:
+        return
+    for i in range(2):
+        for j in range(2):
+            cv_P[k, i, j + 2] = 0.0
+            cv_P[k, j + 2, i] = 0.0
+            cv_P[k, i + 2, j + 2] = variance if i == j else 0.0
+        cv_P[k, i, i] += ONSET_POSITION_VAR_M2
 
 
 @njit(cache=True)
