@@ -1,7 +1,8 @@
 """Perception benchmark: does the attentional model see motion and attend to the goal's target?
 
 Run: ``python benchmarks/bench_perception.py [--modes tracker,window,literal] [--episodes 24]
-[--seconds 20] [--control-episodes 40] [--sections speed,focus,control,cost,clutter,motion] [--csv PATH]``
+[--seconds 20] [--control-episodes 40] [--sections speed,focus,control,cost,clutter,motion]
+[--config JSON] [--csv PATH]``
 (about 2 minutes on 2 quiet cores for the first four sections, which are the default;
 ``clutter`` adds about 5 minutes).
 
@@ -46,14 +47,16 @@ The controllers, the episode records and the metrics are ``attentive_gym.percept
 
 Every random draw is seeded: the same command prints the same numbers (the timings aside).
 A configuration the installed package does not accept yet (an unknown env keyword) is
-reported as unavailable. ``--csv`` also writes the figures as a tidy table (one row per
-configuration and metric). Nothing is asserted: measure, don't guess.
+reported as unavailable. ``--config '{"free_space_evidence": true}'`` measures a candidate
+setting: more ``AttentionConfig`` fields for every attended env. ``--csv`` also writes the
+figures as a tidy table (one row per configuration and metric). Nothing is asserted: measure, don't guess.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import statistics
 import time
@@ -90,7 +93,7 @@ from attentive_gym.perception.metrics import (
     target_cases,
 )
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, TRACK_MATCH_M, record_episode
-from attentive_gym.perception.settings import CONTROL_ARENA, PERCEPTION_ARENA, make_attentive_env
+from attentive_gym.perception.settings import CONTROL_ARENA, PERCEPTION_ARENA, VARIANT, make_attentive_env
 from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
 from call_timer import CallTimer
@@ -135,6 +138,8 @@ CLUTTER_NOISE = "gauss 0.05"
 COST_RECORD_S = 30.0  # length of the driving episode whose readings the cost section replays
 
 MOTION_NOISE = ("gauss 0", "gauss 0.05")
+#: More ``AttentionConfig`` fields for every attended env of the run (``--config``: a candidate setting).
+ATTENTION_FIELDS: dict[str, Any] = {}
 
 
 # ===================================================================== environments
@@ -182,7 +187,9 @@ def perception_records(modes: Iterable[str], episodes: int, seconds: float, goal
     for mode in modes:
         for noise in NOISE_SETTINGS:
             try:
-                env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, **PERCEPTION_ARENA)
+                env = make_attentive_env(
+                    mode, noise.sigma_rel, VARIANT, ATTENTION_FIELDS, **noise.env_kwargs, **PERCEPTION_ARENA
+                )
             except TypeError as error:
                 for robot in ROBOT_MODES:
                     yield mode, noise.name, robot, error
@@ -374,7 +381,7 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
         random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
         raw.close()
         for mode in modes:
-            env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, **world)
+            env = make_attentive_env(mode, noise.sigma_rel, VARIANT, ATTENTION_FIELDS, **noise.env_kwargs, **world)
             records = [
                 record_episode(env, seed, goals[seed % len(goals)], Wander(seed), seconds) for seed in range(episodes)
             ]
@@ -382,7 +389,9 @@ def print_clutter(results: Results, modes, episodes: int, seconds: float, contro
             on, steps = sum(on for on, _ in per_goal), sum(n for _, n in per_goal)
             focus = on / steps if steps else math.nan
             env.close()
-            focus_env = make_attentive_env(mode, noise.sigma_rel, "focus", **noise.env_kwargs, **world)
+            focus_env = make_attentive_env(
+                mode, noise.sigma_rel, "focus", ATTENTION_FIELDS, **noise.env_kwargs, **world
+            )
             memory = control_success(focus_env, lambda env, seed: memory_controller, seeds)
             focus_env.close()
             memory_ratio = memory / oracle if oracle else math.nan
@@ -450,7 +459,9 @@ def print_motion(results: Results, modes, episodes: int, seconds: float) -> None
                 for mode in modes:
                     records = []
                     for seed in range(episodes):
-                        env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, scenario=scene(seed))
+                        env = make_attentive_env(
+                            mode, noise.sigma_rel, VARIANT, ATTENTION_FIELDS, **noise.env_kwargs, scenario=scene(seed)
+                        )
                         policy = stand_still if robot == "still" else Wander(seed)
                         records.append(motion.record_motion(env, seed, policy, seconds))
                         env.close()
@@ -496,10 +507,14 @@ def print_control(results: Results, modes, episodes: int) -> None:
         oracle = control_success(raw, lambda env, seed: true_bearing_controller, seeds)
         random = control_success(raw, lambda env, seed: RandomController(env.action_space, seed), seeds)
         for mode in modes:
-            env = make_attentive_env(mode, noise.sigma_rel, **noise.env_kwargs, **CONTROL_ARENA)
+            env = make_attentive_env(
+                mode, noise.sigma_rel, VARIANT, ATTENTION_FIELDS, **noise.env_kwargs, **CONTROL_ARENA
+            )
             focus = control_success(env, lambda env, seed: FocusController(env.unwrapped.dt), seeds)
             memory = control_success(
-                make_attentive_env(mode, noise.sigma_rel, "focus", **noise.env_kwargs, **CONTROL_ARENA),
+                make_attentive_env(
+                    mode, noise.sigma_rel, "focus", ATTENTION_FIELDS, **noise.env_kwargs, **CONTROL_ARENA
+                ),
                 lambda env, seed: memory_controller,
                 seeds,
             )
@@ -726,6 +741,21 @@ def _choices(text: str, allowed: tuple[str, ...]) -> list[str]:
     return names
 
 
+def _attention_fields(text: str) -> dict[str, Any]:
+    """``--config``: a JSON object of ``AttentionConfig`` fields, each checked by building one."""
+    try:
+        fields = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise argparse.ArgumentTypeError(f"not JSON: {err}") from None
+    if not isinstance(fields, dict):
+        raise argparse.ArgumentTypeError(f"a JSON object of AttentionConfig fields, got {text!r}")
+    try:
+        AttentionConfig(**fields)
+    except (TypeError, ValueError) as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+    return fields
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--modes", type=lambda s: _choices(s, MODES), default=list(MODES))
@@ -739,8 +769,14 @@ def main(argv: list[str] | None = None) -> None:
         default=list(DEFAULT_SECTIONS),
         help=f"comma-separated, of {', '.join(SECTIONS)} (default: {','.join(DEFAULT_SECTIONS)})",
     )
+    parser.add_argument(
+        "--config", type=_attention_fields, default={}, help="more AttentionConfig fields, a JSON object"
+    )
     parser.add_argument("--csv", type=Path, default=None, help="also write the figures as a tidy CSV")
     args = parser.parse_args(argv)
+    ATTENTION_FIELDS.update(args.config)
+    if args.config:
+        print(f"AttentionConfig fields beyond the defaults: {json.dumps(args.config, sort_keys=True)}")
     start = time.perf_counter()
     results = Results()
     if {"speed", "focus"} & set(args.sections):

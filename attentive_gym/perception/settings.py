@@ -27,15 +27,23 @@ PERCEPTION_ARENA: Mapping[str, Any] = MappingProxyType({"arena_size_m": 10.0, "n
 CONTROL_ARENA: Mapping[str, Any] = MappingProxyType({"arena_size_m": 8.0, "num_distractors": 2})
 
 
-def make_attentive_env(mode: str, range_noise_rel: float = 0.0, variant: str = VARIANT, **env_kwargs: Any):
+def make_attentive_env(
+    mode: str,
+    range_noise_rel: float = 0.0,
+    variant: str = VARIANT,
+    attention_fields: Mapping[str, Any] = MappingProxyType({}),
+    **env_kwargs: Any,
+):
     """The attended environment ``variant`` (default ``VARIANT``; ``"focus"`` for an
     observation with the working memory) with the model in kinematics ``mode``, told that
     one reading's noise has relative σ ``range_noise_rel`` (dimensionless;
-    ``AttentionConfig.range_noise_rel``). ``env_kwargs`` go to ``make_env``: the sensors'
-    noise itself (``sensor_noise``, ``sensor_profile``), the arena, the time limit.
+    ``AttentionConfig.range_noise_rel``), and with ``attention_fields``, more
+    ``AttentionConfig`` fields (a candidate setting). ``env_kwargs`` go to ``make_env``: the
+    sensors' noise itself (``sensor_noise``, ``sensor_profile``), the arena, the time limit.
 
     Raises:
         TypeError: when the installed environment does not accept a keyword of ``env_kwargs``.
+        ValueError: for a field of ``attention_fields`` that ``AttentionConfig`` refuses.
     """
-    config = AttentionConfig(kinematics=mode, range_noise_rel=range_noise_rel)
+    config = AttentionConfig(kinematics=mode, range_noise_rel=range_noise_rel, **attention_fields)
     return make_env(variant, attention=config, **env_kwargs)
