@@ -61,10 +61,15 @@ def setting_label(env_kwargs: Mapping[str, Any]) -> str:
     ``v0 reward`` when none does."""
     defaults = config_as_mapping(RewardConfig())
     reward = {**defaults, **env_kwargs.get("reward", {})}
-    parts = [f"{key}={reward[key]:g}" for key in defaults if reward[key] != defaults[key]]
+    parts = [f"{key}={_text(reward[key])}" for key in defaults if reward[key] != defaults[key]]
     if env_kwargs.get("proximity"):
         parts.append("proximity")
     return ", ".join(parts) or "v0 reward"
+
+
+def _text(value: Any) -> str:
+    """A setting's value as the label shows it: numbers in ``g`` format, others as they are."""
+    return f"{value:g}" if isinstance(value, (int, float)) else str(value)
 
 
 def scripted_rows(spec: RunSpec, episodes: int) -> list[dict[str, Any]]:

@@ -2,6 +2,8 @@
 
 - ``rescue_env``: ``AttentiveRescueEnv``, registered as ``AttentiveRescue-v0``.
 - ``reward``: ``RewardConfig`` and the shaped rescue reward.
+- ``geodesic``: the path length to the target round walls and rubble, which a geodesic
+  progress reward counts.
 - ``config_mappings``: the env's settings objects (reward, robot, sonar, laser) from plain
   mappings and back (``--env-kwargs``, ``spec.json``).
 - ``rendering``: ``WorldRenderer``, the pygame top-down view.

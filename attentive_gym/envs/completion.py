@@ -199,14 +199,16 @@ def _complete(
             env._contact_steps += 1
         contact_s = env._contact_steps * env.dt
         if target is None:
-            distance = math.inf
+            distance = path = math.inf
         else:
             tx, ty = mover_xy[target].tolist()
             distance = math.hypot(tx - x, ty - y)
+            path = distance if env._geodesic is None else env._geodesic(x, y, tx, ty)
             if stepped:
-                reward, success = rescue_reward(env.reward_config, env.dt, env._distance, distance, collided, clearance)
+                progress = env._path_m - path
+                reward, success = rescue_reward(env.reward_config, env.dt, progress, distance, collided, clearance)
                 ended = contact_exceeded(env.reward_config, contact_s)
-        env._distance = distance
+        env._path_m = path
         hold = env._scans
         sonar_scan, laser_scan = hold.scans(now_s)
         goal = env._goal_cached()

@@ -24,6 +24,7 @@ from attentive_gym._optional import require
 from attentive_gym.attention.goals import GOAL_ENCODING_SIZE, Goal
 from attentive_gym.envs.completion import complete_resets, complete_steps
 from attentive_gym.envs.config_mappings import config_from
+from attentive_gym.envs.geodesic import GeodesicDistance
 from attentive_gym.envs.reward import RewardConfig
 from attentive_gym.sensors import LaserConfig, ScanHold, SensorReading, SensorSuite, SonarConfig, resolve_sensor_profile
 from attentive_gym.world.arena import ArenaConfig, generate_arena
@@ -286,6 +287,8 @@ class AttentiveRescueEnv(gym.Env):
         self._renderer = None
         self._reading = None
         self._contact_steps = 0  # steps of the episode with the robot in contact
+        self._path_m = math.inf  # the distance to the target that progress counts, at the last step (m)
+        self._geodesic: GeodesicDistance | None = None  # the episode's, with RewardConfig(progress="geodesic")
         #: Called as ``overlay(renderer, surface)`` after the world is drawn (e.g. by
         #: ``AttentionWrapper`` to show the focus); None draws nothing more. In human mode an
         #: env with an overlay leaves each step's frame to the overlay's owner, who draws it
@@ -329,6 +332,8 @@ class AttentiveRescueEnv(gym.Env):
         self.scenario, self.goal = scenario, goal
         self.world = World(scenario, self.robot_config)
         self._target_index = scenario.target_index
+        geodesic = self.reward_config.progress == "geodesic"
+        self._geodesic = GeodesicDistance(scenario, self.world.wall_specs) if geodesic else None
         self._limit_s = self.time_limit_s or (scenario.task.time_limit_s if scenario.task else scenario.duration_s)
         self._scans.reset()
         completed = complete_resets([self], _one_row(self.sensors.read(*self.sensing_request())))

@@ -276,7 +276,7 @@ class World:
             )
         self.space.on_collision(ROBOT_COLLISION_TYPE, None, pre_solve=_note_robot_contact, data=self.state.world)
         self.static: list[tuple[Entity, pymunk.Shape]] = []  # walls and rubble
-        for i, wall in enumerate(self._enclosure() + list(scenario.walls)):
+        for i, wall in enumerate(self.wall_specs):
             self._add_static(self._new_entity("wall", f"wall {i}"), _wall_shape(self.space.static_body, wall))
         for i, piece in enumerate(scenario.rubble):
             self._add_static(self._new_entity("rubble", f"rubble {i}"), _rubble_shape(self.space.static_body, piece))
@@ -341,6 +341,11 @@ class World:
         inset = 0.5 * WallSpec.thickness_m if self.scenario.enclosed else 0.0
         x0, y0, x1, y1 = self.scenario.bounds
         return (x0 + inset, y0 + inset, x1 - inset, y1 - inset)
+
+    @property
+    def wall_specs(self) -> list[WallSpec]:
+        """Every wall of the world: the enclosure's (when the scenario is enclosed), then the scenario's."""
+        return self._enclosure() + list(self.scenario.walls)
 
     def _enclosure(self) -> list[WallSpec]:
         """Walls centred on the bounds (half their thickness lies outside)."""

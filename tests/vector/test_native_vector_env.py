@@ -78,6 +78,13 @@ def test_native_equals_sync_bit_for_bit_over_resets_and_autoresets(variant):
     native.close(), sync.close()
 
 
+def test_a_safe_task_with_geodesic_progress_matches_sync():
+    """The reward's options (geodesic progress, the contact limit, the near penalty) and the
+    proximity entry give the same numbers in the fleet as in single envs."""
+    task = {"reward": {"progress": "geodesic", "contact_limit_s": 0.2, "near_per_s": 4.0}, "proximity": True}
+    assert _run_both(_native("oracle", **task), _sync("oracle", **task), steps=45) >= 6
+
+
 def test_same_step_autoreset_matches_sync():
     native = make_vector_env(3, "focus", autoreset_mode="SameStep", **SHORT)
     sync = SyncVectorEnv([lambda: make_env("focus", **SHORT) for _ in range(3)], autoreset_mode=AutoresetMode.SAME_STEP)
