@@ -215,8 +215,8 @@ class AttentionConfig:
         free_space_none_log_odds: what they gain at a scan without (≤ 0): motion that leaves
             no trace in free space (a centroid shifting as structure is hidden and shown)
             fades.
-        track_onset_speed_sigma_mps: at a start (a track's probability of moving crosses
-            0.5 upwards), the constant-velocity filter's velocity σ restarts at this, per
+        track_onset_speed_sigma_mps: at a start (a track's probability of moving rises past
+            0.5 from at most 0.1), the constant-velocity filter's velocity σ restarts at this, per
             axis (m/s; 0 turns it off): the filter, sure that a standing body's velocity is
             0, would otherwise follow the start over 0.3–0.5 s and overshoot once its lag
             is absorbed (``tracker.onset_velocity``).

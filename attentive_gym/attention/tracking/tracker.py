@@ -82,6 +82,10 @@ __all__ = [
 _MOTION_PRIOR = 0.5
 #: Bounds of that probability, so that either hypothesis can always win back.
 _MOTION_FLOOR = 1e-3
+#: A track starts when its probability of moving rises past 0.5 from at most this: a body
+#: known to stand. One hovering about 0.5 (a slow body, or one the filters cannot yet tell)
+#: keeps its velocity, which a restart at every crossing would throw away.
+ONSET_STANDING_PROBABILITY = 0.1
 #: What a started track's position variance grows by (m²): a tenth of a metre's σ.
 ONSET_POSITION_VAR_M2 = 0.01
 #: Weight of a new match in a track's extent average (a tenth: ≈ the last ten scans).
@@ -666,9 +670,10 @@ def onset_velocity(t_s, onset_sigma_mps, standing_sigma_mps, runaway_mps, before
       structure whose visible part slid along it as the robot drove) restarts standing: its
       velocity 0 with the started track's variances below, its probability of moving
       ``_MOTION_PRIOR`` (not moving until the next scans say so).
-    - A track older than this scan whose probability crossed ``MOVING_PROBABILITY`` upwards
-      has started: its velocity variance restarts at ``onset_sigma_mps²`` per axis and its
-      position variance grows by ``ONSET_POSITION_VAR_M2`` (m²), both uncorrelated, so the
+    - A track older than this scan whose probability rose past ``MOVING_PROBABILITY`` from at
+      most ``ONSET_STANDING_PROBABILITY`` has started: its velocity variance restarts at
+      ``onset_sigma_mps²`` per axis and its position variance grows by
+      ``ONSET_POSITION_VAR_M2`` (m²), both uncorrelated, so the
       next scans set its position and velocity afresh, as a new track's, instead of
       following the start slowly and overshooting once its lag is absorbed.
 
@@ -687,7 +692,7 @@ def onset_velocity(t_s, onset_sigma_mps, standing_sigma_mps, runaway_mps, before
             for i in range(2, 4):
                 cv_P[k, i, i] = max(cv_P[k, i, i], standing_variance)
             continue
-        if onset_variance > 0.0 and born_s[k] != t_s and before[k] <= MOVING_PROBABILITY:
+        if onset_variance > 0.0 and born_s[k] != t_s and before[k] <= ONSET_STANDING_PROBABILITY:
             _restart_velocity(k, onset_variance, cv_P)
 
 
