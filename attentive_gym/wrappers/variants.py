@@ -47,7 +47,7 @@ def make_env(
     variant: str = "focus",
     *,
     flatten: bool = False,
-    attention: AttentionConfig | None = None,
+    attention: AttentionConfig | Mapping[str, Any] | None = None,
     weights: Mapping[str, float] | None = None,
     n_frames: int = 4,
     goal_menu=DEFAULT_GOAL_MENU,
@@ -60,7 +60,9 @@ def make_env(
     Args:
         variant: one of ``VARIANTS``.
         flatten: flatten the ``Dict`` observation into one float32 ``Box``.
-        attention: the model's configuration (attended variants only).
+        attention: the model's configuration (attended variants only): an
+            ``AttentionConfig``, or a mapping of some of its fields (the others keep their
+            defaults; ``--env-kwargs '{"attention": {"free_space_evidence": true}}'``).
         weights: the model's map weights (attended variants only).
         n_frames: frames stacked by ``"raw-stack"``.
         goal_menu: goals the ``"goal-action"`` agent chooses from.
@@ -82,6 +84,8 @@ def make_env(
         raise ValueError(
             f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}"
         )
+    if isinstance(attention, Mapping):
+        attention = AttentionConfig.from_dict(attention)
     if memory_slots is not None and variant not in _FOCUS_LAYOUT:
         raise ValueError(f"memory_slots applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
     if proximity and variant not in _FOCUS_LAYOUT:

@@ -63,6 +63,18 @@ def test_same_seed_gives_the_same_attended_observations(variant):
     np.testing.assert_array_equal(first, second)
 
 
+def test_the_attention_config_may_be_a_mapping_of_some_of_its_fields():
+    """``attention={"free_space_evidence": True}`` (as JSON's ``--env-kwargs`` gives it) builds the
+    model's configuration with the other fields at their defaults; an unknown field is refused
+    by name before anything is built."""
+    env = make_env("focus", attention={"free_space_evidence": True, "track_onset_speed_sigma_mps": 1.0})
+    config = env.model.config
+    assert config.free_space_evidence and config.track_onset_speed_sigma_mps == 1.0
+    assert config.range_noise_rel == 0.05
+    with pytest.raises(ValueError, match=r"unknown AttentionConfig field\(s\) \['free_space'\]"):
+        make_env("focus", attention={"free_space": True})
+
+
 def test_the_episode_goal_becomes_the_models_goal_at_every_reset():
     env = make_env("focus")
     goal = Goal.smaller("speed", 0.3)
