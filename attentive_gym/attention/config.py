@@ -226,6 +226,10 @@ class AttentionConfig:
         track_runaway_speed_mps: a track whose velocity estimate exceeds this (m/s; 0 turns
             it off; above the fastest body of the scene) was matched to another body's
             segment or to structure sliding into view; it restarts standing.
+        track_edge_keeps_motion: a track matched to a segment cut by the laser's
+            field-of-view edge keeps its probability of moving (the filters still update):
+            the visible part of what the edge cuts slides as the robot turns or drives,
+            which the filters would take for motion.
 
     Sensors (§1).
 
@@ -331,6 +335,7 @@ class AttentionConfig:
     track_onset_speed_sigma_mps: float = 0.0
     track_standing_speed_sigma_mps: float = 0.0
     track_runaway_speed_mps: float = 0.0
+    track_edge_keeps_motion: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
     laser_mount_y_m: float = 0.0
@@ -486,6 +491,7 @@ class AttentionConfig:
             "balance_groups",
             "laser_upside_down",
             "free_space_evidence",
+            "track_edge_keeps_motion",
         ):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")

@@ -128,13 +128,14 @@ _CARVE_PROBABILITY = 0.5
     _ONSET_SIGMA,
     _READY_SIGMA,
     _RUNAWAY,
+    _EDGE_KEEPS,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(36)
+) = range(37)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
-_X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (
-    SEGMENT_FIELDS.index(f) for f in ("x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
+_START, _STOP, _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (
+    SEGMENT_FIELDS.index(f) for f in ("start", "stop", "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
 )
 
 
@@ -327,6 +328,7 @@ class Tracker:
         params[_ONSET_SIGMA] = config.track_onset_speed_sigma_mps
         params[_READY_SIGMA] = config.track_standing_speed_sigma_mps
         params[_RUNAWAY] = config.track_runaway_speed_mps
+        params[_EDGE_KEEPS] = config.track_edge_keeps_motion
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -845,7 +847,10 @@ def track_scan(
     3. Cost of each (track, candidate) pair: the squared Mahalanobis distance of the
        candidate from the track's predicted position; assign by least total cost with
        the gate ``params[_GATE]`` (``association.gated_assignment``).
-    4. Update matched tracks (both filters, then the motion probability). Delete an
+    4. Update matched tracks (both filters, then the motion probability; with
+       ``track_edge_keeps_motion``, a segment cut by the field of view's edge leaves the
+       probability as it was: the visible part of a body or wall slides as the edge sweeps
+       it, which the filters would take for motion). Delete an
        unmatched tentative track at once. An unmatched confirmed track where the laser
        should have seen it (in the field of view, not behind a nearer echo) looks for
        its body where it expects it if it moves (``segmentation.carve_body``: it may
@@ -942,6 +947,7 @@ def track_scan(
         k = rows[a]
         b = assignment[a]
         if b >= 0:
+            p_before = p_moving[k]
             _update(
                 k,
                 dts[k],
@@ -958,8 +964,11 @@ def track_scan(
                 misses,
                 extent_m,
             )
+            m = candidate[b]
+            if params[_EDGE_KEEPS] != 0.0 and (segments[m, _START] == 0 or segments[m, _STOP] == ranges_m.shape[0]):
+                p_moving[k] = p_before  # cut by the field of view's edge: where the body is, only in part
             seen_s[k] = t_s
-            segment_of[k] = candidate[b]
+            segment_of[k] = m
             taken[b] = True
             continue
         if hits[k] < params[_CONFIRM]:
