@@ -4,6 +4,8 @@
 - ``train`` (``training``): one run with periodic evaluation, TensorBoard logs,
   checkpoints/resume, ``final_model.zip``, ``metrics.json`` and a ``done`` marker.
 - ``evaluate_policy`` (``evaluation``): success rate, return, collisions, episode length.
+- ``pretrained``: the small ``raw`` and ``focus`` policies shipped with the package
+  (``attentive-gym evaluate --pretrained focus``).
 - ``goal_choice``: what a ``goal-action`` agent chooses at each evaluation (its goal against
   the task's, its map weights): a run's ``goal_choice.csv``.
 - ``compare.compare``: every (variant, seed) pair in parallel processes or on Ray, then

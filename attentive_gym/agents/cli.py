@@ -28,6 +28,7 @@ from attentive_gym.agents.config import (
     RunSpec,
     default_eval_episodes,
 )
+from attentive_gym.agents.pretrained import PRETRAINED, pretrained_record, pretrained_run
 from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from attentive_gym.wrappers.variants import VARIANTS
@@ -323,7 +324,12 @@ def add_evaluate(subparsers) -> None:
         "contact time (s), collision steps and episode length. --video records MP4s "
         "(gymnasium RecordVideo, needs moviepy).",
     )
-    parser.add_argument("model", type=Path, help="run folder or .zip model")
+    parser.add_argument("model", type=Path, nargs="?", help="run folder or .zip model (or --pretrained)")
+    parser.add_argument(
+        "--pretrained",
+        choices=PRETRAINED,
+        help="evaluate the small policy shipped with the package for this variant instead of a run's",
+    )
     parser.add_argument("--episodes", type=_positive_int, default=20, help="episodes (default: 20)")
     parser.add_argument(
         "--seed", type=_non_negative_int, default=None, help="first episode seed (default: the run's eval seed)"
@@ -335,6 +341,8 @@ def add_evaluate(subparsers) -> None:
 
 
 def _run_evaluate(args: argparse.Namespace) -> int:
+    if (args.model is None) == (args.pretrained is None):
+        raise ValueError("give a run folder or .zip model, or --pretrained VARIANT (one of them)")
     _require_agents_extra("evaluate")
     from attentive_gym.agents.evaluation import check_video_dir, evaluate_policy, record_videos
     from attentive_gym.agents.training import env_factory, eval_seed, load_policy
@@ -342,6 +350,15 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     if args.video:
         require("moviepy", "--video (gymnasium's RecordVideo writes MP4 with it)")
         check_video_dir(args.video)
+    if args.pretrained is not None:
+        args.model = pretrained_run(args.pretrained)
+        record = pretrained_record(args.pretrained)
+        low, high = record["success_ci"]
+        steps, episodes = record["trained"]["total_steps"], record["episodes"]
+        print(
+            f"the pretrained {args.pretrained} policy ({record['env_id']}, {steps:,} steps): "
+            f"success {record['success_rate']:.2f} [{low:.2f}, {high:.2f}] on {episodes} episodes when shipped"
+        )
     model, spec = load_policy(args.model)
     seed = eval_seed(spec) if args.seed is None else args.seed
     result = evaluate_policy(model, env_factory(spec), args.episodes, seed)
