@@ -27,7 +27,6 @@ signal's number (130 for SIGINT). ``main`` returns the exit status.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import signal
 import sys
@@ -39,7 +38,7 @@ from attentive_gym._optional import MissingExtraError, require
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
 from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.stopping import Interrupted
-from attentive_gym.attention.config import LASER_PROFILES
+from attentive_gym.attention.config import LASER_PROFILES, configured
 from attentive_gym.experiments.cli import add_experiment_parser
 
 __all__ = ["main", "build_parser"]
@@ -169,7 +168,7 @@ def _run_attend(args: argparse.Namespace) -> int:
         refuse_existing([args.out / "trace.npz", *([] if args.no_figure else [args.out / "trace.png"])])
     if not args.no_figure:
         require("matplotlib", "the trace's figure (--no-figure skips it)")
-    config = _attend_config(args.profile, args.config)
+    config = configured(args.profile, args.config)
     goals = [parse_goal(spec) for spec in args.goal]
     weights = parse_maps(args.maps) if args.maps else None
     topics = parse_bag_topics(
@@ -204,19 +203,6 @@ def _run_attend(args: argparse.Namespace) -> int:
         plot_trace(trace, path=figure_path)
         print(f"wrote {figure_path}")
     return 0
-
-
-def _attend_config(profile: str | None, config_json: str | None):
-    """The model's configuration: the defaults, the values of ``profile`` (``LASER_PROFILES``)
-    over them, and the fields of ``config_json`` (a JSON object, or a .json file's path) over those."""
-    from attentive_gym.attention.config import AttentionConfig, profile_config
-
-    config = AttentionConfig() if profile is None else profile_config(profile)
-    if not config_json:
-        return config
-    text = config_json if config_json.lstrip().startswith("{") else Path(config_json).read_text()
-    given = AttentionConfig.from_json(text)
-    return dataclasses.replace(config, **{name: getattr(given, name) for name in json.loads(text)})
 
 
 def _open_bag(path: Path, topics, config, scan_options):

@@ -6,7 +6,8 @@
 - ``MAP_NAMES``: the six feature maps, in order, with their aliases.
 - ``parse_state``: a named level or a positive float → the gain ``g``.
 - ``LASER_PROFILES`` / ``profile_config``: named sets of tracker values for a kind of laser
-  and target (``indoor-people``: a Hokuyo/SICK indoor laser and walking people).
+  and target (``indoor-people``: a Hokuyo/SICK indoor laser and walking people);
+  ``configured``: a profile and a JSON object of fields over the defaults.
 
 Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
 name says otherwise (``_deg``).
@@ -20,6 +21,7 @@ import math
 import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 __all__ = [
@@ -39,6 +41,7 @@ __all__ = [
     "parse_state",
     "LASER_PROFILES",
     "profile_config",
+    "configured",
 ]
 
 #: Global Attentive State levels (docs/model.md §7): gain ``g`` multiplying the saliency map.
@@ -264,6 +267,9 @@ class AttentionConfig:
             weights so that they sum to the active bottom-up weights' sum: a goal that
             holds then weighs as much as all the bottom-up evidence together, however
             many maps each group has (docs/model.md §6). False uses the weights as given.
+        silent_goal_maps_out: at each step, leave an active top-down map that is 0 in every
+            region out of the combined map's normaliser, so that a goal holding nowhere
+            does not dilute the bottom-up maps (needs ``normalise_combined``; docs/model.md §6).
 
     Winner selection (§8).
 
@@ -353,6 +359,7 @@ class AttentionConfig:
     weights: tuple[float, float, float, float, float, float] = (1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
     normalise_combined: bool = True
     balance_groups: bool = True
+    silent_goal_maps_out: bool = False
     # --- winner selection ----------------------------------------------------------
     threshold: float = 0.1
     state: str | float = "alert"
@@ -489,12 +496,18 @@ class AttentionConfig:
             "td_require_target",
             "normalise_combined",
             "balance_groups",
+            "silent_goal_maps_out",
             "laser_upside_down",
             "free_space_evidence",
             "track_edge_keeps_motion",
         ):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")
+        if self.silent_goal_maps_out and not self.normalise_combined:
+            raise ValueError(
+                "AttentionConfig.silent_goal_maps_out leaves maps out of the combined map's normaliser, "
+                "so it needs normalise_combined=True"
+            )
         try:
             entries = tuple(self.weights)
         except TypeError:
@@ -636,15 +649,16 @@ def _check_number(
 #: at least 2 cm) with people walking: legs are two arcs of 0.1-0.15 m that swing at several
 #: m/s² and stop at each step, so bodies longer than 0.5 m are structure (furniture,
 #: walls) and the tracks' velocities follow quick changes (``track_accel_psd_m2ps3`` 2).
-#: Measured on leg_tracker's demo bag (a still Hokuyo, people walking; docs/replay.md):
-#: focus on a region with motion 0.86 -> 0.88 bottom-up, 0.80 -> 0.86 with the goal
-#: ``speed:between:0.3:2.0`` (chance 0.35).
+#: A walking-speed goal with nobody walking in view leaves the bottom-up maps alone
+#: (``silent_goal_maps_out``). Measured on public bags of people walking past a still laser:
+#: docs/results/real_bags.md.
 LASER_PROFILES: Mapping[str, Mapping[str, Any]] = {
     "indoor-people": {
         "range_noise_rel": 0.01,
         "range_noise_floor_m": 0.02,
         "max_object_extent_m": 0.5,
         "track_accel_psd_m2ps3": 2.0,
+        "silent_goal_maps_out": True,
     },
 }
 
@@ -659,3 +673,21 @@ def profile_config(name: str, config: AttentionConfig | None = None) -> Attentio
     if name not in LASER_PROFILES:
         raise ValueError(f"unknown laser profile {name!r}; known: {', '.join(LASER_PROFILES)}")
     return dataclasses.replace(AttentionConfig() if config is None else config, **LASER_PROFILES[name])
+
+
+def configured(profile: str | None = None, config_json: str | None = None) -> AttentionConfig:
+    """The model's configuration as ``attend`` and the real-bag benchmark take it: the
+    defaults, the values of laser ``profile`` (``LASER_PROFILES``) over them, and the fields of
+    ``config_json`` (a JSON object, or the path of a .json file holding one) over those.
+
+    Raises:
+        ValueError: for an unknown profile, malformed JSON, or a field that is unknown or
+            out of range (``AttentionConfig.from_json``).
+        OSError: for a .json path that cannot be read.
+    """
+    config = AttentionConfig() if profile is None else profile_config(profile)
+    if not config_json:
+        return config
+    text = config_json if config_json.lstrip().startswith("{") else Path(config_json).read_text(encoding="utf-8")
+    given = AttentionConfig.from_json(text)
+    return dataclasses.replace(config, **{name: getattr(given, name) for name in json.loads(text)})

@@ -40,6 +40,7 @@ from attentive_gym.attention.compiled.records import (
     OUTPUT_ARRAYS,
     ModelState,
     StateLayout,
+    goal_options,
     output_dtype,
 )
 from attentive_gym.attention.compiled.step_kernels import (
@@ -378,6 +379,7 @@ class AttentionModel:
         self._active = np.zeros(len(MAP_NAMES))
         self._goal_plan = np.zeros((len(TOP_DOWN_MAPS), PLAN_COLUMNS))
         self._combine = np.zeros((2, len(BOTTOM_UP_MAPS)))
+        self._goal_options = goal_options(config)
         self._wanted_speed = np.zeros(2)
         self._adopt()
         self._update_active()
@@ -816,7 +818,7 @@ class AttentionModel:
             distances,
             echo,
             self._goal_plan,
-            cfg.td_require_target,
+            self._goal_options,
             self._combine,
             C_BU,
             C_TD,
@@ -1081,7 +1083,7 @@ def _constants(config: AttentionConfig) -> dict[str, np.ndarray]:
                 config.kinematics == "tracker",
                 confirm_hits,
                 config.laser_only,
-                config.td_require_target,
+                goal_options(config),
             ],
             np.int64,
         ),

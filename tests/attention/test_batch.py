@@ -57,9 +57,11 @@ def _solo_step(model: AttentionModel, reading: tuple):
     return model.step(t, sonar, laser, odometry, sonar_time_s=sonar_time_s, laser_time_s=laser_time_s)
 
 
-@pytest.mark.parametrize("kinematics", ["tracker", "window"])
-def test_a_batch_gives_each_models_own_numbers(readings, kinematics):
-    config = AttentionConfig(range_noise_rel=0.05, kinematics=kinematics)
+@pytest.mark.parametrize(
+    ("kinematics", "options"), [("tracker", {}), ("window", {}), ("tracker", {"silent_goal_maps_out": True})]
+)
+def test_a_batch_gives_each_models_own_numbers(readings, kinematics, options):
+    config = AttentionConfig(range_noise_rel=0.05, kinematics=kinematics, **options)
     solo, team = _models(config), _models(config)
     batch = ModelBatch(team)
     for step in range(N_STEPS):

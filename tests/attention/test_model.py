@@ -106,6 +106,37 @@ def test_balanced_groups_let_a_fulfilled_goal_weigh_as_much_as_the_bottom_up_map
     np.testing.assert_allclose(alone.step(0.0, sonar, laser).C_BU, 2 * balanced.F[2] / 2)
 
 
+def test_a_goal_map_that_holds_nowhere_can_be_left_out_of_the_normaliser():
+    sonar, laser = np.full(16, 4.5), np.full(180, 8.0)
+    sonar[6] = 1.0
+
+    def step(goal, **weights):
+        """One step under ``goal`` (None: bottom-up) with each value of silent_goal_maps_out."""
+        outputs = []
+        for silent_out in (False, True):
+            model = AttentionModel(AttentionConfig(ego_motion=None, silent_goal_maps_out=silent_out))
+            model.set_goals(*([] if goal is None else [goal]))
+            model.set_weights(**weights)
+            outputs.append(model.step(0.0, sonar, laser))
+        return outputs
+
+    bottom_up, _ = step(None, F3=2.0, F4=1.0)
+    # nothing moves: a speed goal holds nowhere and F4 is 0 everywhere
+    counted, left_out = step(Goal.between("speed", 0.5, 0.9), F3=2.0, F4=1.0)
+    assert not left_out.F[3].any() and bottom_up.C_BU.max() > 0.0
+    # counted, the silent goal halves the bottom-up evidence (Z = 4 instead of 2) ...
+    np.testing.assert_allclose(counted.C, bottom_up.C / 2)
+    # ... left out, the combined map is the bottom-up one
+    np.testing.assert_allclose(left_out.C, bottom_up.C)
+    np.testing.assert_allclose(left_out.C_BU, bottom_up.C_BU)
+    # where a goal's map is not 0 everywhere, it counts as before
+    counted, left_out = step(Goal.smaller("distance", 2.0), F3=2.0, F6=1.0)
+    assert left_out.F[5, 6] == 1.0
+    np.testing.assert_array_equal(left_out.C, counted.C)
+    with pytest.raises(ValueError, match="needs normalise_combined=True"):
+        AttentionConfig(silent_goal_maps_out=True, normalise_combined=False)
+
+
 def test_balanced_groups_stay_finite_for_subnormal_weights():
     model = AttentionModel(AttentionConfig(ego_motion=None))
     model.set_goals(Goal.smaller("distance", 2.0))

@@ -35,6 +35,9 @@ __all__ = [
     "CONSTANT_FIELDS",
     "FLOAT_SCALARS",
     "INT_SCALARS",
+    "REQUIRE_TARGET",
+    "SILENT_MAPS_OUT",
+    "goal_options",
     "STEP_COLUMNS",
     "output_dtype",
     "OUTPUT_ARRAYS",
@@ -70,8 +73,19 @@ FLOAT_SCALARS = (
     "threshold",
 )
 #: The configuration's scalars stored as integers: the slope's K, whether the tracker runs,
-#: its confirmation hits, ``laser_only``, ``td_require_target``.
-INT_SCALARS = ("slope_samples", "tracked", "confirm_hits", "laser_only", "require_target")
+#: its confirmation hits, ``laser_only``, the top-down maps' options (``goal_options``).
+INT_SCALARS = ("slope_samples", "tracked", "confirm_hits", "laser_only", "goal_options")
+#: The bits of ``goal_options``: ``td_require_target`` and ``silent_goal_maps_out``.
+REQUIRE_TARGET, SILENT_MAPS_OUT = 1, 2
+
+
+def goal_options(config) -> int:
+    """The top-down maps' options of an ``AttentionConfig`` as the kernels take them: the
+    bits ``REQUIRE_TARGET`` (``td_require_target``) and ``SILENT_MAPS_OUT``
+    (``silent_goal_maps_out``)."""
+    return REQUIRE_TARGET * bool(config.td_require_target) | SILENT_MAPS_OUT * bool(config.silent_goal_maps_out)
+
+
 #: The constant fields: per-channel limits (2, 188) m, maximum ranges (188,) m, the
 #: lateral spread (J, J), the course parameters (16,), beam and front-sonar cosines and
 #: sines, the tracker's parameter vector (25,), the float scalars; then the integer ones:

@@ -39,7 +39,9 @@ from attentive_gym.attention.compiled.records import (
     FLOAT_SCALARS,
     INT_SCALARS,
     OFFSET,
+    REQUIRE_TARGET,
     RESULTS,
+    SILENT_MAPS_OUT,
     STATE_FIELDS,
 )
 from attentive_gym.attention.features import goal_knots
@@ -173,7 +175,7 @@ def sonar_grid_maps(
     beam_region,
     active,
     goal_plan,
-    require_target,
+    goal_options,
     combine,
     F,
     C_BU,
@@ -219,7 +221,7 @@ def sonar_grid_maps(
         distances,
         echo,
         goal_plan,
-        require_target,
+        goal_options,
         combine,
         C_BU,
         C_TD,
@@ -372,7 +374,7 @@ def goal_maps(
     distances,
     echo,
     goal_plan,
-    require_target,
+    goal_options,
     combine,
     C_BU,
     C_TD,
@@ -387,13 +389,16 @@ def goal_maps(
         region_speed: ``(J,)`` m/s; speed_target: ``(J,)`` bool, regions a speed goal may
             hold at; labels: ``(J,)`` direction labels as floats; distances: ``(J,)`` m;
             echo: ``(J,)`` bool, a valid reading in the region (the target of F5, F6).
-        goal_plan: ``(3, PLAN_COLUMNS)``; require_target: ``td_require_target``.
+        goal_plan: ``(3, PLAN_COLUMNS)``; goal_options: ``records.goal_options`` of the
+            configuration (``td_require_target``, ``silent_goal_maps_out``).
         combine: ``(2, 3)`` the weights of C_BU (row 0) and C_TD (row 1), normaliser included.
         C_BU, C_TD, C: ``(J,)`` outputs; origins: ``(J,)`` int8, 1 where C_TD > C_BU;
         fulfilled: ``(J,)`` bool, every active goal holds (False without goals).
     """
     n_regions = F.shape[1]
+    require_target = (goal_options & REQUIRE_TARGET) != 0
     any_goal = False
+    silent_weight = 0.0  # the combination weight of the active top-down maps that are 0 everywhere
     for j in range(n_regions):
         fulfilled[j] = True
     for r in range(3):
@@ -421,11 +426,20 @@ def goal_maps(
                 ok = ok and target
             F[3 + r, j] = value
             fulfilled[j] = fulfilled[j] and ok
+        if F[3 + r].max() == 0.0:
+            silent_weight += combine[1, r]
     if not any_goal:
         fulfilled[:] = False
     vecmat(combine[0], F[:3], C_BU)
     vecmat(combine[1], F[3:], C_TD)
+    # with normalised weights (summing to 1), leaving the silent maps out of the normaliser
+    # divides the rest by 1 - their weight
+    scale = 1.0
+    if (goal_options & SILENT_MAPS_OUT) != 0 and 0.0 < silent_weight < 1.0:
+        scale = 1.0 / (1.0 - silent_weight)
     for j in range(n_regions):
+        C_BU[j] *= scale
+        C_TD[j] *= scale
         C[j] = C_BU[j] + C_TD[j]
         origins[j] = 1 if C_TD[j] > C_BU[j] else 0
 
@@ -551,7 +565,7 @@ def attend_one(
     laser_max,
     active,
     goal_plan,
-    require_target,
+    goal_options,
     combine,
     gain,
     threshold,
@@ -598,7 +612,7 @@ def attend_one(
       (placeholders when ``tracked`` is False);
     - the maps': maximum ranges ``(188,)`` (m), the maximum distance (m), ``laser_only``,
       the laser's maximum (m), the active weights ``(6,)``, the goal plan ``(3, PLAN_COLUMNS)``,
-      ``require_target`` and the combination weights ``(2, 3)``;
+      ``goal_options`` (``records.goal_options``) and the combination weights ``(2, 3)``;
     - the selection's: the gain, the threshold, the spread ``(J, J)`` and
       ``CourseBook.arrays`` (with room for one more course of each kind);
     - the outputs, each a fresh array: ``readings``, ``valid``, ``rates``, ``speeds``, ``moving``
@@ -699,7 +713,7 @@ def attend_one(
         beam_region,
         active,
         goal_plan,
-        require_target,
+        goal_options,
         combine,
         F,
         C_BU,
@@ -806,8 +820,8 @@ _THRESHOLD = FLOAT_SCALARS.index("threshold")
 _WINNER, _FOCUS, _SALIENCY, _FIRED, _TOP_DOWN, _N_TRACKS = (
     RESULTS.index(name) for name in ("winner", "focus", "saliency", "fired", "top_down", "n_tracks")
 )
-_SLOPE_SAMPLES, _TRACKED, _CONFIRM_HITS, _LASER_ONLY, _REQUIRE_TARGET = (
-    INT_SCALARS.index(name) for name in ("slope_samples", "tracked", "confirm_hits", "laser_only", "require_target")
+_SLOPE_SAMPLES, _TRACKED, _CONFIRM_HITS, _LASER_ONLY, _GOAL_OPTIONS = (
+    INT_SCALARS.index(name) for name in ("slope_samples", "tracked", "confirm_hits", "laser_only", "goal_options")
 )
 
 
@@ -910,7 +924,7 @@ def attend_record(table, constant_floats, constant_ints, floats, ints, flags, st
         fs[_LASER_MAX],
         _flat(floats, table, _ACTIVE),
         _two(floats, table, _GOAL_PLAN),
-        ns[_REQUIRE_TARGET] != 0,
+        ns[_GOAL_OPTIONS],
         _two(floats, table, _COMBINE),
         _flat(floats, table, _GAIN)[0],
         threshold,
