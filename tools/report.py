@@ -10,14 +10,16 @@ Two commands, so that batches of runs trained at different times add up:
   ``compare.json`` beside the file tells it) and ``obs_scaling``; a (variant, algo,
   obs_scaling, seed[, num_distractors]) already there is replaced.
 - ``python tools/report.py render [--check]``: write ``docs/results/rl.md``,
-  ``perception.md``, ``checks.md``, ``performance.md`` and ``safe_rescue.md`` from the CSVs beside them, the
+  ``perception.md``, ``checks.md``, ``performance.md``, ``safe_rescue.md`` and ``real_bags.md`` from the CSVs
+  beside them, the
   figures under ``docs/figures/``, and the README's block between
   ``<!-- results-headline:start -->`` and ``<!-- results-headline:end -->``. ``--check``
   writes nothing and exits 1 naming every file that differs from what the CSVs give.
 
 The CSVs come from ``tools/report.py add`` (RL), ``benchmarks/bench_perception.py --csv``
 (perception), ``tools/experiments_table.py`` (the experiments' checks), the benchmarks'
-``--csv`` option (performance) and ``tools/safe_rescue_table.py`` (safe rescue).
+``--csv`` option (performance), ``tools/safe_rescue_table.py`` (safe rescue) and
+``benchmarks/bench_real_bags.py --csv`` (real bags).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ import checks_page
 import headline
 import perception_page
 import performance_page
+import real_bags_page
 import rl_page
 import safe_rescue_page
 from attentive_gym.agents.config import ALGOS, OBS_SCALINGS
@@ -49,6 +52,7 @@ PAGES: dict[str, Callable[[Path, bool], str]] = {
     checks_page.NAME: checks_page.page,
     performance_page.NAME: performance_page.page,
     safe_rescue_page.NAME: safe_rescue_page.page,
+    real_bags_page.NAME: real_bags_page.page,
 }
 
 

@@ -31,6 +31,7 @@ def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
         "perception_motion.csv",
         "experiment_checks.csv",
         "safe_rescue.csv",
+        "real_bags.csv",
         "performance.csv",
     ):
         shutil.copy(RESULTS / name, tmp_path / "docs" / "results" / name)

@@ -92,11 +92,20 @@ def test_the_focus_follows_a_synthetic_walker_beyond_chance(tmp_path, capsys):
     path = tmp_path / "figures.csv"
     bench.main([str(bag), "--goal", "speed:between:0.5:1.5", "--csv", str(path)])
     printed = capsys.readouterr().out
-    assert "| bag | goal | steps | steps with motion | focus on a region with motion |" in printed
-    assert "| run_mcap | speed:between:0.5:1.5 | 80 |" in printed
+    assert "| bag | setting | goal | steps | steps with motion | focus on a region with motion |" in printed
+    assert "| run_mcap | defaults | speed:between:0.5:1.5 | 80 |" in printed
     rows = list(csv.DictReader(path.open()))
     assert [row["metric"] for row in rows] == list(figures.metrics())
-    assert {(row["bag"], row["goal"]) for row in rows} == {("run_mcap", "speed:between:0.5:1.5")}
+    assert {(row["bag"], row["setting"], row["goal"]) for row in rows} == {
+        ("run_mcap", "defaults", "speed:between:0.5:1.5")
+    }
+    bench.main([str(bag), "--profile", "indoor-people", "--config", '{"threshold": 0.05}', "--csv", str(path)])
+    assert '| run_mcap | indoor-people, config {"threshold": 0.05} | bottom-up | 80 |' in capsys.readouterr().out
+    bench.main([str(bag), "--config", '{"threshold": 0.05}', "--label", "low threshold", "--csv", str(path)])
+    assert {row["setting"] for row in csv.DictReader(path.open())} == {"low threshold"}
+    with pytest.raises(SystemExit):
+        bench.main([str(bag), "--config", '{"thresh": 0.05}'])
+    assert "--config: unknown AttentionConfig field(s) ['thresh']" in capsys.readouterr().err
 
 
 def test_on_the_real_bag_the_focus_beats_chance_and_a_shuffled_focus():

@@ -116,7 +116,7 @@ def test_the_mount_is_read_from_tf_through_a_chain_of_frames(tmp_path, fmt):
     # a flag wins over TF for what it gives
     given = open_bag(bag, options=ScanOptions(mount_xy_yaw=(0.1, 0.0, 0.0)))
     assert given.mount == LaserMount(0.1, 0.0, 0.0, True)
-    assert given.notes[1].endswith("(--laser-mount; the rest from TF laser -> plate -> base_link)")
+    assert given.notes[1].endswith("(--laser-mount; upside down or not: from TF laser -> plate -> base_link)")
 
 
 def test_without_tf_the_configurations_mount_applies(tmp_path):
@@ -125,7 +125,7 @@ def test_without_tf_the_configurations_mount_applies(tmp_path):
     assert replay.mount == LaserMount(-0.3, 0.0, 180.0, False)
     # laser angle a points at 180 + a: model beam i (-89.5 + i deg) reads laser beam 90 + i (90.5 + i deg)
     np.testing.assert_array_equal(replay.log.laser[0], RANGES_360[90 + np.arange(180)])
-    assert "(the configuration's (no TF in the bag leads from the laser's frame to a base frame))" in replay.notes[1]
+    assert "(the configuration's, as no TF in the bag leads from the laser's frame to a base frame)" in replay.notes[1]
 
 
 def test_odometry_is_read_from_tf_when_no_odometry_topic_is_logged(tmp_path):

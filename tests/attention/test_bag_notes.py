@@ -85,8 +85,8 @@ def test_the_summary_names_topics_rates_and_dropped_scans(tmp_path):
         "5 steps over 0.4 s; dropped 1 scan before the first message of /odom"
     )
     assert replay.notes[1] == (
-        "laser mount: x 0.16 m, y 0 m, yaw 0°, upright (the configuration's "
-        "(no TF in the bag leads from the laser's frame to a base frame))"
+        "laser mount: x 0.16 m, y 0 m, yaw 0°, upright (the configuration's, "
+        "as no TF in the bag leads from the laser's frame to a base frame)"
     )
     assert replay.notes[2] == (
         "laser: 180 beams over 180° (6 scans), covering 180 of the model's 180 front beams (-90..90°, robot frame)"

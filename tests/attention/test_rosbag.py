@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 import shutil
+import struct
 import subprocess
 import sys
 from pathlib import Path
@@ -495,7 +496,26 @@ def _error_bags(tmp_path):
         tmp_path / "cut.bag",
         None,
         "not a readable ROS bag (Bag index looks damaged: Header could not be read from file.); "
-        f"a ROS 1 bag cut short while recording can be repaired with: rosbag reindex {tmp_path / 'cut.bag'}",
+        "a ROS 1 bag cut short while recording, or with a damaged index, can be repaired with: "
+        f"rosbag reindex {tmp_path / 'cut.bag'}",
+    )
+    # an index-data record whose entry count disagrees with its size (as in some old demo bags)
+    damaged = bytearray(whole)
+    count_at = damaged.index(b"count=", damaged.index(b"op=\x04")) + len("count=")
+    damaged[count_at : count_at + 4] = struct.pack("<I", struct.unpack_from("<I", damaged, count_at)[0] - 1)
+    (tmp_path / "damaged.bag").write_bytes(bytes(damaged))
+    cases["damaged index"] = (
+        tmp_path / "damaged.bag",
+        None,
+        "not a readable ROS bag (its records do not match their declared sizes); a ROS 1 bag cut short "
+        f"while recording, or with a damaged index, can be repaired with: rosbag reindex {tmp_path / 'damaged.bag'}",
+    )
+    (tmp_path / "old.bag").write_bytes(b"#ROSRECORD V1.2\n" + bytes(64))
+    cases["format 1.2"] = (
+        tmp_path / "old.bag",
+        None,
+        "it is a ROS bag of format 1.2, which only ROS 1's own tools read: "
+        f"rosbag filter {tmp_path / 'old.bag'} {tmp_path / 'old'}_v2.bag True writes it anew as format 2.0",
     )
     cases["folder"] = (tmp_path / "plain_folder", None, "holds no metadata.yaml")
     (tmp_path / "plain_folder").mkdir()

@@ -252,3 +252,23 @@ def test_the_safe_rescue_table_replaces_the_rows_it_measures_again_and_keeps_the
     other_budget = key | {"seed": 41, "env_steps": 250880, "success_rate": 0.5}
     assert table.merged_rows(kept, [other_budget])[-1] is other_budget
     assert len(table.merged_rows(kept, [other_budget])) == 3
+
+
+def test_the_real_bags_page_groups_each_bag_and_leaves_the_focus_out_for_a_driving_robot(tmp_path):
+    real_bags_page = report.real_bags_page
+    metrics = {"steps": 80, "motion_steps": 70, "focus_on_motion_fraction": 0.5, "chance_fraction": 0.25}
+    metrics |= {"shuffled_fraction": 0.3, "moving_tracks_per_step": 1.25}
+    rows = [
+        {"bag": bag, "setting": setting, "goal": "bottom-up", "metric": metric, "value": value}
+        for bag, setting in (("still.bag", "defaults"), ("corridor_0.6.bag", "defaults"), ("still.bag", "people"))
+        for metric, value in metrics.items()
+    ]
+    _write(tmp_path / "docs/results/real_bags.csv", ["bag", "setting", "goal", "metric", "value"], rows)
+    lines = [
+        line for line in real_bags_page.page(tmp_path).splitlines() if line.startswith("| ") and "bottom-up" in line
+    ]
+    assert lines == [
+        "| still.bag | defaults | bottom-up | 80 | 70 | 0.50 | 0.25 | 0.30 | 1.25 |",
+        "| still.bag | people | bottom-up | 80 | 70 | 0.50 | 0.25 | 0.30 | 1.25 |",
+        "| corridor_0.6.bag | defaults | bottom-up | 80 | — | — | — | — | 1.25 |",
+    ]

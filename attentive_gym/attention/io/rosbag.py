@@ -64,6 +64,7 @@ the scans' ``range_max`` where it is shorter than the configuration's (a 5.6 m H
 from __future__ import annotations
 
 import re
+import struct
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -277,7 +278,7 @@ class ScanOptions:
             fallback = LaserMount(
                 config.laser_mount_x_m, config.laser_mount_y_m, config.laser_mount_yaw_deg, config.laser_upside_down
             )
-            source = "the configuration's (no TF in the bag leads from the laser's frame to a base frame)"
+            source = "the configuration's, as no TF in the bag leads from the laser's frame to a base frame"
         x, y, yaw = (fallback.x_m, fallback.y_m, fallback.yaw_deg) if self.mount_xy_yaw is None else self.mount_xy_yaw
         upside_down = fallback.upside_down if self.upside_down is None else self.upside_down
         given = [
@@ -286,7 +287,8 @@ class ScanOptions:
             if value is not None
         ]
         if given:
-            source = f"{' and '.join(given)}" + (f"; the rest {source}" if len(given) < 2 else "")
+            rest = "position and yaw" if self.mount_xy_yaw is None else "upside down or not"
+            source = f"{' and '.join(given)}" + (f"; {rest}: {source}" if len(given) < 2 else "")
         return LaserMount(float(x), float(y), float(yaw), bool(upside_down)), source
 
     def further_mount(self, index: int, tf: MountFromTf | None) -> tuple[LaserMount, str] | None:
@@ -788,6 +790,10 @@ def _read_messages(path: Path, topics: BagTopics) -> tuple[dict[str, str], dict[
             streams = _read_streams(reader, wanted)
     except AnyReaderError as err:
         raise LogFormatError(f"{path}: not a readable ROS bag ({_plain(err)}){_remedy(path)}") from None
+    except (AssertionError, struct.error):  # the reader's own checks of a damaged file
+        raise LogFormatError(
+            f"{path}: not a readable ROS bag (its records do not match their declared sizes){_remedy(path)}"
+        ) from None
     return types, counts, chosen, streams
 
 
@@ -801,15 +807,28 @@ def _plain(err: Exception) -> str:
 _ROS1_MAGIC = b"#ROSBAG V2.0"
 
 
+#: The first bytes of a ROS bag of format 1.2 (before ROS C Turtle), which rosbags cannot read.
+_ROS_OLD_MAGIC = b"#ROSRECORD V1.2"
+
+
 def _remedy(path: Path) -> str:
     """For a ROS 1 bag whose header is sound: ``rosbag reindex``, which rebuilds the index
-    of a bag whose recording was cut short."""
+    of a bag whose recording was cut short or damaged; for a bag of format 1.2, how to write
+    it anew as 2.0."""
     if path.suffix.lower() != ".bag" or not path.is_file():
         return ""
     with open(path, "rb") as handle:
-        if handle.read(len(_ROS1_MAGIC)) != _ROS1_MAGIC:
-            return ""
-    return f"; a ROS 1 bag cut short while recording can be repaired with: rosbag reindex {path}"
+        magic = handle.read(len(_ROS_OLD_MAGIC))
+    if magic.startswith(_ROS_OLD_MAGIC):
+        return (
+            "; it is a ROS bag of format 1.2, which only ROS 1's own tools read: "
+            f"rosbag filter {path} {path.with_suffix('')}_v2.bag True writes it anew as format 2.0"
+        )
+    if not magic.startswith(_ROS1_MAGIC):
+        return ""
+    return (
+        f"; a ROS 1 bag cut short while recording, or with a damaged index, can be repaired with: rosbag reindex {path}"
+    )
 
 
 def _choose_topics(path: Path, types: dict[str, str], topics: BagTopics) -> tuple[list[str], list[str], str | None]:
