@@ -16,8 +16,11 @@ model, moving beams are found from the raw scans alone, at the laser's own resol
 
 - a scan beam's background is its median range over the bag, its spread σ its median
   absolute deviation (× 1.4826, at least ``MIN_SIGMA_M``);
-- the beam moves at a scan when its echo lies more than 3 σ in front of its background and
-  its range changed by more than 3 σ since the scan ``CHANGE_INTERVAL_S`` (0.2 s) earlier.
+- the beam moves at a scan when its echo lies more than 3 σ in front of its background, its
+  range changed by more than 3 σ since the scan ``CHANGE_INTERVAL_S`` (0.2 s) earlier, and
+  the beam does not return that range (within 3 σ) in ``RECURRENT_SHARE`` (5 %) of the scans
+  or more: a beam flickering between a far wall and no echo, or between two surfaces at an
+  edge, returns each of them again and again.
 
 A region of the model (s1..s8: the scan beams whose bearings fall in it) holds motion at a
 step when at least ``MIN_MOVING_BEAMS`` (3) of its beams move. Over the steps with motion,
@@ -66,6 +69,13 @@ CHANGE_INTERVAL_S = 0.2
 MOTION_SIGMAS = 3.0
 #: The smallest spread σ of a beam's range assumed (m): a laser's range noise.
 MIN_SIGMA_M = 0.02
+#: A range that a beam returns (within 3 σ) in at least this share of the scans is a static
+#: surface, not a mover: the beam of a far wall at the edge of detection flickers between it
+#: and no echo, the beam of an edge between two surfaces; a walker crosses a beam at one
+#: range for a scan or two.
+RECURRENT_SHARE = 0.05
+#: ... and in at least this many scans.
+RECURRENT_MIN_SCANS = 3
 #: A region holds motion when at least this many of its scan beams move.
 MIN_MOVING_BEAMS = 3
 #: A confirmed track counts as moving when its probability of moving exceeds this.
@@ -123,7 +133,20 @@ def moving_beams(raw: RawScans, t: np.ndarray) -> np.ndarray:
     compared = earlier >= 0
     change = np.abs(ranges - ranges[np.maximum(earlier, 0)])
     in_front = ranges < background - MOTION_SIGMAS * sigma
-    return in_front & (change > MOTION_SIGMAS * sigma) & compared[:, None]
+    return in_front & (change > MOTION_SIGMAS * sigma) & compared[:, None] & ~recurrent(ranges, MOTION_SIGMAS * sigma)
+
+
+def recurrent(ranges: np.ndarray, tolerance_m: np.ndarray) -> np.ndarray:
+    """``(T, N)`` bool: the readings that the same beam returns, within ``tolerance_m``
+    ``(N,)`` (m), in at least ``RECURRENT_SHARE`` of the scans and ``RECURRENT_MIN_SCANS``:
+    a static surface, whichever of several the beam flickers between."""
+    ordered = np.sort(ranges, axis=0)
+    shares = np.empty(ranges.shape)
+    for beam in range(ranges.shape[1]):
+        low = np.searchsorted(ordered[:, beam], ranges[:, beam] - tolerance_m[beam], side="left")
+        high = np.searchsorted(ordered[:, beam], ranges[:, beam] + tolerance_m[beam], side="right")
+        shares[:, beam] = (high - low) / ranges.shape[0]
+    return (shares >= RECURRENT_SHARE) & (shares * ranges.shape[0] >= RECURRENT_MIN_SCANS)
 
 
 def regions_with_motion(moving: np.ndarray, bearings_rad: np.ndarray, n_regions: int) -> np.ndarray:

@@ -25,14 +25,15 @@ BAGS = {
     ),
     "leg_tracker_positive_1.bag": (
         "leg_tracker `rosbags/training_scans_res=0.33/positive_not_extracted/positive_1.bag` (BSD 3-Clause)",
-        "a still laser (768 beams over 270°, 11 m, 7.5 Hz), a person walking near it",
+        "a still laser (768 beams over 270°, 11 m, 7.5 Hz), legs walking near it: the recordings leg_tracker "
+        "trains its leg classifier on",
     ),
     "leg_tracker_positive_2.bag": ("the same folder's `positive_2.bag`", "as positive_1"),
     "leg_tracker_positive_3.bag": ("the same folder's `positive_3.bag`", "as positive_1"),
     "obstacle_detector_scans_demo.bag": (
         "[tysik/obstacle_detector](https://github.com/tysik/obstacle_detector) `resources/scans_demo.bag` (BSD)",
-        "a still robot with a front and a rear Hokuyo (726 beams over 255°, 5.6 m, 10 Hz), a few moving "
-        "bodies among static ones within 1-1.2 m; mounts from the package's `demo.launch`",
+        "a still robot with a front and a rear Hokuyo (726 beams over 255°, 5.6 m, 10 Hz) among static bodies "
+        "1-1.2 m away; little moves; mounts from the package's `demo.launch`",
     ),
     "corridor_0.3.bag": (
         "synthetic: `benchmarks/corridor_bag.py --speed 0.3`",

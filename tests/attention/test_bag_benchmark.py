@@ -51,17 +51,23 @@ def _walker_bag(tmp_path):
 
 
 def test_a_beam_moves_when_it_changes_in_front_of_its_background():
-    t = 0.1 * np.arange(10)
-    ranges = np.full((10, 4), 4.0)
-    ranges[5:8, 0] = 2.0  # something comes in front for 0.3 s: moves at 5 and 6 (changed within 0.2 s), stands at 7
-    ranges[5, 1] = 5.0  # behind its background: never moving
+    t = 0.1 * np.arange(100)
+    ranges = np.full((100, 6), 4.0)
+    ranges[50:53, 0] = (
+        2.0  # something comes in front for 0.3 s: moves at 50 and 51 (changed within 0.2 s), stands at 52
+    )
+    ranges[50, 1] = 5.0  # behind its background: never moving
     ranges[:, 2] = 5.6  # open space (no echo) ...
-    ranges[5, 2] = 3.0  # ... that something crosses
-    ranges[:, 3] += 0.01 * (np.arange(10) % 2)  # noise within 3 cm: no motion
-    moving = bench.moving_beams(RawScans(np.zeros(4), ranges), t)
-    np.testing.assert_array_equal(np.flatnonzero(moving[:, 0]), [5, 6])
-    np.testing.assert_array_equal(np.flatnonzero(moving[:, 2]), [5])
-    assert not moving[:, [1, 3]].any()
+    ranges[50, 2] = 3.0  # ... that something crosses
+    ranges[:, 3] += 0.01 * (np.arange(100) % 2)  # noise within 3 cm: no motion
+    ranges[:, 4] = np.where(np.arange(100) % 3 == 0, 4.64, 5.6)  # a far wall flickering in and out of detection
+    ranges[:, 5] = np.where(np.arange(100) % 4 == 0, 3.4, 4.4)  # an edge between two surfaces
+    ranges[[20, 60], 5] = (1.5, 2.5)  # crossed at two ranges
+    moving = bench.moving_beams(RawScans(np.zeros(6), ranges), t)
+    np.testing.assert_array_equal(np.flatnonzero(moving[:, 0]), [50, 51])
+    np.testing.assert_array_equal(np.flatnonzero(moving[:, 2]), [50])
+    np.testing.assert_array_equal(np.flatnonzero(moving[:, 5]), [20, 60])
+    assert not moving[:, [1, 3, 4]].any()
 
 
 def test_a_region_holds_motion_with_three_moving_beams():
