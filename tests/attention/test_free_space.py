@@ -231,13 +231,18 @@ def test_segment_evidence_is_the_share_of_each_segments_flagged_beams():
 
 
 def _tracks(count: int):
-    """Tracker arrays of ``count`` live tracks, each matched to segment k this scan."""
+    """Tracker arrays of ``count`` live tracks, each matched to segment k this scan, 3 m ahead
+    and moving at 1 m/s: over a 1 s lag far more than ``DETECTABLE_SIGMAS`` of the range noise."""
+    cv_x = np.zeros((count, 4))
+    cv_x[:, 0], cv_x[:, 2] = 3.0, 1.0
     return {
         "segment_of": np.arange(count, dtype=np.int64),
         "static_x": np.zeros((count, 2)),
         "alive": np.ones(count, np.bool_),
         "born_s": np.zeros(count),
         "p_moving": np.full(count, 0.5),
+        "cv_x": cv_x,
+        "lag_s": 1.0,
     }
 
 
@@ -256,6 +261,23 @@ def test_weigh_motion_raises_tracks_with_evidence_and_lowers_those_without():
     assert p[1] == pytest.approx(logistic[1])  # no evidence
     assert p[2] == pytest.approx(logistic[0])  # its static place is seen through
     assert p[3] == 0.9  # born moving
+
+
+def test_a_matched_tracks_silence_counts_as_far_as_its_motion_was_detectable():
+    """At 3 m with 1 % noise (σ 3 cm) over a 1 s lag: a track at 2 cm/s moves 0.67 σ, too
+    little to leave evidence, and keeps its probability; one at 6 cm/s (2 σ) loses half the
+    fading; one at 1 m/s the whole of it. Coasting (not matched), a slow track fades in full."""
+    weights = free_space.motion_weights(0.3, 4.0, 0.9, 2.0, -0.5, 1e-3)
+    tracks = _tracks(4)
+    tracks["static_x"][:] = (20.0, 0.0)  # behind the wall: never seen through
+    tracks["cv_x"][:, 2] = (0.02, 0.06, 1.0, 0.02)
+    tracks["segment_of"][3] = -1
+    state = tracks["cv_x"][0]
+    assert free_space.detectability(state, np.zeros(3), parameters(), 1.0) == 0.0
+    assert free_space.detectability(tracks["cv_x"][1], np.zeros(3), parameters(), 1.0) == pytest.approx(0.5)
+    free_space.weigh_motion(1.0, np.zeros(4), np.full(BEAMS, 10.0), np.zeros(3), parameters(), weights, **tracks)
+    logistic = 1.0 / (1.0 + np.exp(-np.array([0.0, -0.25, -0.5, -0.5])))
+    np.testing.assert_allclose(tracks["p_moving"], logistic)
 
 
 def test_weigh_motion_lowers_coasting_tracks_leaves_dead_ones_and_keeps_the_floor():

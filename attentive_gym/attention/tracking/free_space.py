@@ -47,6 +47,8 @@ __all__ = [
     "MARGIN_M",
     "WIDTH_M",
     "MIN_SHARE",
+    "UNDETECTABLE_SIGMAS",
+    "DETECTABLE_SIGMAS",
     "PARAMETERS",
     "evidence_parameters",
     "ScanHistory",
@@ -58,6 +60,7 @@ __all__ = [
     "seen_through",
     "segment_evidence",
     "motion_weights",
+    "detectability",
     "weigh_motion",
 ]
 
@@ -65,6 +68,10 @@ __all__ = [
 #: run, the margin (m) and width (m) of ``evidence_parameters``, and the least share of a
 #: segment's beams that makes it evidence (``weigh_motion``).
 BEAM_SIGMAS, MIN_BEAMS, MARGIN_M, WIDTH_M, MIN_SHARE = 1.0, 3, 0.05, 0.05, 0.3
+#: A matched track's motion over the longest lag, in σ of the range noise at its distance,
+#: below which it leaves no evidence (its silence counts for nothing) and from which it
+#: surely does (its silence counts in full): ``detectability``.
+UNDETECTABLE_SIGMAS, DETECTABLE_SIGMAS = 1.0, 3.0
 #: Slots of ``ScanHistory.counters``: the row the next scan goes to, and how many are stored.
 _NEXT, _STORED = 0, 1
 #: The tests' parameters, in the order of their vector (``evidence_parameters``).
@@ -328,8 +335,23 @@ def segment_evidence(flags, bounds, count, shares):
         shares[m] = flagged / max(stop - start, 1)
 
 
+@njit(cache=True, inline="always")
+def detectability(state, pose, params, lag_s):
+    """How surely (0 to 1) the motion of a track with the constant-velocity state ``state``
+    ``(4,)`` (odometry frame: x, y m; vx, vy m/s) would have left free-space evidence over the
+    longest lag ``lag_s`` (s), seen from the laser pose ``pose`` ``(3,)``: 0 while its move over
+    the lag is within ``UNDETECTABLE_SIGMAS`` of the range noise at its distance, 1 from
+    ``DETECTABLE_SIGMAS``, linear between."""
+    rho = math.hypot(state[0] - pose[0], state[1] - pose[1])
+    sigma = max(params[_NOISE_REL] * rho, params[_NOISE_FLOOR])
+    moved = math.hypot(state[2], state[3]) * lag_s / sigma
+    return min(max((moved - UNDETECTABLE_SIGMAS) / (DETECTABLE_SIGMAS - UNDETECTABLE_SIGMAS), 0.0), 1.0)
+
+
 @njit(cache=True)
-def weigh_motion(t_s, shares, ranges, pose, params, weights, segment_of, static_x, alive, born_s, p_moving):
+def weigh_motion(
+    t_s, shares, ranges, pose, params, weights, segment_of, static_x, alive, born_s, p_moving, cv_x, lag_s
+):
     """Weigh each track's probability of moving ``p_moving`` ``(K,)`` by the scan's free-space
     evidence, in place, after the tracker's own update of the scan at ``t_s`` (s).
 
@@ -341,13 +363,18 @@ def weigh_motion(t_s, shares, ranges, pose, params, weights, segment_of, static_
     missed) has none. A track born this scan (``born_s[k] == t_s``) with evidence starts at
     probability ``weights[2]`` (born moving); an older one's log-odds gain ``weights[3]`` with
     evidence and ``weights[4]`` (≤ 0) without, so a track coasting out of view does not keep
-    the label it had. Probabilities stay within ``[weights[5], 1 − weights[5]]``.
+    the label it had. A matched track without evidence gains ``weights[4]`` times its
+    ``detectability``: a body too slow, or too far, for its motion to stand out of the range
+    noise over ``lag_s`` (s) leaves no evidence whether it moves or not, and its silence says
+    nothing. Probabilities stay within ``[weights[5], 1 − weights[5]]``.
 
     Args:
         params: ``(7,)`` ``evidence_parameters``.
         weights: ``(6,)`` as above (``motion_weights``).
         segment_of, static_x, alive, born_s: the tracker's ``(K,)``, ``(K, 2)`` (odometry frame,
             m), ``(K,)`` and ``(K,)`` (s) arrays.
+        cv_x: the tracks' constant-velocity states ``(K, 4)`` (odometry frame; m, m/s).
+        lag_s: the longest lag (s) a scan is compared over.
     """
     floor = weights[5]
     for k in range(alive.shape[0]):
@@ -362,5 +389,8 @@ def weigh_motion(t_s, shares, ranges, pose, params, weights, segment_of, static_
                 p_moving[k] = weights[2]
             continue
         p = p_moving[k]
-        odds = math.log(p / (1.0 - p)) + (weights[3] if evidence else weights[4])
+        gain = weights[3] if evidence else weights[4]
+        if not evidence and m >= 0:  # matched: its silence counts as far as its motion was detectable
+            gain *= detectability(cv_x[k], pose, params, lag_s)
+        odds = math.log(p / (1.0 - p)) + gain
         p_moving[k] = min(max(1.0 / (1.0 + math.exp(-odds)), floor), 1.0 - floor)

@@ -579,6 +579,7 @@ def track_step(
                 alive,
                 born_s,
                 p_moving,
+                cv_x,
             )
         if onsets:
             onset_velocity(
@@ -727,12 +728,14 @@ def free_space_step(
     alive,
     born_s,
     p_moving,
+    cv_x,
 ):
     """Weigh the tracks' probabilities of moving by the free-space evidence of the laser scan
     ``ranges_m`` ``(n,)`` just tracked (``track_scan``'s segments ``bounds``, ``counters[1]`` of
     them), then remember the scan (``tracking.free_space``; the history's rows are
     ``Tracker.scan_history``'s, its counters ``counters[2:4]``). The laser's pose is the
-    robot's ``robot_pose`` ``(3,)`` with the mounting point."""
+    robot's ``robot_pose`` ``(3,)`` with the mounting point; ``cv_x`` ``(K, 4)`` are the tracks'
+    constant-velocity states, by which a silent track's motion is judged detectable or not."""
     n = ranges_m.shape[0]
     c, s = math.cos(robot_pose[2]), math.sin(robot_pose[2])
     laser = np.empty(3)
@@ -771,7 +774,19 @@ def free_space_step(
         ]
     )
     free_space.weigh_motion(
-        t_s, shares, ranges_m, laser, evidence_params, weights, segment_of, static_x, alive, born_s, p_moving
+        t_s,
+        shares,
+        ranges_m,
+        laser,
+        evidence_params,
+        weights,
+        segment_of,
+        static_x,
+        alive,
+        born_s,
+        p_moving,
+        cv_x,
+        lags.max(),
     )
     free_space.remember_scan(t_s, ranges_m, laser, params[_FS_SPACING], times, poses, past, history_counters)
 
