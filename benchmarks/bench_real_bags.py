@@ -10,7 +10,8 @@ Each bag is replayed as ``attentive-gym attend`` replays it (``rosbag.open_bag``
 mount from the flags, the bag's TF or the configuration; self-returns masked), with the
 sensor's own range as no echo (``sensor_range=True``: a 5.6 m Hokuyo's no echo is 5.6 m), and
 with the goals of ``--goal`` (``attend``'s syntax; none: bottom-up) and the tracker values of
-``--profile`` (``config.LASER_PROFILES``; none: the defaults). Independently of the
+``--profile`` (``config.LASER_PROFILES``; none: the defaults) with ``--config``'s fields over
+them (``config.configured``). Independently of the
 model, moving beams are found from the raw scans alone, at the laser's own resolution
 (``BagReplay.raw``):
 
@@ -19,8 +20,8 @@ model, moving beams are found from the raw scans alone, at the laser's own resol
 - the beam moves at a scan when its echo lies more than 3 σ in front of its background, its
   range changed by more than 3 σ since the scan ``CHANGE_INTERVAL_S`` (0.2 s) earlier, and
   the beam does not return that range (within 3 σ) in ``RECURRENT_SHARE`` (5 %) of the scans
-  or more: a beam flickering between a far wall and no echo, or between two surfaces at an
-  edge, returns each of them again and again.
+  or more (and in ``RECURRENT_MIN_SCANS``, 3, at least): a beam flickering between a far
+  wall and no echo, or between two surfaces at an edge, returns each of them again and again.
 
 A region of the model (s1..s8: the scan beams whose bearings fall in it) holds motion at a
 step when at least ``MIN_MOVING_BEAMS`` (3) of its beams move. Over the steps with motion,
