@@ -21,6 +21,11 @@ markdown tables of:
 2. ``focus``: per default task goal, the fraction of the steps with the target in front and
    within 5 m at which the focus is the target's region (chance: 1/8), and each noisy
    setting's figure relative to the same mode's noise-free one (what the noise takes away).
+   Beside the modes, per robot mode and noise setting, the perfect-perception bound
+   (``perception.bound``): the same model and readings with the channels' kinematics taken
+   from the simulator's truth (the movers the laser sees on ≥ 2 beams), on the same episodes
+   (a raw environment stepped by the same policy: the same in-view steps); then each mode's
+   figure over the bound's. Chance and the bound frame each figure.
 3. ``control``: success rates in the 8 m arena with 2 distractors (seeds 0..N−1) of a
    controller steered by the latest top-down focus, of the same controller steered by the
    first row of the ``focus`` observation's working memory when it matched the goal
@@ -72,6 +77,7 @@ from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
 from attentive_gym.attention import model as model_module
 from attentive_gym.attention.tracking.tracker import Tracker
 from attentive_gym.perception import motion
+from attentive_gym.perception.bound import SEEN_BEAMS, make_bound_env
 from attentive_gym.perception.controllers import (
     FocusController,
     RandomController,
@@ -194,15 +200,41 @@ def perception_records(modes: Iterable[str], episodes: int, seconds: float, goal
                 for robot in ROBOT_MODES:
                     yield mode, noise.name, robot, error
                 continue
-            for robot in ROBOT_MODES:
-                records = [
-                    record_episode(
-                        env, seed, goals[seed % len(goals)], stand_still if robot == "still" else Wander(seed), seconds
-                    )
-                    for seed in range(episodes)
-                ]
+            for robot, records in _robot_records(env, episodes, seconds, goals):
                 yield mode, noise.name, robot, records
             env.close()
+
+
+def _robot_records(env, episodes: int, seconds: float, goals: tuple[Goal, ...]):
+    """Per robot mode, the ``record_episode`` of ``env`` on seeds ``0..episodes-1`` (the goals
+    in turn; the robot standing still or wandering): yields ``(robot, records)``."""
+    for robot in ROBOT_MODES:
+        policy = (lambda seed: stand_still) if robot == "still" else Wander
+        yield (
+            robot,
+            [record_episode(env, seed, goals[seed % len(goals)], policy(seed), seconds) for seed in range(episodes)],
+        )
+
+
+#: The label of the perfect-perception bound's rows, in the place of a mode.
+BOUND = "perfect perception"
+
+
+def bound_records(episodes: int, seconds: float, goals: tuple[Goal, ...]):
+    """``perception_records`` of the perfect-perception bound (``perception.bound``): the same
+    episodes (seeds, goals, policies, noise settings, arena), recorded from a raw environment
+    whose steps feed the model with the true kinematics. Yields ``(noise name, robot, records
+    or the error that made the configuration unavailable)``."""
+    for noise in NOISE_SETTINGS:
+        try:
+            env = make_bound_env(noise.sigma_rel, ATTENTION_FIELDS, **noise.env_kwargs, **PERCEPTION_ARENA)
+        except TypeError as error:
+            for robot in ROBOT_MODES:
+                yield noise.name, robot, error
+            continue
+        for robot, records in _robot_records(env, episodes, seconds, goals):
+            yield noise.name, robot, records
+        env.close()
 
 
 #: (column header, metric key) of the speed table and of the track table.
@@ -285,6 +317,28 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
                     for key in rates
                 ]
             )
+    bound_by_setting: dict[tuple[str, str], dict[str, float]] = {}  # (robot, noise) → goal → rate
+    if "focus" in sections:
+        for noise, robot, records in bound_records(episodes, seconds, goals):
+            label = [BOUND, robot, noise]
+            if isinstance(records, Exception):
+                focus_rows.append(
+                    label + [f"unavailable ({type(records).__name__}: {records})"] + [""] * (len(goal_names) - 1)
+                )
+                continue
+            focus = focus_on_target(records)
+            bound_by_setting[(robot, noise)] = {goal: rate for goal, (rate, _) in focus.items()}
+            for goal, (rate, steps) in focus.items():
+                results.add(
+                    "focus",
+                    {"mode": BOUND, "robot": robot, "noise": noise},
+                    {"focus_on_target": rate, "target_in_view_steps": steps},
+                    goal=goal,
+                )
+            focus_rows.append(
+                label
+                + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})" for g in goal_names]
+            )
     header = ["mode", "robot", "noise"]
     print(
         f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
@@ -308,9 +362,18 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
         print(
             "\nFocus on target: fraction of the steps with the target in front within "
             f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
-            f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}.\n"
+            f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}. `{BOUND}`: the bound, the same model and "
+            "readings with the true kinematics of the movers the laser sees on "
+            f"≥ {SEEN_BEAMS} beams, on the same episodes.\n"
         )
         print(markdown_table(header + [f"`{g}`" for g in goal_names], focus_rows))
+        bound_rows = _focus_relative_to_bound(results, focus_by_setting, bound_by_setting, goal_names)
+        if bound_rows:
+            print(
+                "\nFocus on target relative to the perfect-perception bound of the same robot and noise: how much "
+                "of what the model's selection achieves with true kinematics each mode's perception leaves.\n"
+            )
+            print(markdown_table(header + [f"`{g}`" for g in goal_names], bound_rows))
         relative_rows = _focus_relative_to_noise_free(results, focus_by_setting, goal_names)
         if relative_rows:
             print(
@@ -363,6 +426,30 @@ def _focus_relative_to_noise_free(
             results.add(
                 "focus", {"mode": mode, "robot": robot, "noise": noise}, {"focus_over_noise_free": ratio}, goal=goal
             )
+            cells.append(_fmt(ratio))
+        rows.append([mode, robot, noise] + cells)
+    return rows
+
+
+def _focus_relative_to_bound(
+    results: Results,
+    focus_by_setting: Mapping[tuple[str, str, str], Mapping[str, float]],
+    bound_by_setting: Mapping[tuple[str, str], Mapping[str, float]],
+    goal_names: list[str],
+) -> list[list[str]]:
+    """Rows of the focus on target of every mode's setting divided by the perfect-perception
+    bound's of the same robot and noise (NaN where either is undefined), each ratio also
+    added to ``results`` as ``focus_over_bound``."""
+    rows = []
+    for (mode, robot, noise), rates in focus_by_setting.items():
+        bound = bound_by_setting.get((robot, noise))
+        if bound is None:
+            continue
+        cells = []
+        for goal in goal_names:
+            reference = bound.get(goal, math.nan)
+            ratio = rates.get(goal, math.nan) / reference if reference > 0.0 else math.nan
+            results.add("focus", {"mode": mode, "robot": robot, "noise": noise}, {"focus_over_bound": ratio}, goal=goal)
             cells.append(_fmt(ratio))
         rows.append([mode, robot, noise] + cells)
     return rows

@@ -14,7 +14,10 @@ library code:
 - ``settings``: the benchmark's attended environments (``make_attentive_env``) and arenas;
 - ``motion``: scenes where a walker stops and goes or runs along structure, and the onset
   latency, false moving labels and recall measured on them (``record_motion``,
-  ``motion_metrics``).
+  ``motion_metrics``);
+- ``bound``: the perfect-perception bound, the model fed the simulator's true kinematics
+  of the movers the laser sees (``PerfectPerceptionModel``, ``make_bound_env``: a raw
+  environment whose ``info["attention"]`` is that model's output).
 
 The environments come from ``attentive_gym.wrappers.make_env`` (an attended variant, whose
 ``info["attention"]`` is the model's output); this package needs gymnasium and pymunk.

@@ -19,6 +19,19 @@ def test_the_perception_tables_and_their_csv_rows(tmp_path, capsys):
     assert "### Perception (1 episodes × 1.5 s per row" in out and "Focus on target relative" in out
     for noise in bench.NOISE_SETTINGS:
         assert f"| window | still | {noise.name} |" in out and f"| window | driving | {noise.name} |" in out
+        for robot in bench.ROBOT_MODES:  # the bound beside the modes, and each mode over it
+            assert f"| {bench.BOUND} | {robot} | {noise.name} |" in out
+    assert "Focus on target relative to the perfect-perception bound" in out
+    bound = [row for row in results.rows if row["mode"] == bench.BOUND]
+    assert {row["metric"] for row in bound} == {"focus_on_target", "target_in_view_steps"}
+    assert len(bound) == 2 * len(bench.NOISE_SETTINGS) * len(bench.ROBOT_MODES)  # one goal in one episode
+    steps = {
+        (row["mode"] == bench.BOUND, row["robot"], row["noise"]): row["value"]
+        for row in results.rows
+        if row["metric"] == "target_in_view_steps"
+    }
+    assert all(steps[(True, robot, noise)] == steps[(False, robot, noise)] for _, robot, noise in steps)  # same steps
+    assert any(row["metric"] == "focus_over_bound" for row in results.rows)
     assert {row["section"] for row in results.rows} == {"speed", "focus"}
     assert {row["noise"] for row in results.rows} == {noise.name for noise in bench.NOISE_SETTINGS}
     path = tmp_path / "out" / "figures.csv"
@@ -128,3 +141,19 @@ def test_focus_relative_to_noise_free_divides_by_the_same_mode_and_robot():
     assert rows == [["tracker", "still", noisy, "0.750", "—"]]  # 0.6 / 0.8; b has no noise-free focus to divide by
     ratios = {row["goal"]: row["value"] for row in results.rows}
     assert ratios["a"] == pytest.approx(0.75) and math.isnan(ratios["b"])
+
+
+def test_focus_relative_to_bound_divides_by_the_same_robot_and_noise():
+    quiet, noisy = bench.NOISE_SETTINGS[0].name, bench.NOISE_SETTINGS[2].name
+    focus = {
+        ("tracker", "still", quiet): {"a": 0.6, "b": 0.3},
+        ("window", "still", quiet): {"a": 0.4, "b": 0.3},
+        ("tracker", "driving", noisy): {"a": 0.5, "b": 0.5},
+    }  # no bound of the driving robot at that noise: no ratio
+    bound = {("still", quiet): {"a": 0.8, "b": 0.0}}
+    results = bench.Results()
+    rows = bench._focus_relative_to_bound(results, focus, bound, ["a", "b"])
+    assert rows == [["tracker", "still", quiet, "0.750", "—"], ["window", "still", quiet, "0.500", "—"]]
+    ratios = [(row["mode"], row["goal"], row["value"]) for row in results.rows]
+    assert all(row["metric"] == "focus_over_bound" for row in results.rows)
+    assert ratios[0] == ("tracker", "a", pytest.approx(0.75)) and math.isnan(ratios[1][2])

@@ -191,6 +191,7 @@ def test_the_perception_tables_read_each_mode_and_setting_from_its_rows():
     ]
     rows += [row("speed", "window", robot, "region_median_mps", 0.3) for robot in ("still", "driving")]
     rows += [row("speed", "window", "still", "goal_agreement_track", math.nan)]  # NaN: no tracks in the mode
+    assert "perfect-perception bound" not in perception_page.summary_table(rows)  # no bound rows: no lines
     rows += [
         row("control", "tracker", "controller", metric, value)
         for metric, value in (
@@ -200,8 +201,15 @@ def test_the_perception_tables_read_each_mode_and_setting_from_its_rows():
             ("success_random", 0.25),
         )
     ]
+    fast = "speed in [0.5, 0.9] m/s"
+    for robot in ("still", "driving"):
+        rows += [row("focus", "perfect perception", robot, "focus_on_target", 0.8, goal=fast)]
+        rows += [row("focus", "tracker", robot, "focus_over_bound", 0.75, goal=fast)]
     text = perception_page.summary_table(rows)
     lines = {line.split(" | ")[0].lstrip("| "): line for line in text.splitlines()}
+    over_bound = lines["the same ÷ the perfect-perception bound (true kinematics: 0.80 / 0.80), goal [0.5, 0.9]"]
+    assert over_bound.endswith("| 0.75 / 0.75 | — / — | — / — |")
+    assert "the same ÷ the perfect-perception bound (true kinematics: — / —), goal [0.15, 0.45]" in lines
     assert lines["track speed error, median / p90 (m/s), robot still"].endswith("| 0.03 / 0.20 | — | — |")
     assert lines["region speed error, median (m/s), still / driving"].endswith("| 0.05 / 0.05 | 0.30 / 0.30 | — |")
     assert lines["goal agreement, tracks, still / driving"].endswith("| 0.90 / 0.90 | — | — |")
