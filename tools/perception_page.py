@@ -354,7 +354,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "## Reproduce",
             "",
             "```bash",
-            f"{WRITTEN_BY}            # about 2 minutes on 2 cores",
+            f"{WRITTEN_BY}            # about 3 minutes on 2 cores",
             f"{CLUTTER_WRITTEN_BY}",
             f"{MOTION_WRITTEN_BY}",
             "python tools/report.py render",
