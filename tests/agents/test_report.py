@@ -32,6 +32,7 @@ def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
         "experiment_checks.csv",
         "safe_rescue.csv",
         "real_bags.csv",
+        "goal_choice.csv",
         "performance.csv",
     ):
         shutil.copy(RESULTS / name, tmp_path / "docs" / "results" / name)
