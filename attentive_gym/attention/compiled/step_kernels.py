@@ -397,6 +397,7 @@ def goal_maps(
     """
     n_regions = F.shape[1]
     require_target = (goal_options & REQUIRE_TARGET) != 0
+    silent_out = (goal_options & SILENT_MAPS_OUT) != 0
     any_goal = False
     silent_weight = 0.0  # the combination weight of the active top-down maps that are 0 everywhere
     for j in range(n_regions):
@@ -426,7 +427,7 @@ def goal_maps(
                 ok = ok and target
             F[3 + r, j] = value
             fulfilled[j] = fulfilled[j] and ok
-        if F[3 + r].max() == 0.0:
+        if silent_out and F[3 + r].max() == 0.0:
             silent_weight += combine[1, r]
     if not any_goal:
         fulfilled[:] = False
@@ -434,12 +435,12 @@ def goal_maps(
     vecmat(combine[1], F[3:], C_TD)
     # with normalised weights (summing to 1), leaving the silent maps out of the normaliser
     # divides the rest by 1 - their weight
-    scale = 1.0
-    if (goal_options & SILENT_MAPS_OUT) != 0 and 0.0 < silent_weight < 1.0:
+    if 0.0 < silent_weight < 1.0:
         scale = 1.0 / (1.0 - silent_weight)
+        for j in range(n_regions):
+            C_BU[j] *= scale
+            C_TD[j] *= scale
     for j in range(n_regions):
-        C_BU[j] *= scale
-        C_TD[j] *= scale
         C[j] = C_BU[j] + C_TD[j]
         origins[j] = 1 if C_TD[j] > C_BU[j] else 0
 
