@@ -35,7 +35,7 @@ from pathlib import Path
 
 from attentive_gym._kernel_cache import announce_compilation
 from attentive_gym._optional import MissingExtraError, require
-from attentive_gym.agents.cli import add_compare, add_evaluate, add_train
+from attentive_gym.agents.cli import add_compare, add_evaluate, add_generalise, add_train
 from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.stopping import Interrupted
 from attentive_gym.attention.config import LASER_PROFILES, configured
@@ -232,6 +232,7 @@ _SUBCOMMANDS: dict[str, Callable] = {
     "train": add_train,
     "evaluate": add_evaluate,
     "compare": add_compare,
+    "generalise": add_generalise,
 }
 
 

@@ -168,6 +168,9 @@ def single_env_table(f: Figures) -> str:
     trained = f.get("training", "ppo", ppo or "", f"{clock}_steps_per_s")
     trivial = f.get("training", "ppo", "trivial", f"{clock}_steps_per_s")
     in_env = f.get("training", "ppo", ppo or "", "env_fraction")
+    n_envs = f.get("training", "ppo", ppo or "", "n_envs")
+    earlier = f.get("training", "earlier defaults", ppo or "", f"{clock}_steps_per_s")
+    earlier_envs = f.get("training", "earlier defaults", ppo or "", "n_envs")
     rows = [
         [
             "raw `AttentiveRescue-v0` step, random actions",
@@ -200,13 +203,28 @@ def single_env_table(f: Figures) -> str:
             " / ".join(_ratio(rate, wrapper_walker) for rate in variant_rates) + "× its speed",
         ],
         [
-            f"PPO training on `{ppo}`, 4 envs, one torch thread ({clock} time)",
+            f"PPO training on `{ppo}`, {_envs(n_envs)}, one torch thread ({clock} time)",
             f"{number(trained, 0)} env-steps/s",
             f"PPO on a trivial env with the same spaces: {number(trivial, 0)}",
             f"{_ratio(trained, trivial)}× its speed; {number(in_env and 100 * in_env, 0)} % of the time in the env",
         ],
     ]
+    if earlier is not None:
+        rows.append(
+            [
+                f"PPO training on `{ppo}`, today's defaults against the earlier ones ({_envs(earlier_envs)}, "
+                "256-step rollouts, minibatch 256)",
+                f"{number(trained, 0)} env-steps/s",
+                f"the earlier defaults: {number(earlier, 0)}",
+                f"{_ratio(trained, earlier)}× their speed",
+            ]
+        )
     return table(["what", "measured", "peer, same run", "ratio"], rows)
+
+
+def _envs(n: float | None) -> str:
+    """``"32 envs"``; ``"4 envs"`` for a CSV written before the count was recorded (the defaults then)."""
+    return f"{int(n) if n is not None else 4} envs"
 
 
 def split_text(f: Figures) -> str:

@@ -74,7 +74,8 @@ _REPRODUCE = """\
 
 Train a comparison, merge its rows into the CSVs, and render this page (the rows of each
 setting above came from the same commands with the setting's flags: `--algo recurrent-ppo`,
-`--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate, `--obs-scaling none`):
+`--n-envs 4 --algo-kwargs '{"n_steps": 256, "batch_size": 256}'` for the rollout before
+`algo_defaults` 3, `--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate, `--obs-scaling none`):
 
 ```bash
 attentive-gym compare --variants raw,raw-stack,focus,saliency,oracle,random-focus --seeds 5 --steps 1000000 \\
@@ -88,7 +89,7 @@ python tools/report.py add runs/clutter/sweep.csv --clutter   # into docs/result
 python tools/report.py render                                  # this page, the figures and the README's headline
 ```
 
-`report add` tags the rows with the comparison's algorithm and learning rate (from its
+`report add` tags the rows with the comparison's algorithm, learning rate and rollout (from its
 `compare.json`) and replaces the rows of the same runs; see [the agents guide](../agents.md).
 """
 

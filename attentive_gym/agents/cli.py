@@ -1,4 +1,4 @@
-"""``attentive-gym train``, ``evaluate`` and ``compare``: add-functions for ``attentive_gym.cli``.
+"""``attentive-gym train``, ``evaluate``, ``compare`` and ``generalise``: add-functions for ``attentive_gym.cli``.
 
 Each ``add_*`` adds one subcommand to an argparse sub-parser collection; the handlers raise
 ``ValueError`` for invalid input, which ``attentive_gym.cli.main`` prints as one line on
@@ -20,7 +20,9 @@ from attentive_gym.agents.backends import BACKENDS
 from attentive_gym.agents.config import (
     ALGO_DEFAULTS,
     ALGOS,
+    N_ENVS,
     OBS_SCALINGS,
+    PPO_N_ENVS,
     QUICK,
     SCHEDULE_KEYS,
     STEPS_PER_EVAL_EPISODE,
@@ -33,7 +35,7 @@ from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from attentive_gym.wrappers.variants import VARIANTS
 
-__all__ = ["add_train", "add_evaluate", "add_compare", "parse_json_object"]
+__all__ = ["add_train", "add_evaluate", "add_compare", "add_generalise", "parse_json_object"]
 
 
 def parse_json_object(text: str | None, flag: str) -> dict[str, Any]:
@@ -122,8 +124,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
     parser.add_argument(
         "--n-envs",
         type=_positive_int,
-        default=RunSpec.n_envs,
-        help=f"vectorised training envs (default: {RunSpec.n_envs})",
+        default=None,
+        help=f"vectorised training envs (default: {PPO_N_ENVS} with ppo, {N_ENVS} with recurrent-ppo and sac)",
     )
     parser.add_argument(
         "--vec-env",
@@ -167,8 +169,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
         help="SB3 keyword arguments over the run's defaults, e.g. '{\"n_steps\": 128}'; "
         f'{", ".join(SCHEDULE_KEYS)} also take "lin_<number>", a linear decay to 0 over the '
         "budget (defaults: "
-        f"ppo {json.dumps(RunSpec().default_algo_kwargs())}, recurrent-ppo the same with "
-        f"{json.dumps({'policy_kwargs': RunSpec(algo='recurrent-ppo').default_algo_kwargs()['policy_kwargs']})}, "
+        f"ppo {json.dumps(RunSpec().default_algo_kwargs())}, "
+        f"recurrent-ppo {json.dumps(RunSpec(algo='recurrent-ppo').default_algo_kwargs())}, "
         f"sac {json.dumps(RunSpec(algo='sac').default_algo_kwargs())})",
     )
 
@@ -377,6 +379,57 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     if args.video:
         for path in record_videos(model, lambda **kw: env_factory(spec, **kw)(), args.video, args.video_episodes, seed):
             print(f"wrote {path}")
+    return 0
+
+
+# --- generalise -------------------------------------------------------------------------
+def add_generalise(subparsers) -> None:
+    from attentive_gym.agents.generalisation import CSV_NAME, SHIFTS
+
+    parser = subparsers.add_parser(
+        "generalise",
+        help="evaluate a comparison's policies on settings they were not trained on",
+        description="Evaluate the final policy of every finished run of a comparison (its --out folder) on its "
+        "own evaluation episodes under each shift of its environment, one at a time: "
+        f"{', '.join(repr(name) for name in SHIFTS)}. Writes DIR/{CSV_NAME} (one row per run and shift, "
+        "written as each finishes: Ctrl-C keeps the finished rows and a rerun evaluates only the missing ones), "
+        "DIR/generalisation_summary.csv (per shift and variant: success, safe success and contact time, mean "
+        "over seeds with 95 % bootstrap CIs) and DIR/generalisation.png.",
+    )
+    parser.add_argument("comparison", type=Path, help="the --out folder of 'attentive-gym compare'")
+    parser.add_argument("--shifts", metavar="LIST", help="comma list of shifts (default: all of them)")
+    parser.add_argument("--episodes", type=_positive_int, default=20, help="episodes per run and shift (default: 20)")
+    parser.add_argument(
+        "--workers",
+        type=_positive_int,
+        default=os.cpu_count() or 1,
+        help=f"evaluations in parallel (default: the CPU count, {os.cpu_count() or 1} here)",
+    )
+    parser.set_defaults(handler=_run_generalise)
+
+
+def _run_generalise(args: argparse.Namespace) -> int:
+    _require_agents_extra("generalise")
+    from attentive_gym.agents.generalisation import SUMMARY_COLUMNS, generalise, parse_shifts, summarise_shifts
+    from attentive_gym.agents.plots import plot_generalisation
+    from attentive_gym.agents.results import write_csv_atomic
+
+    shifts = parse_shifts(args.shifts)
+    try:
+        rows = generalise(args.comparison, shifts, args.episodes, args.workers)
+    except Interrupted as stop:
+        kept = args.comparison / "generalisation.csv"
+        raise Interrupted(stop.signum, f"the finished rows are in {kept}; rerun to evaluate the rest") from None
+    summary = summarise_shifts(rows)
+    write_csv_atomic(args.comparison / "generalisation_summary.csv", summary, SUMMARY_COLUMNS)
+    figure = plot_generalisation(summary, args.comparison / "generalisation.png")
+    for row in summary:
+        print(
+            f"{row['shift']:>16} {row['variant']:<13} success {row['success_mean']:.2f} "
+            f"[{row['success_ci_low']:.2f}, {row['success_ci_high']:.2f}], safe {row['safe_success_mean']:.2f} "
+            f"[{row['safe_success_ci_low']:.2f}, {row['safe_success_ci_high']:.2f}] ({row['n_seeds']} seeds)"
+        )
+    print(f"wrote {args.comparison / 'generalisation_summary.csv'} and {figure}")
     return 0
 
 

@@ -24,6 +24,8 @@ __all__ = [
     "VEC_ENVS",
     "OBS_SCALINGS",
     "ALGO_DEFAULTS",
+    "N_ENVS",
+    "PPO_N_ENVS",
     "QUICK",
     "SCHEDULE_KEYS",
     "SB3_LEARNING_RATE",
@@ -55,8 +57,13 @@ OBS_SCALINGS = ("running", "none")
 #: learning rate constant at 3e-4 (SB3's default; runs written before 2026-12-03, whose
 #: ``spec.json`` has no ``algo_defaults``); 2 (the current one), the rate decayed linearly
 #: from 3e-4 to 0 over the budget (``"lin_3e-4"``), which keeps the focus policies from
-#: falling back late in long runs (docs/notes/2026-12-03-learning-rate.md).
-ALGO_DEFAULTS = (1, 2)
+#: falling back late in long runs (docs/notes/2026-12-03-learning-rate.md), with 4 envs ×
+#: 256-step rollouts and minibatches of 256; 3 (the current one), PPO with 32 envs × 64-step
+#: rollouts and minibatches of 512 (2048 steps and 20 gradient steps per update), which trains
+#: more than twice as fast on 2 cores (docs/notes/2026-12-06-faster-ppo.md).
+ALGO_DEFAULTS = (1, 2, 3)
+#: ``RunSpec.n_envs`` when none is given: PPO's under ``algo_defaults`` 3, and every other case.
+PPO_N_ENVS, N_ENVS = 32, 4
 
 #: ``algo_kwargs`` that take a schedule: a number, or ``"lin_<number>"`` (as in rl-zoo's
 #: hyper-parameter files), a linear decay from that number to 0 over the run's budget.
@@ -89,7 +96,8 @@ class RunSpec:
         total_steps: training budget in environment steps (summed over the ``n_envs``).
         seed: seeds SB3 (``seed=``), the training environments and, offset by 10 000,
             the evaluation episodes.
-        n_envs: parallel training environments.
+        n_envs: parallel training environments; None (the default) takes ``default_n_envs``
+            (32 for PPO under ``algo_defaults`` 3, else 4).
         vec_env: ``"native"`` (one process, the fleet stepped as one), ``"dummy"`` (one
             process, one env after another) or ``"subproc"`` (one process per env).
         eval_every: environment steps between evaluations (plus one at 0 and at the end).
@@ -112,7 +120,7 @@ class RunSpec:
     algo: str = "ppo"
     total_steps: int = 100_000
     seed: int = 0
-    n_envs: int = 4
+    n_envs: int | None = None
     vec_env: str = "native"
     eval_every: int = 10_000
     eval_episodes: int = 20
@@ -134,13 +142,15 @@ class RunSpec:
             raise ValueError(f"unknown obs_scaling {self.obs_scaling!r}; allowed: {list(OBS_SCALINGS)}")
         check_int("total_steps", self.total_steps, 1)
         check_int("seed", self.seed, 0)
+        if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
+            raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
+        if self.n_envs is None:
+            object.__setattr__(self, "n_envs", self.default_n_envs())
         check_int("n_envs", self.n_envs, 1)
         check_int("eval_every", self.eval_every, 1)
         check_int("eval_episodes", self.eval_episodes, 1)
         check_int("checkpoint_every", self.checkpoint_every, 1)
         check_int("torch_threads", self.torch_threads, 1)
-        if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
-            raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
         for name in ("env_kwargs", "algo_kwargs"):
             value = getattr(self, name)
             if not isinstance(value, Mapping):
@@ -157,11 +167,18 @@ class RunSpec:
         """The run's folder name, e.g. ``"focus-seed3"``."""
         return f"{self.variant}-seed{self.seed}"
 
+    def default_n_envs(self) -> int:
+        """The training envs when ``n_envs`` is not given: ``PPO_N_ENVS`` (32) for PPO under
+        ``algo_defaults`` 3, ``N_ENVS`` (4) otherwise (RecurrentPPO and SAC, and earlier defaults)."""
+        return PPO_N_ENVS if self.algo == "ppo" and self.algo_defaults >= 3 else N_ENVS
+
     def default_algo_kwargs(self) -> dict[str, Any]:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.
 
-        PPO and RecurrentPPO: rollouts of 256 steps per env, minibatch 256, 5 epochs,
-        lr 3e-4 decayed linearly to 0 over the budget (``"lin_3e-4"``; constant 3e-4 with
+        PPO: rollouts of 64 steps per env and minibatches of 512 (with ``n_envs`` 32, 2048
+        steps and 4 minibatches per epoch; rollouts of 256 and minibatches of 256 with
+        ``algo_defaults`` 1 and 2), 5 epochs; RecurrentPPO: rollouts of 256, minibatches of 256,
+        5 epochs. Both: lr 3e-4 decayed linearly to 0 over the budget (``"lin_3e-4"``; constant 3e-4 with
         ``algo_defaults`` 1), gamma 0.99, a small ent_coef for exploration. RecurrentPPO's LSTM has
         one layer of 64 units (sb3-contrib's default is 256): the observations hold at
         most a few hundred numbers, and 64 units train ≈ 3× faster on a CPU. SAC: SB3's
@@ -169,9 +186,10 @@ class RunSpec:
         """
         if self.algo in ("ppo", "recurrent-ppo"):
             learning_rate = SB3_LEARNING_RATE if self.algo_defaults == 1 else "lin_3e-4"
+            fast = self.algo == "ppo" and self.algo_defaults >= 3
             ppo = {
-                "n_steps": 256,
-                "batch_size": 256,
+                "n_steps": 64 if fast else 256,
+                "batch_size": 512 if fast else 256,
                 "n_epochs": 5,
                 "learning_rate": learning_rate,
                 "gamma": 0.99,

@@ -66,16 +66,29 @@ BASELINE, ORACLE = "raw", "oracle"
 NOT_ATTENDED = frozenset({"raw", "raw-stack", "oracle", "random-focus"})
 
 
+#: PPO's rollout before ``algo_defaults`` 3 (envs, steps per env, minibatch, epochs): rows
+#: trained with it carry no rollout note in their tag.
+EARLIER_ROLLOUT = (4, 256, 256, 5)
+
+
 def algo_tag(run: Mapping[str, Any]) -> str:
     """The tag of the rows of a comparison whose run settings (``compare.json``'s ``"run"``)
     are ``run``: its algorithm, followed by ``", lr <rate>"`` unless its learning rate is
     SB3's constant ``SB3_LEARNING_RATE`` (a schedule, the default since ``algo_defaults`` 2,
-    or another number given in ``algo_kwargs``), so that runs at different rates never
-    share a tag."""
+    or another number given in ``algo_kwargs``), and for PPO and RecurrentPPO by the rollout
+    (``", 32 envs × 64 steps, batch 512"``, with ``", N epochs"`` when not 5) unless it is
+    ``EARLIER_ROLLOUT``, so that runs at different rates or rollouts never share a tag."""
     spec = RunSpec.from_dict(run)
-    if spec.learning_rate() == SB3_LEARNING_RATE:
-        return spec.algo
-    return f"{spec.algo}, lr {spec.hyper_parameters()['learning_rate']}"
+    parts = [spec.algo]
+    if spec.learning_rate() != SB3_LEARNING_RATE:
+        parts.append(f"lr {spec.hyper_parameters()['learning_rate']}")
+    if spec.algo != "sac":
+        hyper = spec.hyper_parameters()
+        rollout = (spec.n_envs, hyper["n_steps"], hyper["batch_size"], hyper["n_epochs"])
+        if rollout != EARLIER_ROLLOUT:
+            parts.append(f"{rollout[0]} envs × {rollout[1]} steps, batch {rollout[2]}")
+            parts += [f"{rollout[3]} epochs"] if rollout[3] != EARLIER_ROLLOUT[3] else []
+    return ", ".join(parts)
 
 
 def default_tag() -> str:

@@ -30,6 +30,7 @@ __all__ = [
     "plot_learning_curves",
     "plot_success_vs_distractors",
     "plot_goal_choice",
+    "plot_generalisation",
     "split_label",
     "steps_label",
     "METRIC_BOUNDS",
@@ -281,6 +282,42 @@ def plot_goal_choice(
     weights_ax.set_ylim(-0.03 * max_weight, 1.03 * max_weight)
     seeds = len({r["seed"] for r in rows})
     fig.suptitle(title or f"{variants[0]}, n={seeds} seeds: mean over seeds, shaded: 95 % bootstrap CI", fontsize=10)
+    return _save(fig, path)
+
+
+def plot_generalisation(
+    summary: Sequence[Mapping[str, Any]], path: str | os.PathLike, title: str | None = None
+) -> Path:
+    """Two panels, success and safe success: per shift (x), one bar per variant with its 95 %
+    interval."""
+    plt = _pyplot()
+    shifts = list(dict.fromkeys(row["shift"] for row in summary))
+    variants = list(dict.fromkeys(row["variant"] for row in summary))
+    styles = _line_styles(variants)
+    by_key = {(row["shift"], row["variant"]): row for row in summary}
+    fig, axes = plt.subplots(2, 1, figsize=(max(7.0, 1.1 * len(shifts) + 2), 6.5), sharex=True)
+    width = 0.8 / len(variants)
+    for ax, metric, label in zip(axes, ("success", "safe_success"), ("success rate", "safe success rate")):
+        for k, variant in enumerate(variants):
+            xs, heights, errors = [], [], [[], []]
+            for i, shift in enumerate(shifts):
+                row = by_key.get((shift, variant))
+                if row is None:
+                    continue
+                mean, low, high = (row[f"{metric}_{part}"] for part in ("mean", "ci_low", "ci_high"))
+                xs.append(i - 0.4 + width * (k + 0.5))
+                heights.append(mean)
+                errors[0].append(0.0 if math.isnan(low) else mean - low)
+                errors[1].append(0.0 if math.isnan(high) else high - mean)
+            ax.bar(xs, heights, width, yerr=errors, capsize=2, color=styles[variant]["color"], label=variant)
+        ax.set_ylim(0.0, 1.0)
+        ax.set_ylabel(f"{label}\n(mean over seeds, 95 % CI)")
+        ax.grid(axis="y", alpha=0.3)
+    axes[0].legend(ncol=len(variants), fontsize="small", loc="lower left")
+    axes[-1].set_xticks(range(len(shifts)), shifts, rotation=20, ha="right")
+    axes[-1].set_xlabel("evaluation setting (the policies trained on 'as trained')")
+    if title:
+        axes[0].set_title(title)
     return _save(fig, path)
 
 

@@ -400,13 +400,16 @@ def train(
     import torch
 
     run_dir = Path(run_dir)
+    # before any torch operation (validate_spec builds the algorithm): an OpenMP pool started
+    # with more threads keeps them spinning after set_num_threads shrinks it, which cost
+    # 2-3x the CPU time of every training step
+    torch.set_num_threads(spec.torch_threads)
+    numba.set_num_threads(min(spec.torch_threads, numba.config.NUMBA_NUM_THREADS))  # the fleet's sensor sweep
     validate_spec(spec)
     run_dir.mkdir(parents=True, exist_ok=True)
     _bind_spec(spec, run_dir, extend)
     if is_done(run_dir):
         return RunResult(json.loads((run_dir / "metrics.json").read_text()))
-    torch.set_num_threads(spec.torch_threads)
-    numba.set_num_threads(min(spec.torch_threads, numba.config.NUMBA_NUM_THREADS))  # the fleet's sensor sweep
     algo_cls = _algo_class(spec.algo)
     eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
     vec = _make_vec_env(spec)

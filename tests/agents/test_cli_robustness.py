@@ -365,7 +365,7 @@ def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends
     ]
     assert main([*options, "--steps", "128"]) == 0
     stored = json.loads((out / "spec.json").read_text())
-    assert stored["algo_defaults"] == 2
+    assert stored["algo_defaults"] == 3
     del stored["algo_defaults"]  # as train wrote it before 2026-12-03
     (out / "spec.json").write_text(json.dumps(stored))
     assert main([*options, "--steps", "256", "--extend"]) == 0
@@ -409,7 +409,7 @@ def test_a_folder_trained_before_the_rate_decayed_by_default_resumes_and_extends
         )
         == 0
     )
-    assert json.loads((tmp_path / "new" / "spec.json").read_text())["algo_defaults"] == 2  # a new folder: the latest
+    assert json.loads((tmp_path / "new" / "spec.json").read_text())["algo_defaults"] == 3  # a new folder: the latest
 
 
 @pytest.mark.slow
@@ -472,7 +472,7 @@ def test_a_small_budget_evaluates_on_fewer_episodes_and_long_runs_keep_their_def
 
 
 def test_a_smoke_train_keeps_its_first_evaluation_and_evaluates_two_episodes_in_all(tmp_path, tiny, capsys):
-    """``train --steps 512`` (one PPO rollout of 4 × 256 env steps): an evaluation at 0 and one at the end, of one
+    """``train --steps 512`` (one PPO rollout of 32 × 64 env steps): an evaluation at 0 and one at the end, of one
     episode each (it was 20 each, many times the run's training at hundreds of env steps an episode)."""
     out = tmp_path / "smoke"
     assert (
@@ -488,7 +488,7 @@ def test_a_smoke_train_keeps_its_first_evaluation_and_evaluates_two_episodes_in_
         printed,
     )
     rows = read_csv(out / "eval.csv")
-    assert [(row["env_steps"], row["n_episodes"]) for row in rows] == [(0, 1), (1024, 1)]
+    assert [(row["env_steps"], row["n_episodes"]) for row in rows] == [(0, 1), (2048, 1)]
 
 
 def test_a_resumed_run_keeps_its_evaluation_episodes_when_the_flag_is_left_out(tmp_path, tiny):

@@ -170,3 +170,27 @@ def test_a_run_without_tensorboard_leaves_nothing_in_the_temp_directory(tmp_path
     train(tiny(total_steps=128), tmp_path / "run", tensorboard=False)
     assert [p.name for p in temp.iterdir() if p.name.startswith("SB3-")] == []
     assert (tmp_path / "run" / "metrics.json").is_file() and not (tmp_path / "run" / "tb").exists()
+
+
+def test_the_thread_count_is_set_before_any_torch_operation(tmp_path, tiny, monkeypatch):
+    """``validate_spec`` builds the algorithm (torch's first operations in a fresh run process): it must find
+    torch already at the run's thread count, or the OpenMP pool starts with every core and its extra threads
+    keep spinning after it shrinks (2-3x the CPU time of a training step, measured)."""
+    import numba
+    import torch
+
+    import attentive_gym.agents.training as training
+
+    seen = []
+    validate = training.validate_spec
+    monkeypatch.setattr(
+        training,
+        "validate_spec",
+        lambda spec: seen.append((torch.get_num_threads(), numba.get_num_threads())) or validate(spec),
+    )
+    torch.set_num_threads(2)
+    try:
+        train(tiny(torch_threads=1, total_steps=128), tmp_path / "run", tensorboard=False)
+    finally:
+        torch.set_num_threads(1)
+    assert seen == [(1, 1)]

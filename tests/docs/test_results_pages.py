@@ -304,3 +304,40 @@ def test_the_goal_action_page_takes_each_seeds_last_evaluation(tmp_path):
     assert "| share of the evaluation's steps, or mean weight | at 1,000 env steps (2 seeds) |" in page
     assert "| chosen goal = the task's | 0.70 [0.60, 0.80] |" in page  # seeds' last rows: 0.6 and 0.8
     assert "| weight of F4 | 1.50 [1.50, 1.50] |" in page
+
+
+def test_the_generalisation_page_gives_each_setting_its_intervals_and_says_where_the_target_holds(tmp_path):
+    """Focus above raw with the intervals apart is asked only where the oracle's interval is above raw's."""
+    page_module = load_tool("generalisation_page")
+    finals = {  # shift → variant → per-seed success
+        "as trained": {"raw": (0.4, 0.5, 0.45), "focus": (0.8, 0.9, 0.85), "oracle": (0.9, 1.0, 0.95)},
+        "10 % noise": {"raw": (0.4, 0.5, 0.45), "focus": (0.4, 0.6, 0.5), "oracle": (0.9, 0.95, 1.0)},
+        "12 m arena": {"raw": (0.2, 0.3, 0.25), "focus": (0.5, 0.6, 0.55), "oracle": (0.2, 0.4, 0.3)},
+    }
+    rows = [
+        {
+            "variant": variant,
+            "seed": seed,
+            "shift": shift,
+            "env_steps": 1000,
+            "n_episodes": 20,
+            "success_rate": success,
+            "safe_success_rate": success / 2,
+            "mean_contact_s": 1.0,
+            "mean_return": 0.0,
+            "mean_episode_length": 300,
+        }
+        for shift, by_variant in finals.items()
+        for variant, values in by_variant.items()
+        for seed, success in enumerate(values)
+    ]
+    _write(tmp_path / "docs/results/generalisation.csv", list(rows[0]), rows)
+    page = page_module.page(tmp_path, write_figures=False)
+    success, safe = page.split("## Safe success rate")
+    lines = {line.split(" | ")[0]: line for line in success.splitlines() if line.startswith("| ")}
+    assert "| as trained | 0.23 [0.20, 0.25] | — |" in safe  # half the success, per the rows
+    assert lines["| as trained"].endswith("| 0.95 [0.90, 1.00] | met |") and "| — |" in lines["| as trained"]
+    assert lines["| 10 % noise"].endswith("| **not met** |")
+    assert lines["| 12 m arena"].endswith("| not asked: the oracle's interval is not above raw's |")
+    assert "met under 1 of the 2 settings where it is asked" in page
+    assert "12 m arena: `{'arena_size_m': 12.0}`" in page and "1,000 env steps, 3 seeds per variant" in page

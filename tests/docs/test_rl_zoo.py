@@ -95,7 +95,7 @@ def test_every_entry_builds_on_its_environment(algo):
 
 @pytest.mark.slow
 def test_rl_zoo_trains_with_the_shipped_file(tmp_path):
-    """``python -m rl_zoo3.train`` with ``--conf-file`` (one PPO update: 4 envs × 256 steps)."""
+    """``python -m rl_zoo3.train`` with ``--conf-file`` (one PPO update: 32 envs × 64 steps)."""
     pytest.importorskip("rl_zoo3", reason="needs rl-zoo3 (the 'test' extra)")
     command = [
         sys.executable,

@@ -1,9 +1,9 @@
 """Hyperparameters for the RL Baselines3 Zoo (``rl-zoo3``), one entry per registered id.
 
 - ``ppo.yml``: PPO with ``MultiInputPolicy`` and the project's own settings
-  (``attentive_gym.agents.config.RunSpec.default_algo_kwargs``, 4 environments).
+  (``attentive_gym.agents.config.RunSpec.default_algo_kwargs``, 32 environments).
 - ``ppo_lstm.yml``: RecurrentPPO (``--algo ppo_lstm``) with ``MultiInputLstmPolicy`` and the
-  same settings.
+  project's RecurrentPPO settings (4 environments).
 - ``conf_file(algo)``: the path of an algorithm's file, for ``--conf-file``.
 
 ``--conf-file`` takes either the file (``attentive_gym/agents/rl_zoo/ppo.yml`` in a source
