@@ -17,7 +17,7 @@ from typing import Any
 from attentive_gym.agents.generalisation import SHIFTS, summarise_shifts
 from attentive_gym.agents.plots import plot_generalisation
 from attentive_gym.envs.reward import SAFE_CONTACT_S
-from page_text import FIGURES, RESULTS, banner, interval, read_rows, table
+from page_text import FIGURES, RESULTS, banner, read_rows, summary_interval, table
 
 NAME = "generalisation.md"
 SOURCE = RESULTS / "generalisation.csv"
@@ -52,11 +52,7 @@ def metric_table(summary: Mapping[tuple[str, str], Mapping[str, Any]], shifts: S
         cells = [shift]
         for variant in VARIANTS:
             row = summary.get((shift, variant))
-            cells.append(
-                "—"
-                if row is None
-                else interval(row[f"{metric}_mean"], row[f"{metric}_ci_low"], row[f"{metric}_ci_high"])
-            )
+            cells.append("—" if row is None else summary_interval(row, metric))
         rows.append(cells + ([verdict(summary, shift)] if metric == "success" else []))
     headers = ["setting", *VARIANTS] + (["focus above raw (intervals apart)"] if metric == "success" else [])
     return table(headers, rows)

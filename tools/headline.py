@@ -22,7 +22,7 @@ from attentive_gym.agents.merged import SCALED, budgets, default_tag
 from attentive_gym.agents.plots import recorded, steps_label
 from attentive_gym.agents.results import summarise
 from attentive_gym.envs.reward import SAFE_CONTACT_S
-from page_text import FIGURES, RENDER_COMMAND, RESULTS, interval, table
+from page_text import FIGURES, RENDER_COMMAND, RESULTS, summary_interval, table
 
 START, END = "<!-- results-headline:start -->", "<!-- results-headline:end -->"
 #: The variants of the headline, in its order.
@@ -94,10 +94,7 @@ def _success_table(summary: Sequence[Mapping[str, Any]]) -> list[str]:
         note = []
     else:
         note = [rl_page.PREDATE_SAFE_SUCCESS, ""]
-    rows = [
-        [row["variant"], *(interval(row[f"{key}_mean"], row[f"{key}_ci_low"], row[f"{key}_ci_high"]) for key in keys)]
-        for row in summary
-    ]
+    rows = [[row["variant"], *(summary_interval(row, key) for key in keys)] for row in summary]
     return [table(headers, rows), *note]
 
 

@@ -15,6 +15,7 @@ import csv
 import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 #: The results folder (the CSVs and the pages generated from them), the figures and the
 #: README, relative to the repository's root.
@@ -65,6 +66,11 @@ def interval(point: float, low: float, high: float, digits: int = 2) -> str:
     if math.isnan(low) or math.isnan(high):
         return number(point, digits)
     return f"{number(point, digits)} [{number(low, digits)}, {number(high, digits)}]"
+
+
+def summary_interval(row: Mapping[str, Any], key: str, digits: int = 2) -> str:
+    """``interval`` of a summary row's ``<key>_mean`` [``_ci_low``, ``_ci_high``]."""
+    return interval(row[f"{key}_mean"], row[f"{key}_ci_low"], row[f"{key}_ci_high"], digits)
 
 
 def values(rows: Sequence[Mapping[str, str]], **match: str) -> dict[str, float]:

@@ -35,7 +35,7 @@ from attentive_gym.agents.plots import plot_learning_curves, plot_success_vs_dis
 from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summarise, summary_markdown
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.envs.reward import SAFE_CONTACT_S
-from page_text import FIGURES, RESULTS, banner, interval, number, table
+from page_text import FIGURES, RESULTS, banner, number, summary_interval, table
 
 NAME = "rl.md"
 #: The main comparison's arena (the ``--env-kwargs`` of the commands under "Reproduce").
@@ -170,12 +170,7 @@ def _clutter_markdown(summary: Sequence[Mapping[str, Any]], variants: Sequence[s
         values = []
         for n in counts:
             row = cell.get((variant, n))
-            values.append(
-                "—"
-                if row is None
-                else interval(row[f"{key}_mean"], row[f"{key}_ci_low"], row[f"{key}_ci_high"])
-                + f" (n={row['n_seeds']})"
-            )
+            values.append("—" if row is None else summary_interval(row, key) + f" (n={row['n_seeds']})")
         rows.append([variant, *values])
     return table(_count_headers("variant", counts), rows)
 
