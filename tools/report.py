@@ -10,17 +10,18 @@ Two commands, so that batches of runs trained at different times add up:
   ``compare.json`` beside the file tells it) and ``obs_scaling``; a (variant, algo,
   obs_scaling, seed[, num_distractors]) already there is replaced.
 - ``python tools/report.py render [--check]``: write ``docs/results/rl.md``,
-  ``perception.md``, ``checks.md``, ``performance.md``, ``safe_rescue.md``, ``real_bags.md``
-  and ``goal_action.md`` from the CSVs beside them, the figures under ``docs/figures/``, and
-  the README's block between ``<!-- results-headline:start -->`` and
-  ``<!-- results-headline:end -->``. ``--check``
-  writes nothing and exits 1 naming every file that differs from what the CSVs give.
+  ``perception.md``, ``checks.md``, ``performance.md``, ``safe_rescue.md``, ``real_bags.md``,
+  ``goal_action.md`` and ``generalisation.md`` from the CSVs beside them, the figures under
+  ``docs/figures/``, and the README's block between ``<!-- results-headline:start -->`` and
+  ``<!-- results-headline:end -->``. ``--check`` writes nothing and exits 1 naming every
+  file that differs from what the CSVs give.
 
 The CSVs come from ``tools/report.py add`` (RL), ``benchmarks/bench_perception.py --csv``
 (perception), ``tools/experiments_table.py`` (the experiments' checks), the benchmarks'
-``--csv`` option (performance), ``tools/safe_rescue_table.py`` (safe rescue) and
-``benchmarks/bench_real_bags.py --csv`` (real bags) and a goal-action comparison's
-``goal_choice.csv`` (learned attention control).
+``--csv`` option (performance), ``tools/safe_rescue_table.py`` (safe rescue),
+``benchmarks/bench_real_bags.py --csv`` (real bags), a goal-action comparison's
+``goal_choice.csv`` (learned attention control) and ``attentive-gym generalise``
+(generalisation).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 import checks_page
+import generalisation_page
 import goal_action_page
 import headline
 import perception_page
@@ -56,6 +58,7 @@ PAGES: dict[str, Callable[[Path, bool], str]] = {
     safe_rescue_page.NAME: safe_rescue_page.page,
     real_bags_page.NAME: real_bags_page.page,
     goal_action_page.NAME: goal_action_page.page,
+    generalisation_page.NAME: generalisation_page.page,
 }
 
 

@@ -444,7 +444,8 @@ def add_compare(subparsers) -> None:
         "95 % CIs, env steps to the success threshold) and, with the goal-action variant, DIR/goal_choice.csv + "
         "goal_choice.png (its chosen goal against the task's, and its map weights). Every run's spec is checked "
         "before anything is trained. Ctrl-C (or SIGTERM) stops the runs in progress and starts no queued one; a "
-        "rerun into DIR trains only the unfinished runs, each from its last checkpoint.",
+        "rerun into DIR trains only the unfinished runs, each from its last checkpoint, and one with more --seeds "
+        "or --variants (the same settings otherwise) trains only the new runs.",
     )
     parser.add_argument(
         "--variants",

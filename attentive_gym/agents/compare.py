@@ -146,9 +146,11 @@ def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: b
 
     Over a comparison whose runs hold progress (a checkpoint or a finished run), allowed are:
     the same runs with another vectorisation or threshold (neither changes a trained number:
-    the file is rewritten) and, with ``extend``, the same with a larger ``total_steps``.
-    Anything else raises ``ValueError`` naming what differs. Before any run made progress
-    (a start that failed, on a typo in ``algo_kwargs`` say), the folder is taken over.
+    the file is rewritten); more seeds or variants with the same run settings (five seeds
+    grown to ten, say: the runs trained stand and only the new ones train); and, with
+    ``extend``, the same runs with a larger ``total_steps``. Anything else raises
+    ``ValueError`` naming what differs. Before any run made progress (a start that failed, on
+    a typo in ``algo_kwargs`` say), the folder is taken over.
     """
     path = out / "compare.json"
     if path.is_file() and runs_hold_progress(out):
@@ -156,13 +158,15 @@ def _bind_settings(out: Path, settings: dict[str, Any], base: RunSpec, extend: b
         differences = settings_differences(old, settings["variants"], settings["seeds"], base)
         old_base = _stored_base(old, base)
         same_runs = (old["variants"], old["seeds"]) == (list(settings["variants"]), list(settings["seeds"]))
+        more_runs = set(old["variants"]) <= set(settings["variants"]) and set(old["seeds"]) <= set(settings["seeds"])
+        grown = more_runs and not old_base.differences(base)  # new seeds or variants beside the trained runs
         if same_runs and budget_grows(old_base, base):
             if not extend:
                 raise ValueError(
                     f"{out} holds this comparison with {old_base.total_steps} env steps per run; "
                     f"extend it to {base.total_steps} (--extend) or use another --out folder"
                 )
-        elif differences:  # anything but the vectorisation or the threshold
+        elif differences and not grown:  # anything but the vectorisation, the threshold or more runs
             raise ValueError(
                 f"{out} holds a comparison with other settings ({path}: {differences}); use another --out folder"
             )

@@ -313,11 +313,11 @@ def plot_generalisation(
         ax.set_ylim(0.0, 1.0)
         ax.set_ylabel(f"{label}\n(mean over seeds, 95 % CI)")
         ax.grid(axis="y", alpha=0.3)
-    axes[0].legend(ncol=len(variants), fontsize="small", loc="lower left")
+    axes[0].legend(ncol=len(variants), fontsize="small", loc="lower center", bbox_to_anchor=(0.5, 1.0), frameon=False)
     axes[-1].set_xticks(range(len(shifts)), shifts, rotation=20, ha="right")
     axes[-1].set_xlabel("evaluation setting (the policies trained on 'as trained')")
     if title:
-        axes[0].set_title(title)
+        fig.suptitle(title)
     return _save(fig, path)
 
 

@@ -146,6 +146,37 @@ def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tin
 
 
 @pytest.mark.slow
+def test_more_seeds_train_beside_the_trained_ones(tmp_path, tiny):
+    out = tmp_path / "cmp"
+
+    def argv(seeds, *more):
+        return ["compare", "--variants", "raw", "--seeds", seeds, "--steps", "128", "--n-envs", "2"] + [
+            "--eval-episodes",
+            "1",
+            "--env-kwargs",
+            json.dumps(tiny.env_kwargs),
+            "--algo-kwargs",
+            json.dumps(tiny.ppo_kwargs),
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+            *more,
+        ]
+
+    assert main(argv("1")) == 0  # seed 0
+    stamp = (out / "runs" / "raw-seed0" / "metrics.json").stat().st_mtime_ns
+    assert main(argv("1,2")) == 2  # a trained seed may not be dropped
+    assert main(argv("0,1", "--eval-episodes", "2")) == 2  # nor the run settings change
+    assert json.loads((out / "compare.json").read_text())["seeds"] == [0]
+    assert main(argv("2")) == 0  # seeds 0 and 1
+    assert (out / "runs" / "raw-seed0" / "metrics.json").stat().st_mtime_ns == stamp  # not retrained
+    assert (out / "runs" / "raw-seed1" / "done").is_file()
+    assert {r["seed"] for r in read_csv(out / "results.csv")} == {0, 1}
+    assert json.loads((out / "compare.json").read_text())["seeds"] == [0, 1]
+
+
+@pytest.mark.slow
 def test_a_crashing_run_does_not_corrupt_the_others(tmp_path, tiny):
     good = tiny(total_steps=128)
     bad = tiny(total_steps=128, seed=1).to_dict() | {"env_kwargs": {"bogus_knob": 1}}

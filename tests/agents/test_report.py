@@ -35,6 +35,7 @@ def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
         "safe_rescue.csv",
         "real_bags.csv",
         "goal_choice.csv",
+        "generalisation.csv",
         "performance.csv",
     ):
         shutil.copy(RESULTS / name, tmp_path / "docs" / "results" / name)

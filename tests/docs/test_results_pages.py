@@ -335,9 +335,11 @@ def test_the_generalisation_page_gives_each_setting_its_intervals_and_says_where
     page = page_module.page(tmp_path, write_figures=False)
     success, safe = page.split("## Safe success rate")
     lines = {line.split(" | ")[0]: line for line in success.splitlines() if line.startswith("| ")}
-    assert "| as trained | 0.23 [0.20, 0.25] | — |" in safe  # half the success, per the rows
+    safe_lines = {line.split(" | ")[0]: line for line in safe.splitlines() if line.startswith("| ")}
+    assert safe_lines["| as trained"].startswith("| as trained | 0.23 [0.20, 0.25] | — |")  # half the success
+    assert safe_lines["| as trained"].endswith("| met |") and safe_lines["| 10 % noise"].endswith("| **not met** |")
     assert lines["| as trained"].endswith("| 0.95 [0.90, 1.00] | met |") and "| — |" in lines["| as trained"]
     assert lines["| 10 % noise"].endswith("| **not met** |")
     assert lines["| 12 m arena"].endswith("| not asked: the oracle's interval is not above raw's |")
-    assert "met under 1 of the 2 settings where it is asked" in page
+    assert "in success, met under 1 of the 2 settings where it is asked; in safe success, met under 1 of the 2" in page
     assert "12 m arena: `{'arena_size_m': 12.0}`" in page and "1,000 env steps, 3 seeds per variant" in page
