@@ -29,10 +29,11 @@ from attentive_gym.agents.merged import (
     labelled,
     learning_curve_figures,
     ordered,
+    summarise_by_setting,
     targets,
 )
 from attentive_gym.agents.plots import plot_learning_curves, plot_success_vs_distractors, recorded, steps_label
-from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summarise, summary_markdown
+from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summary_markdown
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from page_text import FIGURES, RESULTS, banner, number, summary_interval, table
@@ -60,8 +61,8 @@ with the deterministic policy. A variant's name says how it was trained
 when that is not PPO with SB3's constant learning rate on normalised observations:
 `({default})` is today's default, `(recurrent-ppo)` an LSTM policy, `(unscaled)` a policy
 that saw the observation in its own units. Intervals are 95 % stratified-bootstrap
-intervals across seeds, as `rliable` computes them; P(success > raw) is the probability
-that a seed of the variant beats a seed of raw. Safe success is success with at most
+intervals across seeds, as `rliable` computes them; P(success > raw of its setting) is the
+probability that a seed of the variant beats a seed of raw trained the same way. Safe success is success with at most
 {SAFE_CONTACT_S:g} s in contact in the episode, contact time the seconds in contact per episode.
 A run trained further than a table's budget counts there with its curve cut at the budget.
 `oracle` (the target's true state in the focus layout) bounds attention from above;
@@ -240,7 +241,7 @@ def results_markdown(
     for name, setting, _ in figures_of_settings:
         parts += [f"![learning curves, {setting}]({(link / name).as_posix()})", ""]
     for budget, at_budget in budgets(rows):
-        summary = summarise(at_budget)
+        summary = summarise_by_setting(at_budget)
         parts += [
             f"## After {steps_label(budget)} env steps",
             "",

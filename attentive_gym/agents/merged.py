@@ -14,6 +14,8 @@ training setting it came from:
 - ``labelled(rows)`` / ``ordered(rows)``: variant names that say their setting
   (``"focus (recurrent-ppo, unscaled)"``), and the tables' row order.
 - ``budgets(rows)``: the rows at each training budget (runs trained on are cut there).
+- ``summarise_by_setting(rows)``: ``summarise`` with each variant's probability of
+  improvement taken over raw of its own training setting.
 - ``targets(rows, summary)`` / ``clutter_targets(summary)``: attention against its bound and
   control: how soon an attended variant reaches raw's final success, whether its interval
   lies above raw's, and the share of the raw → oracle gap it closes.
@@ -34,7 +36,7 @@ from typing import Any
 
 from attentive_gym.agents.config import SB3_LEARNING_RATE, RunSpec, canonical_rate
 from attentive_gym.agents.plots import curve_stats, split_label
-from attentive_gym.agents.results import EVAL_COLUMNS
+from attentive_gym.agents.results import EVAL_COLUMNS, summarise
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [
@@ -51,6 +53,7 @@ __all__ = [
     "labelled",
     "ordered",
     "budgets",
+    "summarise_by_setting",
     "targets",
     "clutter_targets",
     "learning_curve_figures",
@@ -173,6 +176,23 @@ def budgets(
         (budget, [row for row in rows if finals[run(row)] >= budget and row["env_steps"] <= budget])
         for budget in sorted(set(finals.values()))
     ]
+
+
+def summarise_by_setting(rows: Sequence[Mapping[str, Any]], threshold: float = 0.5) -> list[dict[str, Any]]:
+    """``summarise(rows)`` for labelled rows of several training settings (``labelled``): the
+    summary rows in the variants' first-seen order, each variant's ``prob_improvement`` and
+    ``prob_safe_improvement`` taken over raw of the same setting (``"raw (recurrent-ppo)"``
+    for ``"focus (recurrent-ppo)"``), NaN where that setting has no raw."""
+    settings = list(dict.fromkeys(split_label(row["variant"])[1] for row in rows))
+    by_variant = {}
+    for setting in settings:
+        group = [row for row in rows if split_label(row["variant"])[1] == setting]
+        baseline = BASELINE + setting
+        for row in summarise(group, threshold=threshold, baseline=baseline):
+            if not any(r["variant"] == baseline for r in group):
+                row.update({key: math.nan for key in row if key.startswith("prob_")}, improvement_over=baseline)
+            by_variant[row["variant"]] = row
+    return [by_variant[variant] for variant in dict.fromkeys(row["variant"] for row in rows)]
 
 
 def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:

@@ -295,7 +295,8 @@ def summary_markdown(summary: Sequence[Mapping[str, Any]]) -> str:
     def single(row, otherwise):
         return "1 seed: no CI" if row["n_seeds"] == 1 else otherwise
 
-    baseline = summary[0]["improvement_over"] if summary else "raw"
+    baselines = list(dict.fromkeys(row["improvement_over"] for row in summary)) or ["raw"]
+    baseline = baselines[0] if len(baselines) == 1 else f"{baselines[0].partition(' (')[0]} of its setting"
     baseline_single = f"{baseline} has 1 seed: no CI"
     lines = [
         "| variant | seeds | env steps | final success, mean [95 % CI] "

@@ -9,8 +9,23 @@ from pathlib import Path
 
 import pytest
 
-from attentive_gym.agents.merged import budgets, clutter_targets, default_tag, labelled, merge_rows, targets
-from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summarise, write_csv_atomic
+from attentive_gym.agents.merged import (
+    budgets,
+    clutter_targets,
+    default_tag,
+    labelled,
+    merge_rows,
+    summarise_by_setting,
+    targets,
+)
+from attentive_gym.agents.results import (
+    EVAL_COLUMNS,
+    SAFE_COLUMNS,
+    read_csv,
+    summarise,
+    summary_markdown,
+    write_csv_atomic,
+)
 from attentive_gym.agents.sweep import sweep_tables
 from support import load_tool
 
@@ -116,6 +131,31 @@ def test_targets_compare_within_one_algorithm_and_scaling():
     assert by_variant.keys() == {"focus", "focus (unscaled)"}
     assert by_variant["focus"]["gap_closed"] == pytest.approx((0.7 - 0.5) / (0.9 - 0.5))
     assert by_variant["focus (unscaled)"]["gap_closed"] == pytest.approx((0.4 - 0.3) / (0.5 - 0.3))
+
+
+def test_the_probability_of_improvement_is_taken_over_raw_of_the_same_setting():
+    """Unscaled focus (0.4) beats unscaled raw (0.3) on every seed though it loses to the
+    scaled raw (0.5); a setting without raw gets no probability; the table says which raw."""
+    rows = labelled(
+        [
+            {"algo": algo, "obs_scaling": scaling, **r}
+            for algo, scaling, levels in (
+                ("ppo", "running", {"raw": [0.5, 0.5], "focus": [0.7, 0.7]}),
+                ("ppo", "none", {"raw": [0.3, 0.3], "focus": [0.4, 0.4]}),
+                ("sac", "running", {"focus": [0.6, 0.6]}),
+            )
+            for r in _rows(levels)
+        ]
+    )
+    summary = summarise_by_setting(rows)
+    by_variant = {row["variant"]: row for row in summary}
+    assert [row["variant"] for row in summary] == ["raw", "focus", "raw (unscaled)", "focus (unscaled)", "focus (sac)"]
+    assert by_variant["focus (unscaled)"]["prob_improvement"] == 1.0
+    assert by_variant["focus (unscaled)"]["improvement_over"] == "raw (unscaled)"
+    assert math.isnan(by_variant["focus (sac)"]["prob_improvement"])
+    scaled_ppo = [row for row in rows if row["variant"] in ("raw", "focus")]
+    assert by_variant["focus"] == summarise(scaled_ppo)[1]  # one setting: as summarise gives it
+    assert "P(success > raw of its setting)" in summary_markdown(summary)
 
 
 def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_files(tmp_path, capsys):
