@@ -1,8 +1,8 @@
 """The README's results at a glance, between ``START`` and ``END``, from the results CSVs.
 
-- ``HEADLINE_VARIANTS``: the rows shown: the baseline, the control, attention, the bound.
-- ``rl_headline(comparison)``: the budget and the summaries of those variants trained with
-  today's defaults (``RunSpec``'s setting) at the largest budget all of them reached.
+- ``rl_headline(comparison)``: the budget and the summaries of the headline's variants
+  (``rl_page.HEADLINE_VARIANTS``: the baseline, the control, attention, the bound) trained
+  with today's defaults (``RunSpec``'s setting) at the largest budget all of them reached.
 - ``block(root)``: the block's Markdown: the default setting's learning-curve figure, the
   final success of those rows (safe success and contact time where they record them, else a
   line saying they predate that measure), up to three performance figures, and links to the
@@ -18,40 +18,31 @@ from typing import Any
 
 import performance_page
 import rl_page
-from attentive_gym.agents.merged import SCALED, budgets, default_tag
+from attentive_gym.agents.merged import SCALED, default_tag
 from attentive_gym.agents.plots import recorded, steps_label
 from attentive_gym.agents.results import summarise
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from page_text import FIGURES, RENDER_COMMAND, RESULTS, summary_interval, table
 
 START, END = "<!-- results-headline:start -->", "<!-- results-headline:end -->"
-#: The variants of the headline, in its order.
-HEADLINE_VARIANTS = ("raw", "random-focus", "focus", "oracle")
 
 
 def rl_headline(comparison: Sequence[Mapping[str, Any]]) -> tuple[int, list[dict[str, Any]]]:
-    """``(budget, summary rows of HEADLINE_VARIANTS in its order)`` of the runs trained with
-    today's defaults (``RunSpec``'s algorithm tag, normalised observations), at the largest
-    budget every headline variant reached.
+    """``(budget, summary rows of rl_page.HEADLINE_VARIANTS in its order)`` of the runs trained
+    with today's defaults (``rl_page.default_runs``).
 
     Raises:
-        ValueError: no budget has all of ``HEADLINE_VARIANTS`` with today's defaults.
+        ValueError: no budget has all of the headline's variants with today's defaults.
     """
-    default = default_tag()
-    rows = [
-        row
-        for row in comparison
-        if row["algo"] == default and row.get("obs_scaling") == SCALED and row["variant"] in HEADLINE_VARIANTS
-    ]
-    complete = [(budget, at) for budget, at in budgets(rows) if {r["variant"] for r in at} == set(HEADLINE_VARIANTS)]
-    if not complete:
+    found = rl_page.default_runs(comparison)
+    if found is None:
         raise ValueError(
-            f"the comparison has no budget with all of {', '.join(HEADLINE_VARIANTS)} trained with "
-            f"today's defaults (algo {default!r}, obs_scaling {SCALED!r}); the README's headline needs them"
+            f"the comparison has no budget with all of {', '.join(rl_page.HEADLINE_VARIANTS)} trained with "
+            f"today's defaults (algo {default_tag()!r}, obs_scaling {SCALED!r}); the README's headline needs them"
         )
-    budget, at_budget = complete[-1]
+    budget, at_budget = found
     by_variant = {row["variant"]: row for row in summarise(at_budget)}
-    return budget, [by_variant[variant] for variant in HEADLINE_VARIANTS]
+    return budget, [by_variant[variant] for variant in rl_page.HEADLINE_VARIANTS]
 
 
 def block(root: Path) -> str:

@@ -5,8 +5,11 @@
   safe-success columns aside, which rows written before them lack).
 - ``safe_note(rows)``: the line saying which runs predate the safe-success measure
   (``PREDATE_SAFE_SUCCESS`` when all of them do).
+- ``default_runs(comparison)``: the runs of ``HEADLINE_VARIANTS`` trained with today's
+  defaults, at the largest budget all of them reached (the README's headline).
 - ``results_markdown(comparison, clutter, figures, sources, page_dir, write_figures)``: the
-  learning-curve figures, then at every training budget the summary table and attention
+  learning-curve figures, today's defaults as ``rliable`` reports them (IQM, probability of
+  improvement, performance profiles), then at every training budget the summary table and attention
   against its bound and control, then the clutter tables (safe success and contact time
   too where the rows record them); writes the figures into
   ``figures`` unless told not to.
@@ -32,13 +35,24 @@ from attentive_gym.agents.merged import (
     summarise_by_setting,
     targets,
 )
-from attentive_gym.agents.plots import plot_learning_curves, plot_success_vs_distractors, recorded, steps_label
-from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, summary_markdown
+from attentive_gym.agents.plots import (
+    plot_learning_curves,
+    plot_performance_profiles,
+    plot_success_vs_distractors,
+    recorded,
+    steps_label,
+)
+from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, run_finals, summarise, summary_markdown
 from attentive_gym.agents.sweep import sweep_tables
 from attentive_gym.envs.reward import SAFE_CONTACT_S
-from page_text import FIGURES, RESULTS, banner, number, summary_interval, table
+from page_text import FIGURES, RESULTS, banner, interval, number, summary_interval, table
 
 NAME = "rl.md"
+#: The variants of the README's headline and of the performance profiles, in their order:
+#: the baseline, the control, attention, the bound.
+HEADLINE_VARIANTS = ("raw", "random-focus", "focus", "oracle")
+#: The performance profiles' figure.
+PROFILES = "rl_profiles.png"
 #: The main comparison's arena (the ``--env-kwargs`` of the commands under "Reproduce").
 COMPARISON_ARENA = "an 8 m arena with 2 distractors and 3 rubble pieces per 100 m²"
 COMPARISON = RESULTS / "rl_comparison.csv"
@@ -93,6 +107,79 @@ python tools/report.py render                                  # this page, the 
 `report add` tags the rows with the comparison's algorithm, learning rate and rollout (from its
 `compare.json`) and replaces the rows of the same runs; see [the agents guide](../agents.md).
 """
+
+
+def default_runs(comparison: Sequence[Mapping[str, Any]]) -> tuple[int, list[dict[str, Any]]] | None:
+    """``(budget, rows)``: the rows of ``HEADLINE_VARIANTS`` trained with today's defaults
+    (``RunSpec``'s algorithm tag, normalised observations) at the largest budget every one of
+    them reached (runs trained further cut there); None when no budget has them all."""
+    default = default_tag()
+    rows = [
+        row
+        for row in comparison
+        if row["algo"] == default and row.get("obs_scaling") == SCALED and row["variant"] in HEADLINE_VARIANTS
+    ]
+    complete = [(budget, at) for budget, at in budgets(rows) if {r["variant"] for r in at} == set(HEADLINE_VARIANTS)]
+    return complete[-1] if complete else None
+
+
+def _profiles_markdown(
+    comparison: Sequence[Mapping[str, Any]], figures: Path, link: Path, write_figures: bool
+) -> list[str]:
+    """The section on today's defaults' headline runs, as ``rliable`` reports them: IQM and
+    probability of improvement over raw in success and safe success, and the performance
+    profiles' figure (drawn unless told not to); none without those runs."""
+    found = default_runs(comparison)
+    if found is None:
+        return []
+    budget, at_budget = found
+    summary = {row["variant"]: row for row in summarise(at_budget)}
+    finals = run_finals(at_budget)
+    seeds = sorted({row["n_seeds"] for row in summary.values()})
+
+    def cell(row, key, point_key):
+        return (
+            "—" if math.isnan(row[point_key]) else interval(row[point_key], row[f"{key}_ci_low"], row[f"{key}_ci_high"])
+        )
+
+    lines = [
+        [
+            variant,
+            cell(summary[variant], "final_success_iqm", "final_success_iqm"),
+            cell(summary[variant], "final_safe_success_iqm", "final_safe_success_iqm"),
+            cell(summary[variant], "prob_improvement", "prob_improvement"),
+            cell(summary[variant], "prob_safe_improvement", "prob_safe_improvement"),
+        ]
+        for variant in HEADLINE_VARIANTS
+    ]
+    if write_figures:
+        plot_performance_profiles(
+            {variant: finals[variant] for variant in HEADLINE_VARIANTS},
+            figures / PROFILES,
+            title=f"today's defaults, {steps_label(budget)} env steps, {' or '.join(map(str, seeds))} seeds per "
+            "variant: shaded: 95 % bootstrap CI",
+        )
+    return [
+        f"## Today's defaults at {steps_label(budget)} env steps: IQM, improvement and performance profiles",
+        "",
+        f"The README's headline runs ({' or '.join(map(str, seeds))} seeds per variant), as `rliable` reports "
+        "them: the interquartile mean of the seeds' final values, the probability that a seed beats a seed of "
+        "raw, and each variant's run-score distribution (the share of its runs scoring above τ; a curve above "
+        "another at every τ dominates it).",
+        "",
+        table(
+            [
+                "variant",
+                "final success, IQM [95 % CI]",
+                f"final safe success (≤ {SAFE_CONTACT_S:g} s in contact), IQM [95 % CI]",
+                "P(success > raw) [95 % CI]",
+                "P(safe success > raw) [95 % CI]",
+            ],
+            lines,
+        ),
+        f"![performance profiles of today's defaults]({(link / PROFILES).as_posix()})",
+        "",
+    ]
 
 
 def load(root: Path) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
@@ -240,6 +327,7 @@ def results_markdown(
     ]
     for name, setting, _ in figures_of_settings:
         parts += [f"![learning curves, {setting}]({(link / name).as_posix()})", ""]
+    parts += _profiles_markdown(comparison, figures, link, write_figures)
     for budget, at_budget in budgets(rows):
         summary = summarise_by_setting(at_budget)
         parts += [

@@ -1,8 +1,10 @@
 """Figures of a comparison: learning curves (mean across seeds with a 95 % bootstrap band, per
 variant), what a goal-action agent chooses as it trains (``plot_goal_choice``) and, for a
-clutter sweep, final success, safe success and contact time against the number of distractors.
-Panels of the safe-success measure (``results.SAFE_COLUMNS``) are left out where the rows do
-not record it (rows written before it)."""
+clutter sweep, final success, safe success and contact time against the number of distractors;
+zero-shot success per shift (``plot_generalisation``); and the run-score distributions of
+final success and safe success (``plot_performance_profiles``). Panels of the safe-success
+measure (``results.SAFE_COLUMNS``) are left out where the rows do not record it (rows written
+before it)."""
 
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ import numpy as np
 from attentive_gym._atomic import save_figure
 from attentive_gym._optional import require
 from attentive_gym.agents.goal_choice import WEIGHT_COLUMNS, goal_share_columns, menu_labels
-from attentive_gym.agents.statistics import bootstrap_ci
+from attentive_gym.agents.statistics import bootstrap_ci, performance_profile
 from attentive_gym.attention import Goal
 from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES
 from attentive_gym.envs.reward import SAFE_CONTACT_S
@@ -31,6 +33,7 @@ __all__ = [
     "plot_success_vs_distractors",
     "plot_goal_choice",
     "plot_generalisation",
+    "plot_performance_profiles",
     "split_label",
     "steps_label",
     "METRIC_BOUNDS",
@@ -318,6 +321,43 @@ def plot_generalisation(
     axes[-1].set_xlabel("evaluation setting (the policies trained on 'as trained')")
     if title:
         fig.suptitle(title)
+    return _save(fig, path)
+
+
+def plot_performance_profiles(
+    finals: Mapping[str, Mapping[str, Sequence[float]]], path: str | os.PathLike, title: str | None = None
+) -> Path:
+    """Two panels, final success and final safe success: for each variant, the share of its
+    runs scoring above τ against τ in [0, 1] (``statistics.performance_profile``), with a
+    shaded 95 % bootstrap band.
+
+    Args:
+        finals: variant → ``{"success": [...], "safe_success": [...]}``, one value per seed.
+        path: the PNG to write.
+        title: the figure's title.
+    """
+    plt = _pyplot()
+    taus = np.linspace(0.0, 1.0, 101)
+    styles = _line_styles(list(finals))
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.2), sharey=True)
+    for ax, metric, label in zip(
+        axes, ("success", "safe_success"), ("final success", f"final safe success (≤ {SAFE_CONTACT_S:g} s in contact)")
+    ):
+        for variant, values in finals.items():
+            share, low, high = performance_profile(values[metric], taus)
+            style = styles[variant]
+            ax.step(taus, share, where="post", color=style["color"], linestyle=style["linestyle"], label=variant)
+            ax.fill_between(taus, low, high, step="post", color=style["color"], alpha=0.15, linewidth=0)
+        ax.set_xlim(0.0, 1.0)
+        ax.set_ylim(-0.02, 1.02)
+        ax.set_xlabel(f"τ ({label} of a run)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("fraction of runs scoring > τ")
+    seeds = sorted({len(values["success"]) for values in finals.values()})
+    axes[0].legend(fontsize="small", loc="lower left")
+    fig.suptitle(
+        title or f"performance profiles, {' or '.join(map(str, seeds))} seeds: shaded: 95 % bootstrap CI", fontsize=10
+    )
     return _save(fig, path)
 
 

@@ -32,6 +32,7 @@ __all__ = [
     "EVAL_COLUMNS",
     "SAFE_COLUMNS",
     "SUMMARY_COLUMNS",
+    "run_finals",
     "write_text_atomic",
     "write_json_atomic",
     "write_csv_atomic",
@@ -173,6 +174,22 @@ def _recorded_finals(runs: Sequence[list[Mapping[str, Any]]], metric: str, final
     rests on a subset of its seeds."""
     finals = [float(np.mean([r.get(metric, math.nan) for r in run[-final_points:]])) for run in runs]
     return [math.nan] * len(finals) if any(math.isnan(value) for value in finals) else finals
+
+
+def run_finals(rows: Sequence[Mapping[str, Any]], final_points: int = 1) -> dict[str, dict[str, list[float]]]:
+    """Each variant's per-seed final ``success``, ``safe_success`` and ``contact_s`` (the
+    values ``summarise`` rests on, in seed order): variant → metric → one value per seed;
+    the safe-success and contact lists are NaN unless every seed records them."""
+    by_run = _by_run(rows)
+    out: dict[str, dict[str, list[float]]] = {}
+    for variant in dict.fromkeys(r["variant"] for r in rows):
+        runs = [run for key, run in sorted(by_run.items()) if key[0] == variant]
+        out[variant] = {
+            "success": _finals(runs, "success_rate", final_points),
+            "safe_success": _recorded_finals(runs, "safe_success_rate", final_points),
+            "contact_s": _recorded_finals(runs, "mean_contact_s", final_points),
+        }
+    return out
 
 
 def _check_rates(row: Mapping[str, Any]) -> None:

@@ -10,6 +10,8 @@ reach below 0 and above 1). Here, following ``rliable``:
   own), clipped to the metric's range.
 - ``probability_of_improvement``: P(X > Y) + ½ P(X = Y) for a run X of one variant and a
   run Y of another, with its bootstrap interval (both samples resampled).
+- ``performance_profile``: the share of runs scoring above each threshold τ (the run-score
+  distribution), with pointwise bootstrap intervals.
 
 Every function is deterministic: the resampling uses a fixed seed. One value gives no
 interval (NaN bounds): one seed says nothing about the spread across seeds.
@@ -24,7 +26,7 @@ import numpy as np
 
 from attentive_gym._checks import check_int
 
-__all__ = ["BOOTSTRAP_REPS", "iqm", "mean", "bootstrap_ci", "probability_of_improvement"]
+__all__ = ["BOOTSTRAP_REPS", "iqm", "mean", "bootstrap_ci", "probability_of_improvement", "performance_profile"]
 
 #: Bootstrap resamples per interval.
 BOOTSTRAP_REPS = 2000
@@ -139,3 +141,40 @@ def probability_of_improvement(
         x[rng.integers(0, x.size, size=(reps, x.size))], y[rng.integers(0, y.size, size=(reps, y.size))]
     )
     return (point, *_percentile_interval(resampled, point, confidence, (0.0, 1.0)))
+
+
+def performance_profile(
+    values: Iterable[float], thresholds: Sequence[float], confidence: float = 0.95, reps: int = BOOTSTRAP_REPS
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The share of runs whose score exceeds each threshold τ, with pointwise bootstrap
+    intervals (the runs resampled): ``rliable``'s run-score distribution. A curve lying above
+    another at every τ dominates it stochastically.
+
+    Args:
+        values: one score per run (seed); NaNs are dropped.
+        thresholds: the τ values, shape (T,).
+        confidence: the intervals' coverage, in (0, 1).
+        reps: bootstrap resamples.
+
+    Returns:
+        ``(share, low, high)``, each of shape (T,) and in [0, 1]; NaN bounds with one value,
+        NaN everywhere with none.
+    """
+    if not 0.0 < confidence < 1.0:
+        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    check_int("reps", reps, 1)
+    x, taus = _values(values), np.asarray(thresholds, dtype=float).reshape(-1)
+    if np.isnan(taus).any():
+        raise ValueError(f"thresholds must be numbers, got {taus.tolist()}")
+    nan = np.full(taus.shape, math.nan)
+    if x.size == 0:
+        return nan, nan.copy(), nan.copy()
+    share = (x[:, None] > taus[None, :]).mean(axis=0)
+    if x.size == 1:
+        return share, nan, nan.copy()
+    rng = np.random.default_rng(_SEED)
+    resampled = x[rng.integers(0, x.size, size=(reps, x.size))]  # (reps, n)
+    shares = (resampled[:, :, None] > taus[None, None, :]).mean(axis=1)  # (reps, T)
+    tail = 50.0 * (1.0 - confidence)
+    low, high = np.percentile(shares, [tail, 100.0 - tail], axis=0)
+    return share, np.minimum(low, share), np.maximum(high, share)

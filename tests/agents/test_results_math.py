@@ -16,7 +16,7 @@ from attentive_gym.agents.results import (
     write_csv_atomic,
     write_text_atomic,
 )
-from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
+from attentive_gym.agents.statistics import bootstrap_ci, iqm, performance_profile, probability_of_improvement
 
 
 def test_iqm_by_hand():
@@ -70,6 +70,19 @@ def test_probability_of_improvement_by_hand():
     assert probability_of_improvement([1.0, 1.0], [0.0, 0.0]) == (1.0, 1.0, 1.0)
     single = probability_of_improvement([0.9], [0.1, 0.2])
     assert single[0] == 1.0 and math.isnan(single[1])
+
+
+def test_performance_profile_by_hand():
+    share, low, high = performance_profile([0.2, 0.5, 0.5, 0.9], [0.0, 0.2, 0.5, 0.8, 1.0])
+    assert share.tolist() == [1.0, 0.75, 0.25, 0.25, 0.0]  # strictly above each threshold
+    assert (low <= share).all() and (share <= high).all() and low.min() >= 0.0 and high.max() <= 1.0
+    assert low[0] == high[0] == 1.0 and low[-1] == high[-1] == 0.0  # every resample agrees there
+    assert low[2] < 0.25 < high[2]  # a share of 1 run in 4 is uncertain
+    single = performance_profile([0.6], [0.5, 0.7])
+    assert single[0].tolist() == [1.0, 0.0] and np.isnan(single[1]).all()
+    assert np.isnan(performance_profile([], [0.5])[0]).all()
+    with pytest.raises(ValueError, match="thresholds"):
+        performance_profile([0.5, 0.6], [float("nan")])
 
 
 def _rows():

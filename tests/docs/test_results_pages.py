@@ -27,7 +27,7 @@ def test_the_committed_rl_results_say_whether_they_record_safe_success():
     page = (root / "docs" / "results" / report.rl_page.NAME).read_text(encoding="utf-8")
     readme = (root / "README.md").read_text(encoding="utf-8").split(report.headline.START)[1]
     recorded = [row for row in comparison + clutter if not math.isnan(row.get("safe_success_rate", math.nan))]
-    shown = {row["variant"] for row in recorded} & set(report.headline.HEADLINE_VARIANTS)
+    shown = {row["variant"] for row in recorded} & set(report.rl_page.HEADLINE_VARIANTS)
     assert "final safe success (≤ 1 s in contact), mean [95 % CI]" in page
     if not recorded:  # the v0 task's runs
         assert report.rl_page.PREDATE_SAFE_SUCCESS in page
