@@ -439,7 +439,8 @@ def add_compare(subparsers) -> None:
         "compare",
         help="train every (variant, seed) pair and compare learning curves",
         description="Train every (variant, seed) pair in parallel, then write DIR/results.csv (one row per variant, "
-        "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds) and "
+        "seed and eval point), DIR/learning_curves.png (mean and 95 % CI across seeds), "
+        "DIR/performance_profiles.png (the share of runs above each final success and safe success) and "
         "DIR/summary.md + summary.csv (final success rate, safe success rate, contact time and return with "
         "95 % CIs, env steps to the success threshold) and, with the goal-action variant, DIR/goal_choice.csv + "
         "goal_choice.png (its chosen goal against the task's, and its map weights). Every run's spec is checked "
@@ -541,6 +542,7 @@ def _run_compare(args: argparse.Namespace) -> int:
     if result.summary_md is not None:
         print(result.summary_md.read_text(), end="")
         print(f"wrote {result.results_csv}, {result.figure}, {result.summary_csv}, {result.summary_md}")
+        print(f"wrote {result.profiles_figure}")
     if result.goal_choice_figure is not None:
         print(f"wrote {result.goal_choice_figure.with_suffix('.csv')}, {result.goal_choice_figure}")
     if result.failed:

@@ -7,7 +7,9 @@
 - ``results.csv``: tidy, one row per (variant, seed, eval point), ``results.EVAL_COLUMNS``;
 - ``learning_curves.png``: success rate and return vs env steps, mean ± 95 % CI across seeds;
 - ``summary.csv`` / ``summary.md``: final success rate and return with 95 % CIs and env
-  steps to reach the success threshold.
+  steps to reach the success threshold;
+- ``performance_profiles.png``: each variant's share of runs scoring above τ, in final
+  success and safe success (``plots.plot_performance_profiles``);
 - ``goal_choice.csv`` / ``goal_choice.png`` (with a ``goal-action`` variant): its runs'
   ``goal_choice.csv`` rows together, and the figure of what the agent chooses
   (``plots.plot_goal_choice``).
@@ -35,11 +37,12 @@ from typing import Any
 from attentive_gym.agents.backends import JobOutcome, run_many
 from attentive_gym.agents.config import QUICK, RunSpec
 from attentive_gym.agents.goal_choice import GOAL_CHOICE_FILE
-from attentive_gym.agents.plots import plot_goal_choice, plot_learning_curves
+from attentive_gym.agents.plots import plot_goal_choice, plot_learning_curves, plot_performance_profiles
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
     SUMMARY_COLUMNS,
     read_csv,
+    run_finals,
     summarise,
     summary_markdown,
     write_csv_atomic,
@@ -64,6 +67,7 @@ class CompareResult:
     summary_md: Path | None
     summary: list[dict[str, Any]] = field(default_factory=list)
     goal_choice_figure: Path | None = None  # goal_choice.png, with a goal-action variant
+    profiles_figure: Path | None = None  # performance_profiles.png
     trained: list[str] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
     failed: dict[str, str] = field(default_factory=dict)
@@ -228,6 +232,7 @@ def collect(out: str | os.PathLike, specs: Sequence[RunSpec], threshold: float =
     summary_md = write_text_atomic(out / "summary.md", summary_markdown(summary))
     figure = plot_learning_curves(rows, out / "learning_curves.png")
     result = CompareResult(out, results_csv, figure, summary_csv, summary_md, summary)
+    result.profiles_figure = plot_performance_profiles(run_finals(rows), out / "performance_profiles.png")
     result.goal_choice_figure = _collect_goal_choice(out, done)
     return result
 

@@ -61,6 +61,7 @@ def test_outputs_are_well_formed(compared):
     assert {(r["variant"], r["seed"]) for r in rows} == {(v, s) for v in VARIANTS for s in SEEDS}
     width, height = _png_size(out / "learning_curves.png")
     assert width > 300 and height > 200
+    assert _png_size(out / "performance_profiles.png")[0] > 300
     summary = read_csv(out / "summary.csv")
     assert list(summary[0]) == list(SUMMARY_COLUMNS)
     assert [r["variant"] for r in summary] == list(VARIANTS)
