@@ -53,6 +53,8 @@ SHIFTS: dict[str, dict[str, Any]] = {
     "2 % noise": {"sensor_noise": 0.02},
     "10 % noise": {"sensor_noise": 0.10},
 }
+#: Each shift's place in ``SHIFTS``, the order of rows and summaries.
+_SHIFT_RANK = {name: k for k, name in enumerate(SHIFTS)}
 #: The columns of ``generalisation.csv``: one row per (run, shift); rates in [0, 1], contact
 #: in s per episode, length in steps.
 COLUMNS = (
@@ -225,6 +227,11 @@ def generalise(
     return read_csv(out) if out.is_file() else []  # as written: the rows rounded as the file holds them
 
 
+def _rank(row: Mapping[str, Any]) -> tuple[int, int]:
+    """A row's variant (in ``VARIANTS``' order, unknown ones last) and shift (``SHIFTS``' order) ranks."""
+    return VARIANTS.index(row["variant"]) if row["variant"] in VARIANTS else len(VARIANTS), _SHIFT_RANK[row["shift"]]
+
+
 def _sorted(rows: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
     """``rows`` by variant (``VARIANTS``' order), shift (``SHIFTS``' order) and seed.
 
@@ -234,11 +241,7 @@ def _sorted(rows: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
     unknown = sorted({row["shift"] for row in rows} - set(SHIFTS))
     if unknown:
         raise ValueError(f"rows of unknown shift(s) {unknown}; allowed: {list(SHIFTS)}")
-    variant_rank = {name: k for k, name in enumerate(VARIANTS)}
-    shift_rank = {name: k for k, name in enumerate(SHIFTS)}
-    return sorted(
-        rows, key=lambda r: (variant_rank.get(r["variant"], len(VARIANTS)), shift_rank[r["shift"]], int(r["seed"]))
-    )
+    return sorted(rows, key=lambda r: (*_rank(r), int(r["seed"])))
 
 
 def summarise_shifts(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
@@ -250,14 +253,10 @@ def summarise_shifts(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         ValueError: a shift that is not in ``SHIFTS``, or a rate outside [0, 1].
     """
     groups: dict[tuple[str, str], list[Mapping[str, Any]]] = {}
-    for row in _sorted(rows):
+    for row in sorted(_sorted(rows), key=lambda r: _rank(r)[::-1]):  # shift first, then variant
         groups.setdefault((row["shift"], row["variant"]), []).append(row)
-    shift_rank = {name: k for k, name in enumerate(SHIFTS)}
-    variant_rank = {name: k for k, name in enumerate(VARIANTS)}
     out = []
-    for (shift, variant), group in sorted(
-        groups.items(), key=lambda item: (shift_rank[item[0][0]], variant_rank.get(item[0][1], len(VARIANTS)))
-    ):
+    for (shift, variant), group in groups.items():
         summary: dict[str, Any] = {"shift": shift, "variant": variant, "n_seeds": len(group)}
         for metric, (column, bounds) in _METRICS.items():
             point, low, high = bootstrap_ci([float(row[column]) for row in group], bounds=bounds)
