@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.merged import algo_tag
 from attentive_gym.agents.results import read_csv, write_csv_atomic
 from attentive_gym.agents.training import eval_seed
 from attentive_gym.envs import AttentiveRescueEnv, RewardConfig
@@ -65,6 +66,14 @@ def setting_label(env_kwargs: Mapping[str, Any]) -> str:
     if env_kwargs.get("proximity"):
         parts.append("proximity")
     return ", ".join(parts) or "v0 reward"
+
+
+def controller_label(spec: RunSpec) -> str:
+    """``ppo oracle``, with the rollout in brackets when it is not the earlier 4 envs × 256
+    steps and the warm start when there is one: ``ppo oracle (32 envs × 64 steps, batch 512,
+    warm start clearance)``."""
+    notes = [part for part in algo_tag(spec.to_dict()).split(", ")[1:] if not part.startswith("lr ")]
+    return f"ppo {spec.variant}" + (f" ({', '.join(notes)})" if notes else "")
 
 
 def _text(value: Any) -> str:
@@ -111,7 +120,7 @@ def rows_of(run: Path) -> list[dict[str, Any]]:
     spec = RunSpec.from_dict(json.loads((run / "spec.json").read_text()))
     last = read_csv(run / "eval.csv")[-1]
     common = {"setting": setting_label(spec.env_kwargs), "seed": spec.seed}
-    trained = {key: last[key] for key in COLUMNS[3:]} | {"controller": f"ppo {spec.variant}"}
+    trained = {key: last[key] for key in COLUMNS[3:]} | {"controller": controller_label(spec)}
     return [common | trained, *(common | row for row in scripted_rows(spec, int(last["n_episodes"])))]
 
 

@@ -32,6 +32,7 @@ from attentive_gym.agents.config import (
 )
 from attentive_gym.agents.pretrained import PRETRAINED, pretrained_record, pretrained_run
 from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
+from attentive_gym.agents.warm_start import DEMO_STEPS, WARM_STARTS
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -144,6 +145,14 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
         f"none: in its own units (metres, seconds, flags) (default: {RunSpec.obs_scaling})",
     )
     parser.add_argument(
+        "--warm-start",
+        choices=list(WARM_STARTS),
+        default=None,
+        help=f"ppo only: clone a scripted teacher's demonstrations ({DEMO_STEPS:,} env steps, counted in --steps) "
+        "before training; clearance: the reactive avoider on the working memory's first row and the proximity "
+        "entry (a focus-layout variant with --env-kwargs '{\"proximity\": true}') (default: none)",
+    )
+    parser.add_argument(
         "--eval-every",
         type=_positive_int,
         help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}",
@@ -219,6 +228,7 @@ def _spec_from_args(
         algo_kwargs=parse_json_object(args.algo_kwargs, "--algo-kwargs"),
         torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads),
         obs_scaling=args.obs_scaling,
+        warm_start=getattr(args, "warm_start", None),
         algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
     )
 

@@ -114,6 +114,9 @@ class RunSpec:
         torch_threads: threads of torch and of the compiled sensor sweep (numba) in the
             training process (1 suits a pool of runs).
         obs_scaling: one of ``OBS_SCALINGS``: how the observation reaches the policy.
+        warm_start: None, or a teacher of ``agents.warm_start.WARM_STARTS`` (``"clearance"``)
+            whose demonstrations PPO clones before it trains; their env steps count in
+            ``total_steps``.
     """
 
     variant: str = "focus"
@@ -130,6 +133,7 @@ class RunSpec:
     algo_defaults: int = ALGO_DEFAULTS[-1]
     torch_threads: int = 1
     obs_scaling: str = "running"
+    warm_start: str | None = None
 
     def __post_init__(self) -> None:
         if self.variant not in VARIANTS:
@@ -142,6 +146,8 @@ class RunSpec:
             raise ValueError(f"unknown obs_scaling {self.obs_scaling!r}; allowed: {list(OBS_SCALINGS)}")
         check_int("total_steps", self.total_steps, 1)
         check_int("seed", self.seed, 0)
+        if self.warm_start is not None and self.algo != "ppo":
+            raise ValueError(f"warm_start applies to ppo only, got algo {self.algo!r}")
         if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
             raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
         if self.n_envs is None:

@@ -80,7 +80,8 @@ def algo_tag(run: Mapping[str, Any]) -> str:
     SB3's constant ``SB3_LEARNING_RATE`` (a schedule, the default since ``algo_defaults`` 2,
     or another number given in ``algo_kwargs``), and for PPO and RecurrentPPO by the rollout
     (``", 32 envs × 64 steps, batch 512"``, with ``", N epochs"`` when not 5) unless it is
-    ``EARLIER_ROLLOUT``, so that runs at different rates or rollouts never share a tag."""
+    ``EARLIER_ROLLOUT``, and by ``", warm start <teacher>"`` for a warm-started run, so that
+    runs at different rates, rollouts or starts never share a tag."""
     spec = RunSpec.from_dict(run)
     parts = [spec.algo]
     if spec.learning_rate() != SB3_LEARNING_RATE:
@@ -91,6 +92,8 @@ def algo_tag(run: Mapping[str, Any]) -> str:
         if rollout != EARLIER_ROLLOUT:
             parts.append(f"{rollout[0]} envs × {rollout[1]} steps, batch {rollout[2]}")
             parts += [f"{rollout[3]} epochs"] if rollout[3] != EARLIER_ROLLOUT[3] else []
+    if spec.warm_start is not None:
+        parts.append(f"warm start {spec.warm_start}")
     return ", ".join(parts)
 
 

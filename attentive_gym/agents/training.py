@@ -57,6 +57,7 @@ from attentive_gym.agents.goal_choice import GOAL_CHOICE_FILE, GoalChoiceTally, 
 from attentive_gym.agents.normalization import STATS_FILE, NormalizedPolicy, load_stats, normalize, save_stats
 from attentive_gym.agents.results import EVAL_COLUMNS, read_csv, write_csv_atomic, write_json_atomic, write_text_atomic
 from attentive_gym.agents.stopping import raise_if_stopped, signals_blocked
+from attentive_gym.agents.warm_start import check_warm_start, warm_start
 from attentive_gym.wrappers.variants import make_env
 
 __all__ = [
@@ -150,6 +151,12 @@ def _check_env_and_algo_values(spec: RunSpec) -> None:
         env = env_factory(spec)()
     except TypeError as err:  # an unknown env keyword: the user's input
         raise ValueError(f"env_kwargs: {err}") from None
+    if spec.warm_start is not None:
+        try:
+            check_warm_start(spec.warm_start, env.observation_space, env.action_space)
+        except ValueError:
+            env.close()
+            raise
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     vec = DummyVecEnv([lambda: env])
@@ -177,7 +184,8 @@ def validate_spec(spec: RunSpec) -> None:
     Checks that ``algo_kwargs`` are keywords of the algorithm (and sb3-contrib is installed for
     recurrent-ppo), then builds one environment with ``env_kwargs`` (a missing scenario, an
     unknown keyword or a bad value fail here) and the algorithm on it with ``algo_kwargs``
-    (a value it refuses fails here), then closes them.
+    (a value it refuses fails here), checks that the ``warm_start`` teacher can act on that
+    environment, then closes them.
     """
     _check_algo_kwargs(spec)
     _check_env_and_algo_values(spec)
@@ -412,7 +420,7 @@ def train(
         return RunResult(json.loads((run_dir / "metrics.json").read_text()))
     algo_cls = _algo_class(spec.algo)
     eval_envs = [env_factory(spec)() for _ in range(min(4, spec.eval_episodes))]
-    vec = _make_vec_env(spec)
+    vec = raw_vec = _make_vec_env(spec)
     ckpt = run_dir / _CHECKPOINT / "model.zip"
     vec_normalize = None
     if spec.obs_scaling == "running":
@@ -446,6 +454,8 @@ def train(
                 **spec.merged_algo_kwargs(),
             )
             resumed_from = 0
+            if spec.warm_start is not None:  # demonstrations cloned first; their env steps count
+                model.num_timesteps = warm_start(model, raw_vec, vec_normalize, spec.warm_start, spec.seed)
         if tb is None:  # SB3's own logger would make an empty folder in the temp directory
             model.set_logger(_logger_without_folder(verbose))
         callback = _make_callback(spec, run_dir, rows, choice_rows, start_wall, eval_envs, vec_normalize)
@@ -458,7 +468,7 @@ def train(
                 remaining,
                 callback=CallbackList([callback, *callbacks]),
                 progress_bar=progress_bar,
-                reset_num_timesteps=resumed_from == 0,
+                reset_num_timesteps=model.num_timesteps == 0,
                 tb_log_name="tb",
             )
         elif not rows or rows[-1]["env_steps"] != model.num_timesteps:

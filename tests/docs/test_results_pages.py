@@ -269,6 +269,18 @@ def test_the_safe_rescue_table_replaces_the_rows_it_measures_again_and_keeps_the
     assert len(table.merged_rows(kept, [other_budget])) == 3
 
 
+def test_the_safe_rescue_table_names_a_runs_rollout_and_warm_start_beside_the_earlier_ones():
+    from attentive_gym.agents.config import RunSpec
+
+    table = load_tool("safe_rescue_table")
+    earlier = RunSpec(variant="oracle", algo_defaults=2)  # 4 envs × 256 steps, the rate decayed
+    today = RunSpec(variant="oracle")
+    assert table.controller_label(earlier) == "ppo oracle"
+    assert table.controller_label(today) == "ppo oracle (32 envs × 64 steps, batch 512)"
+    warm = today.replace(warm_start="clearance")
+    assert table.controller_label(warm) == "ppo oracle (32 envs × 64 steps, batch 512, warm start clearance)"
+
+
 def test_the_real_bags_page_groups_each_bag_and_leaves_the_focus_out_for_a_driving_robot(tmp_path):
     real_bags_page = report.real_bags_page
     metrics = {"steps": 80, "motion_steps": 70, "focus_on_motion_fraction": 0.5, "chance_fraction": 0.25}

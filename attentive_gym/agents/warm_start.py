@@ -1,0 +1,168 @@
+"""Warm starts: a policy cloned from a scripted teacher before reinforcement learning begins.
+
+PPO on the safe rescue task (an episode ends after 1 s of contact) learns to reach the target
+and stalls before it learns to avoid what moves: on the same observation, the scripted
+``clearance_controller`` reaches the target safely in about 0.93 of the episodes and PPO's
+oracle in 0.82 after 1M steps (``docs/notes/2026-12-05-safe-rescue.md``). A warm start hands
+PPO what the teacher knows, as demonstrations (behaviour cloning, then PPO fine-tuning):
+
+1. ``collect_demonstrations``: the run's own training environments are driven for
+   ``DEMO_STEPS`` env steps by the teacher's action plus Gaussian noise of ``DEMO_NOISE``
+   (so that the demonstrations also show how the teacher recovers from where noise leads;
+   the label is always the teacher's clean action), recording each observation, the label
+   and the discounted return that followed.
+2. ``clone``: the observation statistics are fitted to the demonstrations; the policy's mean
+   action is fitted to the labels and its value to the returns (``BC_EPOCHS`` passes of
+   Adam); the exploration's standard deviation is then set to ``WARM_ACTION_STD``.
+
+``warm_start(model, vec_env, vec_normalize, spec)`` does both; ``train`` calls it on a new
+run whose ``RunSpec.warm_start`` is set, and the demonstrations' env steps count in the run's
+budget. Teachers (``WARM_STARTS``): ``"clearance"``, ``perception.controllers.
+clearance_controller``, which reads the first working-memory row (the target in the oracle's
+observation; the latest attended body in ``focus``'s) and the ``"proximity"`` entry; so it
+needs a focus-layout variant built with ``proximity=True`` and a (linear, angular) action.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from attentive_gym.perception.controllers import clearance_controller
+
+__all__ = [
+    "WARM_STARTS",
+    "DEMO_STEPS",
+    "DEMO_NOISE",
+    "BC_EPOCHS",
+    "WARM_ACTION_STD",
+    "Demonstrations",
+    "check_warm_start",
+    "collect_demonstrations",
+    "clone",
+    "warm_start",
+]
+
+#: Teacher name → the policy (observation, info) → action it demonstrates.
+WARM_STARTS: dict[str, Callable[[Mapping[str, np.ndarray], Mapping[str, Any]], np.ndarray]] = {
+    "clearance": clearance_controller,
+}
+#: The observation entries each teacher reads.
+_NEEDS = {"clearance": ("memory", "proximity")}
+#: Env steps of demonstrations (over all training envs), counted in the run's budget.
+DEMO_STEPS = 64_000
+#: Standard deviation of the noise added to the executed action (the label stays clean).
+DEMO_NOISE = 0.3
+#: Passes over the demonstrations, minibatch size and Adam's learning rate of the cloning.
+BC_EPOCHS, BC_BATCH, BC_LEARNING_RATE = 30, 512, 1e-3
+#: The policy's action standard deviation after cloning (PPO's exploration from there on).
+WARM_ACTION_STD = 0.3
+#: The value target's discount (PPO's default ``gamma``).
+_GAMMA = 0.99
+
+
+@dataclass(frozen=True)
+class Demonstrations:
+    """``observations``: entry → ``(N, ...)`` raw observations; ``actions`` ``(N, 2)``: the
+    teacher's labels in [-1, 1]; ``returns`` ``(N,)``: the discounted reward that followed
+    (reward units; cut at the end of the collection)."""
+
+    observations: dict[str, np.ndarray]
+    actions: np.ndarray
+    returns: np.ndarray
+
+
+def check_warm_start(name: str, observation_space: gym.Space, action_space: gym.Space) -> None:
+    """``ValueError`` unless teacher ``name`` is known and can act in these spaces."""
+    if name not in WARM_STARTS:
+        raise ValueError(f"unknown warm_start {name!r}; allowed: None, {', '.join(map(repr, WARM_STARTS))}")
+    entries = list(observation_space.spaces) if isinstance(observation_space, gym.spaces.Dict) else []
+    missing = [entry for entry in _NEEDS[name] if entry not in entries]
+    if missing or getattr(action_space, "shape", None) != (2,):
+        raise ValueError(
+            f"warm_start {name!r} needs the observation entries {list(_NEEDS[name])} and a (linear, angular) action: "
+            'the focus, random-focus or oracle variant with env_kwargs {"proximity": true}; '
+            f"this run's observation has {entries or 'no entries'}"
+        )
+
+
+def collect_demonstrations(vec_env, name: str, steps: int, seed: int) -> Demonstrations:
+    """Drive the SB3 ``VecEnv`` ``vec_env`` (raw ``Dict`` observations) by teacher ``name``
+    plus noise for ``steps`` env steps (rounded up to whole steps of all its envs); the
+    noise is drawn from ``seed``."""
+    teacher = WARM_STARTS[name]
+    rng = np.random.default_rng(seed)
+    n = vec_env.num_envs
+    obs = vec_env.reset()
+    seen: dict[str, list[np.ndarray]] = {key: [] for key in obs}
+    labels, rewards, dones = [], [], []
+    for _ in range(math.ceil(steps / n)):
+        action = np.stack([teacher({key: value[i] for key, value in obs.items()}, {}) for i in range(n)])
+        executed = np.clip(action + DEMO_NOISE * rng.standard_normal(action.shape), -1.0, 1.0).astype(np.float32)
+        for key, value in obs.items():
+            seen[key].append(np.array(value, copy=True))
+        labels.append(action)
+        obs, reward, done, _ = vec_env.step(executed)
+        rewards.append(reward)
+        dones.append(done)
+    returns = np.zeros((len(rewards), n))
+    following = np.zeros(n)
+    for t in range(len(rewards) - 1, -1, -1):
+        following = rewards[t] + _GAMMA * following * (1.0 - dones[t])
+        returns[t] = following
+    return Demonstrations(
+        {key: np.concatenate(values) for key, values in seen.items()},
+        np.concatenate(labels).astype(np.float32),
+        returns.reshape(-1).astype(np.float32),
+    )
+
+
+def clone(model, demonstrations: Demonstrations, vec_normalize, seed: int) -> dict[str, float]:
+    """Fit ``model``'s policy (SB3 PPO, a ``Dict`` observation) to ``demonstrations``: the
+    observation statistics of ``vec_normalize`` (when not None) to their observations, the
+    policy's mean action to the labels and its value to the returns; then set its action
+    standard deviation to ``WARM_ACTION_STD``. Returns the last pass's mean squared errors,
+    ``{"action_mse", "value_mse"}``."""
+    import torch
+
+    observations = demonstrations.observations
+    if vec_normalize is not None:
+        for key, values in observations.items():
+            vec_normalize.obs_rms[key].update(values)
+        observations = vec_normalize.normalize_obs(observations)
+    policy = model.policy
+    inputs = {key: torch.as_tensor(np.asarray(values), dtype=torch.float32) for key, values in observations.items()}
+    labels = torch.as_tensor(demonstrations.actions)
+    returns = torch.as_tensor(demonstrations.returns)
+    optimiser = torch.optim.Adam(policy.parameters(), lr=BC_LEARNING_RATE)
+    generator = torch.Generator().manual_seed(seed)
+    size = len(labels)
+    for _ in range(BC_EPOCHS):
+        totals = np.zeros(2)
+        order = torch.randperm(size, generator=generator)
+        for start in range(0, size, BC_BATCH):
+            index = order[start : start + BC_BATCH]
+            batch = {key: value[index] for key, value in inputs.items()}
+            action_error = ((policy.get_distribution(batch).distribution.mean - labels[index]) ** 2).mean()
+            value_error = ((policy.predict_values(batch).flatten() - returns[index]) ** 2).mean()
+            optimiser.zero_grad()
+            (action_error + 0.5 * value_error).backward()
+            optimiser.step()
+            totals += len(index) * np.array([action_error.item(), value_error.item()])
+    with torch.no_grad():
+        policy.log_std.fill_(math.log(WARM_ACTION_STD))
+    return {"action_mse": float(totals[0] / size), "value_mse": float(totals[1] / size)}
+
+
+def warm_start(model, vec_env, vec_normalize, name: str, seed: int) -> int:
+    """Collect ``DEMO_STEPS`` env steps of teacher ``name``'s demonstrations in ``vec_env``
+    (the raw training envs; ``vec_normalize``: their normalising wrapper or None) and
+    ``clone`` them into ``model``; returns the env steps used, which the run's budget counts."""
+    demonstrations = collect_demonstrations(vec_env, name, DEMO_STEPS, seed)
+    clone(model, demonstrations, vec_normalize, seed)
+    return len(demonstrations.actions)

@@ -1,0 +1,102 @@
+"""Warm starts: the teacher's demonstrations are cloned into the policy, counted in the
+budget, deterministic, and refused where the teacher cannot act."""
+
+import json
+
+import numpy as np
+import pytest
+
+from attentive_gym.agents import warm_start
+from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.merged import algo_tag
+from attentive_gym.agents.results import read_csv
+from attentive_gym.agents.training import _algo_class, _make_vec_env, _policy_name, train, validate_spec
+from attentive_gym.cli import main
+from attentive_gym.perception.controllers import clearance_controller
+
+PROXIMITY = {"time_limit_s": 2.0, "proximity": True}
+
+
+@pytest.fixture
+def small_demos(monkeypatch):
+    """Demonstrations and cloning sized for a test: 256 env steps (one minibatch), 60 passes."""
+    monkeypatch.setattr(warm_start, "BC_EPOCHS", 60)
+    return 256
+
+
+def _model_and_vec(spec):
+    vec = _make_vec_env(spec)
+    model = _algo_class("ppo")(
+        _policy_name("ppo", vec.observation_space), vec, seed=spec.seed, device="cpu", **spec.merged_algo_kwargs()
+    )
+    return model, vec
+
+
+def _action_error(model, demonstrations):
+    """The mean squared gap between the policy's mean action and the teacher's labels."""
+    import torch
+
+    with torch.no_grad():
+        inputs = {k: torch.as_tensor(v, dtype=torch.float32) for k, v in demonstrations.observations.items()}
+        mean = model.policy.get_distribution(inputs).distribution.mean.numpy()
+    return float(((mean - demonstrations.actions) ** 2).mean())
+
+
+def test_the_labels_are_the_teachers_clean_actions_and_the_returns_discount_the_rewards(tiny):
+    spec = tiny(variant="oracle", env_kwargs=PROXIMITY)
+    vec = _make_vec_env(spec)
+    try:
+        demos = warm_start.collect_demonstrations(vec, "clearance", 100, seed=3)
+    finally:
+        vec.close()
+    assert demos.actions.shape == (100, 2) and demos.returns.shape == (100,)
+    assert {key: value.shape[0] for key, value in demos.observations.items()} == dict.fromkeys(demos.observations, 100)
+    first = {key: value[0] for key, value in demos.observations.items()}  # env 0 at its first step
+    assert np.array_equal(demos.actions[0], clearance_controller(first, {}))  # the label, not the noisy action
+    assert np.isfinite(demos.returns).all()
+
+
+def test_cloning_fits_the_policy_to_the_teacher(tiny, small_demos):
+    spec = tiny(variant="oracle", env_kwargs=PROXIMITY, obs_scaling="none")
+    model, vec = _model_and_vec(spec)
+    try:
+        demos = warm_start.collect_demonstrations(vec, "clearance", small_demos, seed=0)
+        before = _action_error(model, demos)
+        errors = warm_start.clone(model, demos, None, seed=0)
+    finally:
+        vec.close()
+    after = _action_error(model, demos)
+    assert after < 0.5 * before and errors["action_mse"] < before
+    assert np.allclose(model.policy.log_std.detach().numpy(), np.log(warm_start.WARM_ACTION_STD))
+
+
+def test_a_warm_started_run_counts_the_demonstrations_and_is_deterministic(tmp_path, tiny, monkeypatch, small_demos):
+    monkeypatch.setattr(warm_start, "DEMO_STEPS", small_demos)
+    spec = tiny(variant="oracle", env_kwargs=PROXIMITY, total_steps=512, warm_start="clearance")
+    first, second = (train(spec, tmp_path / name, tensorboard=False) for name in ("a", "b"))
+    rows = read_csv(tmp_path / "a" / "eval.csv")
+    assert rows[0]["env_steps"] == small_demos  # the first evaluation follows the demonstrations
+    assert first["env_steps"] == second["env_steps"] >= 512
+    untimed = lambda table: [{k: v for k, v in row.items() if k != "wall_s"} for row in table]  # noqa: E731
+    assert untimed(rows) == untimed(read_csv(tmp_path / "b" / "eval.csv"))
+    assert json.loads((tmp_path / "a" / "spec.json").read_text())["warm_start"] == "clearance"
+
+
+def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
+    with pytest.raises(ValueError, match=r"needs the observation entries \['memory', 'proximity'\]"):
+        validate_spec(tiny(variant="raw", warm_start="clearance"))
+    with pytest.raises(ValueError, match="proximity"):
+        validate_spec(tiny(variant="oracle", warm_start="clearance"))  # no proximity entry
+    with pytest.raises(ValueError, match="unknown warm_start 'teacher'; allowed: None, 'clearance'"):
+        validate_spec(tiny(variant="oracle", env_kwargs=PROXIMITY, warm_start="teacher"))
+    with pytest.raises(ValueError, match="warm_start applies to ppo only"):
+        RunSpec(algo="sac", warm_start="clearance")
+    out = tmp_path / "run"
+    assert main(["train", "--variant", "raw", "--warm-start", "clearance", "--steps", "64", "--out", str(out)]) == 2
+    assert not out.exists()
+
+
+def test_warm_started_rows_carry_their_teacher_in_the_tag():
+    plain = RunSpec(variant="oracle").to_dict()
+    assert algo_tag({**plain, "warm_start": "clearance"}) == f"{algo_tag(plain)}, warm start clearance"
+    assert RunSpec.from_dict({k: v for k, v in plain.items() if k != "warm_start"}).warm_start is None
