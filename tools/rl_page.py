@@ -24,8 +24,10 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from attentive_gym.agents.config import ALGO_DEFAULTS, RunSpec
 from attentive_gym.agents.merged import (
     SCALED,
+    algo_tag,
     budgets,
     clutter_targets,
     default_tag,
@@ -53,6 +55,9 @@ NAME = "rl.md"
 HEADLINE_VARIANTS = ("raw", "random-focus", "focus", "oracle")
 #: The performance profiles' figure.
 PROFILES = "rl_profiles.png"
+#: The figure of today's PPO rollout beside the earlier one, and its variants.
+ROLLOUTS = "rl_rollouts.png"
+ROLLOUT_VARIANTS = ("raw", "focus", "oracle")
 #: The main comparison's arena (the ``--env-kwargs`` of the commands under "Reproduce").
 COMPARISON_ARENA = "an 8 m arena with 2 distractors and 3 rubble pieces per 100 m²"
 COMPARISON = RESULTS / "rl_comparison.csv"
@@ -178,6 +183,51 @@ def _profiles_markdown(
             lines,
         ),
         f"![performance profiles of today's defaults]({(link / PROFILES).as_posix()})",
+        "",
+    ]
+
+
+def _rollouts_markdown(
+    comparison: Sequence[Mapping[str, Any]], figures: Path, link: Path, write_figures: bool
+) -> list[str]:
+    """The learning curves of raw, focus and oracle under today's PPO rollout beside the earlier
+    one (``algo_defaults`` 2: 4 envs × 256 steps), up to today's headline budget (drawn unless
+    told not to); none without rows of both."""
+    found = default_runs(comparison)
+    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2]).to_dict())
+    if found is None:
+        return []
+    budget = found[0]
+    rows = [
+        row
+        for row in comparison
+        if row["algo"] in (default_tag(), earlier)
+        and row.get("obs_scaling") == SCALED
+        and row["variant"] in ROLLOUT_VARIANTS
+        and row["env_steps"] <= budget
+    ]
+    if {row["algo"] for row in rows} != {default_tag(), earlier}:
+        return []
+    rollout = {default_tag(): "32 envs × 64 steps", earlier: "4 envs × 256 steps"}
+    if write_figures:
+        plot_learning_curves(
+            [
+                {**row, "variant": f"{row['variant']} ({rollout[row['algo']]})"}
+                for row in sorted(rows, key=lambda r: (r["algo"] != earlier, ROLLOUT_VARIANTS.index(r["variant"])))
+            ],
+            figures / ROLLOUTS,
+            metrics=("success_rate",),
+            title="two PPO rollouts: mean over seeds, shaded: 95 % bootstrap CI",
+        )
+    return [
+        "## Today's PPO rollout against the earlier one",
+        "",
+        f"Success of raw, focus and oracle trained with today's defaults (`{default_tag()}`) and with the "
+        f"earlier rollout (`{earlier}`: 4 envs × 256 steps, minibatches of 256), up to {steps_label(budget)} env "
+        "steps. Today's takes half the gradient steps per env step and trains 2.4× faster per CPU second "
+        "([the note](../notes/2026-12-06-faster-ppo.md)).",
+        "",
+        f"![learning curves of the two rollouts]({(link / ROLLOUTS).as_posix()})",
         "",
     ]
 
@@ -328,6 +378,7 @@ def results_markdown(
     for name, setting, _ in figures_of_settings:
         parts += [f"![learning curves, {setting}]({(link / name).as_posix()})", ""]
     parts += _profiles_markdown(comparison, figures, link, write_figures)
+    parts += _rollouts_markdown(comparison, figures, link, write_figures)
     for budget, at_budget in budgets(rows):
         summary = summarise_by_setting(at_budget)
         parts += [

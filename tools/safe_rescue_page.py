@@ -69,7 +69,10 @@ def page(root: Path, write_figures: bool = True) -> str:
             "A success is **safe** when the robot reached the target with at most 1 s in contact in the episode. "
             "Each task setting below changes the defaults (`RewardConfig()`, the focus layout without `proximity`) "
             "by the fields it names; the arena is the main comparison's (8 m, 2 distractors, 3 rubble pieces per "
-            f"100 m²). `ppo oracle`: PPO on the `oracle` variant (at {budget} env steps), its final evaluation. "
+            f"100 m²). `ppo oracle`: PPO on the `oracle` variant (at {budget} env steps), its final evaluation; "
+            "in brackets where it differs from the earlier 4 envs × 256-step rollout, its rollout, and `warm start "
+            "clearance` where PPO first cloned the clearance controller's demonstrations (`--warm-start clearance`, "
+            "[Agents](../agents.md); their 64,000 env steps count in the budget). "
             "Two scripted controllers on the same episodes: `true-bearing` steers at the target's true bearing at "
             "full speed, so it reaches the target on the straight line and avoids nothing; `clearance` reads the "
             "oracle's observation with `proximity` and nothing else, and heads for the target through the free "
@@ -88,6 +91,13 @@ def page(root: Path, write_figures: bool = True) -> str:
             '"{$ARENA, \\"proximity\\": true, \\"reward\\": {\\"contact_limit_s\\": 1.0}}"',
             "done",
             f"{WRITTEN_BY} runs/safe/*-s4[123]   # adds the true-bearing rows; writes {SOURCE.as_posix()}",
+            "",
+            "# today's rollout, with and without the warm start: 5 seeds × 1M each, about 30 minutes per line",
+            'TASK="{$ARENA, \\"proximity\\": true, \\"reward\\": {\\"contact_limit_s\\": 1.0, \\"near_per_s\\": 4.0}}"',
+            "COMMON='--variants oracle --seeds 41,42,43,44,45 --steps 1000000 --eval-every 250000 --eval-episodes 40'",
+            'attentive-gym compare $COMMON --env-kwargs "$TASK" --out runs/safe-plain',
+            'attentive-gym compare $COMMON --env-kwargs "$TASK" --warm-start clearance --out runs/safe-warm',
+            f"{WRITTEN_BY} runs/safe-plain/runs/* runs/safe-warm/runs/*",
             "python tools/report.py render",
             "```",
             "",

@@ -178,14 +178,11 @@ def plot_learning_curves(
     if len(variants) <= _LEGEND_INSIDE:
         axes[0][0].legend(loc="best", fontsize=8)
         return _save(fig, path)
+    legend_columns = min(len(variants), _LEGEND_COLUMNS if columns > 1 else 2)  # what the figure's width holds
     fig.legend(
-        *axes[0][0].get_legend_handles_labels(),
-        loc="lower center",
-        ncol=min(len(variants), _LEGEND_COLUMNS),
-        fontsize=8,
-        frameon=False,
+        *axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=legend_columns, fontsize=8, frameon=False
     )
-    legend_rows = math.ceil(len(variants) / _LEGEND_COLUMNS)
+    legend_rows = math.ceil(len(variants) / legend_columns)
     fig.tight_layout(rect=(0, 0.06 * legend_rows / panel_rows, 1, 1))  # room for the legend's rows below the panels
     return _save(fig, path, layout=False)
 

@@ -209,6 +209,16 @@ def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_f
     assert capsys.readouterr().err.count("differs from what the CSVs give") == 1
 
 
+def test_the_rl_page_sets_todays_rollout_beside_the_earlier_one_where_both_were_run(tmp_path):
+    levels = {"raw": [0.4, 0.5], "random-focus": [0.4, 0.4], "focus": [0.7, 0.8], "oracle": [0.9, 0.9]}
+    today = [{"algo": TODAY, "obs_scaling": "running", **row} for row in _rows(levels)]
+    earlier = [{"algo": "ppo, lr lin_3e-4", "obs_scaling": "running", **row} for row in _rows(levels)]
+    heading = "## Today's PPO rollout against the earlier one"
+    assert heading not in render_block(today, [], tmp_path, write_figures=False)
+    page = render_block(today + earlier, [], tmp_path, tmp_path)
+    assert heading in page and "](rl_rollouts.png)" in page and (tmp_path / "rl_rollouts.png").is_file()
+
+
 def test_runs_trained_on_count_at_every_budget_cut_to_it():
     rows = _rows({"raw": [0.4, 0.5], "focus": [0.6]}) + _rows({"focus": [0.8]}, steps=(0, 100, 200, 300, 400))[3:]
     (short, short_rows), (long, long_rows) = budgets(rows)
