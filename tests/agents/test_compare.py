@@ -100,37 +100,43 @@ def _spec_from(out):
     return RunSpec(variant=settings["variants"][0], seed=settings["seeds"][0], **settings["run"])
 
 
+def _raw_argv(out, tiny, seeds, steps, *more):
+    """``compare`` of raw on ``seeds`` (a count or a list) for ``steps`` env steps into ``out``,
+    evaluated and checkpointed every 128 steps, then ``more`` options."""
+    return [
+        "compare",
+        "--variants",
+        "raw",
+        "--seeds",
+        seeds,
+        "--steps",
+        str(steps),
+        "--n-envs",
+        "2",
+        "--eval-every",
+        "128",
+        "--checkpoint-every",
+        "128",
+        "--eval-episodes",
+        "2",
+        "--env-kwargs",
+        json.dumps(tiny.env_kwargs),
+        "--algo-kwargs",
+        json.dumps(tiny.ppo_kwargs),
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+        *more,
+    ]
+
+
 @pytest.mark.slow
 def test_extend_trains_a_finished_comparison_on_to_a_larger_budget(tmp_path, tiny):
     out = tmp_path / "cmp"
 
     def argv(steps, *more):
-        return [
-            "compare",
-            "--variants",
-            "raw",
-            "--seeds",
-            "1",
-            "--steps",
-            str(steps),
-            "--n-envs",
-            "2",
-            "--eval-every",
-            "128",
-            "--checkpoint-every",
-            "128",
-            "--eval-episodes",
-            "2",
-            "--env-kwargs",
-            json.dumps(tiny.env_kwargs),
-            "--algo-kwargs",
-            json.dumps(tiny.ppo_kwargs),
-            "--workers",
-            "1",
-            "--out",
-            str(out),
-            *more,
-        ]
+        return _raw_argv(out, tiny, "1", steps, *more)
 
     assert main(argv(256)) == 0
     settings = (out / "compare.json").read_text()
@@ -151,24 +157,12 @@ def test_more_seeds_train_beside_the_trained_ones(tmp_path, tiny):
     out = tmp_path / "cmp"
 
     def argv(seeds, *more):
-        return ["compare", "--variants", "raw", "--seeds", seeds, "--steps", "128", "--n-envs", "2"] + [
-            "--eval-episodes",
-            "1",
-            "--env-kwargs",
-            json.dumps(tiny.env_kwargs),
-            "--algo-kwargs",
-            json.dumps(tiny.ppo_kwargs),
-            "--workers",
-            "1",
-            "--out",
-            str(out),
-            *more,
-        ]
+        return _raw_argv(out, tiny, seeds, 128, *more)
 
     assert main(argv("1")) == 0  # seed 0
     stamp = (out / "runs" / "raw-seed0" / "metrics.json").stat().st_mtime_ns
     assert main(argv("1,2")) == 2  # a trained seed may not be dropped
-    assert main(argv("0,1", "--eval-episodes", "2")) == 2  # nor the run settings change
+    assert main(argv("0,1", "--eval-episodes", "3")) == 2  # nor the run settings change
     assert json.loads((out / "compare.json").read_text())["seeds"] == [0]
     assert main(argv("2")) == 0  # seeds 0 and 1
     assert (out / "runs" / "raw-seed0" / "metrics.json").stat().st_mtime_ns == stamp  # not retrained
