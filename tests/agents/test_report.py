@@ -191,6 +191,7 @@ def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_f
     assert "](../figures/rl_learning_curves.png)" in page and (root / "docs/figures/rl_learning_curves.png").is_file()
     profiles = page.split("## Today's defaults at 200 env steps: IQM, improvement and performance profiles")[1]
     assert "| focus | 0.55 [0.50, 0.60] | 0.00 [0.00, 0.00] | 0.94 [0.78, 1.00] |" in profiles  # IQM of 3: the middle
+    assert "| focus | no, 0.25 | — |" in profiles  # (0.55 - 0.45) / (0.85 - 0.45); no safe success recorded
     assert "](../figures/rl_profiles.png)" in profiles and (root / "docs/figures/rl_profiles.png").is_file()
     readme = (root / "README.md").read_text()
     assert readme.startswith("# title") and readme.endswith("after\n") and "\nold\n" not in readme
