@@ -81,8 +81,9 @@ when that is not PPO with SB3's constant learning rate on normalised observation
 `({default})` is today's default, `(recurrent-ppo)` an LSTM policy, `(unscaled)` a policy
 that saw the observation in its own units. Intervals are 95 % stratified-bootstrap
 intervals across seeds, as `rliable` computes them; P(success > raw of its setting) is the
-probability that a seed of the variant beats a seed of raw trained the same way. Safe success is success with at most
-{SAFE_CONTACT_S:g} s in contact in the episode, contact time the seconds in contact per episode.
+probability that a seed of the variant beats a seed of raw trained the same way. Safe success
+is success with at most {SAFE_CONTACT_S:g} s in contact in the episode, contact time the seconds
+in contact per episode.
 A run trained further than a table's budget counts there with its curve cut at the budget.
 `oracle` (the target's true state in the focus layout) bounds attention from above;
 `random-focus` (a region drawn at random, the same bottleneck) is its control.
@@ -154,21 +155,12 @@ def _profiles_markdown(
     finals = run_finals(at_budget)
     seeds = sorted({row["n_seeds"] for row in summary.values()})
 
-    def cell(row, key, point_key):
-        return (
-            "—" if math.isnan(row[point_key]) else interval(row[point_key], row[f"{key}_ci_low"], row[f"{key}_ci_high"])
-        )
+    def cell(row, key):
+        """A summary value without a ``_mean`` suffix (an IQM, a probability), with its interval."""
+        return "—" if math.isnan(row[key]) else interval(row[key], row[f"{key}_ci_low"], row[f"{key}_ci_high"])
 
-    lines = [
-        [
-            variant,
-            cell(summary[variant], "final_success_iqm", "final_success_iqm"),
-            cell(summary[variant], "final_safe_success_iqm", "final_safe_success_iqm"),
-            cell(summary[variant], "prob_improvement", "prob_improvement"),
-            cell(summary[variant], "prob_safe_improvement", "prob_safe_improvement"),
-        ]
-        for variant in HEADLINE_VARIANTS
-    ]
+    keys = ("final_success_iqm", "final_safe_success_iqm", "prob_improvement", "prob_safe_improvement")
+    lines = [[variant, *(cell(summary[variant], key) for key in keys)] for variant in HEADLINE_VARIANTS]
     if write_figures:
         plot_performance_profiles(
             {variant: finals[variant] for variant in HEADLINE_VARIANTS},
