@@ -1,4 +1,4 @@
-"""``docs/results/safe_rescue.md``: the oracle under candidate safe-rescue tasks.
+"""``docs/results/safe_rescue.md``: the oracle (and focus) under candidate safe-rescue tasks.
 
 From ``docs/results/safe_rescue.csv`` (written by ``tools/safe_rescue_table.py``): per task
 setting and controller, the mean over seeds of the final success, safe success, contact
@@ -63,13 +63,14 @@ def page(root: Path, write_figures: bool = True) -> str:
     budget = ", ".join(f"{s:,}" for s in steps)
     return "\n".join(
         [
-            "# Safe rescue: the oracle under candidate tasks",
+            "# Safe rescue: the oracle and focus under candidate tasks",
             "",
             banner([SOURCE]),
             "A success is **safe** when the robot reached the target with at most 1 s in contact in the episode. "
             "Each task setting below changes the defaults (`RewardConfig()`, the focus layout without `proximity`) "
             "by the fields it names; the arena is the main comparison's (8 m, 2 distractors, 3 rubble pieces per "
-            f"100 m²). `ppo oracle`: PPO on the `oracle` variant (at {budget} env steps), its final evaluation; "
+            f"100 m²). `ppo oracle`, `ppo focus`: PPO on that variant (at {budget} env steps), its final "
+            "evaluation; "
             "in brackets where it differs from the earlier 4 envs × 256-step rollout, its rollout, and `warm start "
             "clearance` where PPO first cloned the clearance controller's demonstrations (`--warm-start clearance`, "
             "[Agents](../agents.md); their 64,000 env steps count in the budget). "
@@ -97,7 +98,8 @@ def page(root: Path, write_figures: bool = True) -> str:
             "COMMON='--variants oracle --seeds 41,42,43,44,45 --steps 1000000 --eval-every 250000 --eval-episodes 40'",
             'attentive-gym compare $COMMON --env-kwargs "$TASK" --out runs/safe-plain',
             'attentive-gym compare $COMMON --env-kwargs "$TASK" --warm-start clearance --out runs/safe-warm',
-            f"{WRITTEN_BY} runs/safe-plain/runs/* runs/safe-warm/runs/*",
+            "# focus: the same with --variants focus, into runs/safe-focus-plain and runs/safe-focus-warm",
+            f"{WRITTEN_BY} runs/safe-plain/runs/* runs/safe-warm/runs/* runs/safe-focus-*/runs/*",
             "python tools/report.py render",
             "```",
             "",
