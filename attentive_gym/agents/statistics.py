@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -79,9 +80,7 @@ def bootstrap_ci(
         ValueError: ``confidence`` outside (0, 1), ``reps`` < 1, ``bounds`` not ordered
             (low <= high), a value outside ``bounds``, or an infinite value.
     """
-    if not 0.0 < confidence < 1.0:
-        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    check_int("reps", reps, 1)
+    _check_bootstrap(confidence, reps)
     low_bound, high_bound = bounds
     if not low_bound <= high_bound:
         raise ValueError(f"bounds must be (low, high) with low <= high, got {bounds!r}")
@@ -99,14 +98,23 @@ def bootstrap_ci(
     return (point, *_percentile_interval(resampled, point, confidence, bounds))
 
 
+def _check_bootstrap(confidence: float, reps: int) -> None:
+    """``ValueError`` unless ``confidence`` is in (0, 1) and ``reps`` an int ≥ 1."""
+    if not 0.0 < confidence < 1.0:
+        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
+    check_int("reps", reps, 1)
+
+
 def _percentile_interval(
-    resampled: np.ndarray, point: float, confidence: float, bounds: tuple[float, float]
-) -> tuple[float, float]:
-    """The central ``confidence`` interval of the bootstrap distribution ``resampled``,
-    clipped to ``bounds`` and widened to hold ``point``."""
+    resampled: np.ndarray, point: float | np.ndarray, confidence: float, bounds: tuple[float, float]
+) -> tuple[Any, Any]:
+    """The central ``confidence`` interval of the bootstrap distribution ``resampled`` (the
+    resamples along its first axis), clipped to ``bounds`` and widened to hold ``point``; one
+    interval per entry of the other axes (floats for a 1-D ``resampled``)."""
     tail = 50.0 * (1.0 - confidence)
-    low, high = np.clip(np.percentile(resampled, [tail, 100.0 - tail]), *bounds)
-    return min(float(low), point), max(float(high), point)
+    low, high = np.clip(np.percentile(resampled, [tail, 100.0 - tail], axis=0), *bounds)
+    low, high = np.minimum(low, point), np.maximum(high, point)
+    return (float(low), float(high)) if np.ndim(low) == 0 else (low, high)
 
 
 def _improvement(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -127,9 +135,7 @@ def probability_of_improvement(
 
     NaN bounds when either side has one value; NaNs when either has none.
     """
-    if not 0.0 < confidence < 1.0:
-        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    check_int("reps", reps, 1)
+    _check_bootstrap(confidence, reps)
     x, y = _values(x_values), _values(y_values)
     if x.size == 0 or y.size == 0:
         return math.nan, math.nan, math.nan
@@ -160,9 +166,7 @@ def performance_profile(
         ``(share, low, high)``, each of shape (T,) and in [0, 1]; NaN bounds with one value,
         NaN everywhere with none.
     """
-    if not 0.0 < confidence < 1.0:
-        raise ValueError(f"confidence must be in (0, 1), got {confidence!r}")
-    check_int("reps", reps, 1)
+    _check_bootstrap(confidence, reps)
     x, taus = _values(values), np.asarray(thresholds, dtype=float).reshape(-1)
     if np.isnan(taus).any():
         raise ValueError(f"thresholds must be numbers, got {taus.tolist()}")
@@ -175,6 +179,4 @@ def performance_profile(
     rng = np.random.default_rng(_SEED)
     resampled = x[rng.integers(0, x.size, size=(reps, x.size))]  # (reps, n)
     shares = (resampled[:, :, None] > taus[None, None, :]).mean(axis=1)  # (reps, T)
-    tail = 50.0 * (1.0 - confidence)
-    low, high = np.percentile(shares, [tail, 100.0 - tail], axis=0)
-    return share, np.minimum(low, share), np.maximum(high, share)
+    return (share, *_percentile_interval(shares, share, confidence, (0.0, 1.0)))
