@@ -156,10 +156,10 @@ def against_vmas(seconds: float, rounds: int, sizes, figures: Figures) -> None:
 _MEMORY_PROBE = """
 import gymnasium as gym, attentive_gym
 from bench_vector import resident_bytes
-probe = gym.make_vec("AttentiveRescueFocus-v0", num_envs=1, vectorization_mode="vector_entry_point")
+probe = gym.make_vec("AttentiveRescueFocus-v1", num_envs=1, vectorization_mode="vector_entry_point")
 probe.reset(seed=0)  # imports, compiled kernels and caches: not the envs' memory
 before = resident_bytes()
-env = gym.make_vec("AttentiveRescueFocus-v0", num_envs={n}, vectorization_mode="vector_entry_point")
+env = gym.make_vec("AttentiveRescueFocus-v1", num_envs={n}, vectorization_mode="vector_entry_point")
 env.reset(seed=0)
 print((resident_bytes() - before) / {n})
 """

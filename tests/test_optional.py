@@ -74,7 +74,7 @@ def test_each_extra_named_in_a_message_installs_its_package():
         assert any(req.startswith(distribution) for req in extras[extra]), (extra, extras[extra])
 
 
-@pytest.mark.parametrize("env_id", ["AttentiveRescue-v0", "AttentiveRescueFocus-v0"])
+@pytest.mark.parametrize("env_id", ["AttentiveRescue-v0", "AttentiveRescueFocus-v1"])
 @pytest.mark.parametrize("render_mode", ["rgb_array", "human"])
 def test_making_an_env_that_renders_without_pygame_names_the_render_extra(no_pygame, env_id, render_mode):
     with pytest.raises(MissingExtraError, match=_RENDER_MESSAGE.replace("[", r"\[").replace("]", r"\]")):

@@ -26,6 +26,7 @@ from typing import Any
 
 from attentive_gym.agents.config import ALGO_DEFAULTS, RunSpec
 from attentive_gym.agents.merged import (
+    HEADLINE_MODEL_VERSION,
     SCALED,
     algo_tag,
     budgets,
@@ -207,7 +208,7 @@ def _rollouts_markdown(
     one (``algo_defaults`` 2: 4 envs × 256 steps), up to today's headline budget (drawn unless
     told not to); none without rows of both."""
     found = default_runs(comparison)
-    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2]).to_dict())
+    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2], env_version=HEADLINE_MODEL_VERSION).to_dict())
     if found is None:
         return []
     budget = found[0]

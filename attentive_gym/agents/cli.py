@@ -33,6 +33,7 @@ from attentive_gym.agents.config import (
 from attentive_gym.agents.pretrained import PRETRAINED, pretrained_record, pretrained_run
 from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.agents.warm_start import DEMO_STEPS, WARM_STARTS
+from attentive_gym.attention.config import MODEL_VERSIONS
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -201,8 +202,8 @@ def _spec_from_args(
     ``--steps`` asks for at least what it has, their evaluation and checkpoint settings stand
     in for the defaults that depend on ``--steps``: resuming a run needs none of those flags,
     and extending it only ``--extend`` and the new ``--steps``. Their
-    ``algo_defaults`` (1 where they have none) always stands: a folder keeps the default
-    hyper-parameters it was trained with.
+    ``algo_defaults`` (1 where they have none) and ``env_version`` (0 where they have none)
+    always stand: a folder keeps the default hyper-parameters and model it was trained with.
     """
     defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
@@ -230,6 +231,7 @@ def _spec_from_args(
         obs_scaling=args.obs_scaling,
         warm_start=getattr(args, "warm_start", None),
         algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
+        env_version=MODEL_VERSIONS[-1] if stored is None else stored.get("env_version", 0),
     )
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from attentive_gym._checks import check_int
+from attentive_gym.attention.config import MODEL_VERSIONS
 from attentive_gym.envs.config_mappings import env_kwargs_as_mappings
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -119,6 +120,9 @@ class RunSpec:
         warm_start: None, or a teacher of ``agents.warm_start.WARM_STARTS`` (``"clearance"``)
             whose demonstrations PPO clones before it trains; their env steps count in
             ``total_steps``.
+        env_version: the version of the attentional model's defaults the environments are
+            built with (``attention.MODEL_VERSIONS``; the latest unless a stored spec says
+            otherwise: one without it was trained with version 0).
     """
 
     variant: str = "focus"
@@ -136,6 +140,7 @@ class RunSpec:
     torch_threads: int = 1
     obs_scaling: str = "running"
     warm_start: str | None = None
+    env_version: int = MODEL_VERSIONS[-1]
 
     def __post_init__(self) -> None:
         if self.variant not in VARIANTS:
@@ -152,6 +157,10 @@ class RunSpec:
             raise ValueError(f"warm_start applies to ppo only, got algo {self.algo!r}")
         if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
             raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
+        if type(self.env_version) is not int or self.env_version not in MODEL_VERSIONS:
+            raise ValueError(f"unknown env_version {self.env_version!r}; allowed: {list(MODEL_VERSIONS)}")
+        if "version" in self.env_kwargs:
+            raise ValueError("env_kwargs cannot hold 'version': the model's version is the spec's env_version")
         if self.n_envs is None:
             object.__setattr__(self, "n_envs", self.default_n_envs())
         check_int("n_envs", self.n_envs, 1)
@@ -251,12 +260,13 @@ class RunSpec:
     def from_dict(cls, data: Mapping[str, Any]) -> RunSpec:
         """Build from ``to_dict``'s output; unknown keys raise ``ValueError``. A spec without
         ``obs_scaling`` was written before observations were scaled: it reads as ``"none"``;
-        one without ``algo_defaults`` before the learning rate decayed by default: it reads as 1."""
+        one without ``algo_defaults`` before the learning rate decayed by default: it reads as 1;
+        one without ``env_version`` before the model's defaults had versions: it reads as 0."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(data) - names)
         if unknown:
             raise ValueError(f"unknown RunSpec field(s) {unknown}; allowed: {sorted(names)}")
-        return cls(**{"obs_scaling": "none", "algo_defaults": 1, **data})
+        return cls(**{"obs_scaling": "none", "algo_defaults": 1, "env_version": 0, **data})
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)

@@ -48,6 +48,7 @@ __all__ = [
     "NOT_ATTENDED",
     "algo_tag",
     "default_tag",
+    "HEADLINE_MODEL_VERSION",
     "tagged_rate",
     "merge_rows",
     "labelled",
@@ -72,6 +73,9 @@ NOT_ATTENDED = frozenset({"raw", "raw-stack", "oracle", "random-focus"})
 #: PPO's rollout before ``algo_defaults`` 3 (envs, steps per env, minibatch, epochs): rows
 #: trained with it carry no rollout note in their tag.
 EARLIER_ROLLOUT = (4, 256, 256, 5)
+#: The model version (``RunSpec.env_version``) of the headline's runs: rows of another
+#: version carry ``", model v<N>"`` in their tag. The headline was measured with version 0.
+HEADLINE_MODEL_VERSION = 0
 
 
 def algo_tag(run: Mapping[str, Any]) -> str:
@@ -80,8 +84,9 @@ def algo_tag(run: Mapping[str, Any]) -> str:
     SB3's constant ``SB3_LEARNING_RATE`` (a schedule, the default since ``algo_defaults`` 2,
     or another number given in ``algo_kwargs``), and for PPO and RecurrentPPO by the rollout
     (``", 32 envs × 64 steps, batch 512"``, with ``", N epochs"`` when not 5) unless it is
-    ``EARLIER_ROLLOUT``, and by ``", warm start <teacher>"`` for a warm-started run, so that
-    runs at different rates, rollouts or starts never share a tag."""
+    ``EARLIER_ROLLOUT``, by ``", warm start <teacher>"`` for a warm-started run, and by
+    ``", model v<N>"`` for a model version other than ``HEADLINE_MODEL_VERSION``, so that runs
+    at different rates, rollouts, starts or models never share a tag."""
     spec = RunSpec.from_dict(run)
     parts = [spec.algo]
     if spec.learning_rate() != SB3_LEARNING_RATE:
@@ -94,13 +99,16 @@ def algo_tag(run: Mapping[str, Any]) -> str:
             parts += [f"{rollout[3]} epochs"] if rollout[3] != EARLIER_ROLLOUT[3] else []
     if spec.warm_start is not None:
         parts.append(f"warm start {spec.warm_start}")
+    if spec.env_version != HEADLINE_MODEL_VERSION:
+        parts.append(f"model v{spec.env_version}")
     return ", ".join(parts)
 
 
 def default_tag() -> str:
-    """``algo_tag`` of today's default setting: the rows a ``RunSpec()`` with no fields given
-    would be tagged with."""
-    return algo_tag(RunSpec().to_dict())
+    """``algo_tag`` of today's default training setting on the model version of the headline
+    (``HEADLINE_MODEL_VERSION``): the rows a ``RunSpec(env_version=HEADLINE_MODEL_VERSION)``
+    with no other field given would be tagged with."""
+    return algo_tag(RunSpec(env_version=HEADLINE_MODEL_VERSION).to_dict())
 
 
 def tagged_rate(tag: str) -> float | str:

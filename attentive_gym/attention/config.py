@@ -8,6 +8,8 @@
 - ``LASER_PROFILES`` / ``profile_config``: named sets of tracker values for a kind of laser
   and target (``indoor-people``: a Hokuyo/SICK indoor laser and walking people);
   ``configured``: a profile and a JSON object of fields over the defaults.
+- ``MODEL_VERSIONS`` / ``VERSION_0_FIELDS``: the versions of the defaults, and what the
+  first one had.
 
 Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
 name says otherwise (``_deg``).
@@ -22,6 +24,7 @@ import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 __all__ = [
@@ -40,6 +43,8 @@ __all__ = [
     "is_map_weight",
     "parse_state",
     "LASER_PROFILES",
+    "MODEL_VERSIONS",
+    "VERSION_0_FIELDS",
     "profile_config",
     "configured",
 ]
@@ -52,6 +57,26 @@ ATTENTIVE_STATES: Mapping[str, float] = {"drowsy": 0.5, "alert": 1.0, "vigilant"
 MAX_MAP_WEIGHT = 1e6
 #: The most past scans a laser scan is compared with for free-space evidence.
 MAX_FREE_SPACE_LAGS = 8
+
+#: Versions of the model's defaults, the last one current. The attended environments' ids
+#: carry it (``AttentiveRescueFocus-v1``), and a run's ``spec.json`` records it, so that a
+#: change of defaults never silently changes what a trained policy sees.
+#:
+#: - 0 (until 2026-12-06): the tracker without the motion stages, ``VERSION_0_FIELDS``.
+#: - 1: free-space evidence, the tracker's start rules and its field-of-view edge rule on,
+#:   and, in the simulator, the dead reckoning of its physics sub-steps
+#:   (docs/notes/2026-12-06-motion-by-default.md).
+MODEL_VERSIONS = (0, 1)
+#: The fields whose defaults version 1 changed, with their version 0 values.
+VERSION_0_FIELDS: Mapping[str, Any] = MappingProxyType(
+    {
+        "free_space_evidence": False,
+        "track_onset_speed_sigma_mps": 0.0,
+        "track_standing_speed_sigma_mps": 0.0,
+        "track_runaway_speed_mps": 0.0,
+        "track_edge_keeps_motion": False,
+    }
+)
 
 
 def is_map_weight(value: Any) -> bool:
@@ -198,14 +223,16 @@ class AttentionConfig:
         odometry_previous_weight: the weight of the previous reading's velocity when the
             robot's pose is dead-reckoned over a step (the current one's is 1 minus it; in
             [0, 1]). 0.5, the default, is the trapezoid rule (exact for odometry that ramps
-            linearly and continuously). The simulator moves its robot in S physics sub-steps
-            (``world.physics_substeps``), each at the velocity it starts with, which makes
-            ``(S + 1) / (2 S)`` exact: 0.75 at its default step of 0.05 s (heading error over
-            1 s of random driving: p99 0.16° against 2.6° with 0.5).
+            linearly and continuously: a real robot's). The simulator moves its robot in S
+            physics sub-steps (``world.physics_substeps``), each at the velocity it starts
+            with, which makes ``(S + 1) / (2 S)`` exact: 0.75 at its default step of 0.05 s
+            (heading error over 1 s of random driving: p99 0.16° against 2.6° with 0.5). The
+            attended environments of model version 1 set it so
+            (``wrappers.attention.default_config``).
         free_space_evidence: weigh each track's probability of moving by free-space evidence
             (``tracking.free_space``): an echo inside space an earlier scan saw through, or a
-            body's static place now seen through. Off by default until the registered
-            attended ids move to a new version (docs/notes/2026-12-05-free-space-evidence.md).
+            body's static place now seen through (docs/notes/2026-12-05-free-space-evidence.md).
+            On since model version 1 (``MODEL_VERSIONS``).
         free_space_lags_s: the ages (s, at most 8, each > 0) of the past scans a scan is
             compared with.
         free_space_run_sigmas: a run of neighbouring beams (each ≥ 1 σ, at least 3) is
@@ -332,16 +359,16 @@ class AttentionConfig:
     max_tracks: int = 64
     sonar_accel_psd_m2ps3: float = 0.5
     odometry_previous_weight: float = 0.5
-    free_space_evidence: bool = False
+    free_space_evidence: bool = True
     free_space_lags_s: tuple[float, ...] = (0.1, 0.2, 0.4, 0.7, 1.0)
     free_space_run_sigmas: float = 4.0
     free_space_born_moving: float = 0.9
     free_space_evidence_log_odds: float = 2.0
     free_space_none_log_odds: float = -0.5
-    track_onset_speed_sigma_mps: float = 0.0
-    track_standing_speed_sigma_mps: float = 0.0
-    track_runaway_speed_mps: float = 0.0
-    track_edge_keeps_motion: bool = False
+    track_onset_speed_sigma_mps: float = 1.0
+    track_standing_speed_sigma_mps: float = 0.3
+    track_runaway_speed_mps: float = 1.5
+    track_edge_keeps_motion: bool = True
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
     laser_mount_y_m: float = 0.0

@@ -179,12 +179,17 @@ class AttentiveRescueEnv(gym.Env):
     **Version History** (the registered ids' version; any change of a default that can
     change learning results bumps it, as Gymnasium does, and adds a line here):
 
-    - v0: the current version of all eight ids. ``dt`` 0.05 s; 5 % Gaussian noise and a
+    - v1 of the five attended ids (2026-12-06): the attentional model's motion stages on
+      (free-space evidence, the tracker's start and edge rules, the simulator's dead
+      reckoning; ``attention.MODEL_VERSIONS``). This environment and the raw, raw-stack and
+      oracle ids stay v0.
+    - v0: the first version of all eight ids. ``dt`` 0.05 s; 5 % Gaussian noise and a
       scan every step; the spaces above; ``RewardConfig()``, ``RobotConfig()``,
       ``SonarConfig()``, ``LaserConfig()``; the procedural arena of 10 m with 3
       distractors, 6 rubble pieces per 100 m², movers up to 1 m/s and the task goals
       speed in [0.5, 0.9] or [0.15, 0.45] m/s with a 40 s limit; for the attended
-      variants, ``AttentionConfig()`` and a working memory of 3 bodies. After 0.1.0,
+      variants, ``AttentionConfig()`` with ``VERSION_0_FIELDS`` and a working memory of 3
+      bodies. After 0.1.0,
       pursuing and evading movers measure their distance as ``sqrt(dx*dx + dy*dy)``, not
       ``math.hypot``: the defaults' episodes are unchanged, but arenas with a direction goal
       can follow other trajectories from the same seed (docs/environment.md).

@@ -13,7 +13,6 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
-from attentive_gym.attention import AttentionConfig
 from attentive_gym.wrappers import make_env
 
 __all__ = ["VARIANT", "PERCEPTION_ARENA", "CONTROL_ARENA", "make_attentive_env"]
@@ -38,12 +37,13 @@ def make_attentive_env(
     observation with the working memory) with the model in kinematics ``mode``, told that
     one reading's noise has relative σ ``range_noise_rel`` (dimensionless;
     ``AttentionConfig.range_noise_rel``), and with ``attention_fields``, more
-    ``AttentionConfig`` fields (a candidate setting). ``env_kwargs`` go to ``make_env``: the
+    ``AttentionConfig`` fields (a candidate setting), over the current model's defaults for the
+    environment's robot (``wrappers.attention.default_config``). ``env_kwargs`` go to ``make_env``: the
     sensors' noise itself (``sensor_noise``, ``sensor_profile``), the arena, the time limit.
 
     Raises:
         TypeError: when the installed environment does not accept a keyword of ``env_kwargs``.
         ValueError: for a field of ``attention_fields`` that ``AttentionConfig`` refuses.
     """
-    config = AttentionConfig(kinematics=mode, range_noise_rel=range_noise_rel, **attention_fields)
-    return make_env(variant, attention=config, **env_kwargs)
+    fields = {"kinematics": mode, "range_noise_rel": range_noise_rel, **attention_fields}
+    return make_env(variant, attention=fields, **env_kwargs)

@@ -17,12 +17,21 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from attentive_gym.attention import ATTENTIVE_STATES, AttentionConfig, AttentionModel, AttentionOutput, Goal
+from attentive_gym.attention import (
+    ATTENTIVE_STATES,
+    MODEL_VERSIONS,
+    VERSION_0_FIELDS,
+    AttentionConfig,
+    AttentionModel,
+    AttentionOutput,
+    Goal,
+)
 from attentive_gym.attention.tracking.tracker import TRACK_TABLE_FIELDS
 from attentive_gym.attention.working_memory import WorkingMemory
+from attentive_gym.world.world import physics_substeps
 from attentive_gym.wrappers.encoders import ENCODERS, NO_EVENT, FocusEncoder
 
-__all__ = ["AttentionWrapper", "OBSERVATION_MODES", "SELECTIONS", "DEFAULT_MEMORY_SLOTS"]
+__all__ = ["AttentionWrapper", "OBSERVATION_MODES", "SELECTIONS", "DEFAULT_MEMORY_SLOTS", "default_config"]
 
 #: The observation modes, the first being the default.
 OBSERVATION_MODES = tuple(ENCODERS)
@@ -40,11 +49,12 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         env: an environment with ``AttentiveRescue-v0``'s observation (a ``Dict`` with
             ``"sonar"``, ``"laser"``, ``"odometry"``, ``"goal"``) and ``info["time_s"]``.
         mode: ``"focus"`` (default), ``"saliency"`` or ``"masked"`` (see the encoders).
-        config: the model's ``AttentionConfig``. When None: the default parameters, with
-            ``range_noise_rel`` set to the relative noise σ of the base environment's
-            sensors (``env.unwrapped.sensor_noise``; a uniform ±a noise has σ = a/√3)
-            and the laser's mounting point taken from its ``LaserConfig``, so that the
-            tracker assumes the sensors the robot has.
+        config: the model's ``AttentionConfig``. When None: ``default_config(env,
+            version)``, the defaults with ``range_noise_rel`` set to the relative noise σ of
+            the base environment's sensors (``env.unwrapped.sensor_noise``; a uniform ±a
+            noise has σ = a/√3), the laser's mounting point taken from its
+            ``LaserConfig`` and the dead reckoning of its physics, so that the tracker
+            assumes the robot it is given.
         weights: map weights for ``AttentionModel.set_weights`` (default: the config's).
         state: the Global Attentive State ("drowsy", "alert", "vigilant" or a gain).
         memory_slots: ``"focus"`` only: bodies in the working memory of the last attended
@@ -55,6 +65,8 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             ``"random"`` attends a region drawn uniformly each step (a control: the same
             bottleneck without the model's choice; ``"event"`` is then all zeros). The
             draws come from the wrapper's own generator, seeded by ``reset(seed=...)``.
+        version: the version of the model's defaults when ``config`` is None (one of
+            ``attention.MODEL_VERSIONS``; default the latest).
 
     The model is reset with the environment and fed the time of each sensor's scan
     (``info["sonar_time_s"]``, ``info["laser_time_s"]``), so that readings held between
@@ -73,6 +85,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         memory_slots: int | None = None,
         selection: str = "winner",
         proximity: bool = False,
+        version: int = MODEL_VERSIONS[-1],
     ) -> None:
         gym.utils.RecordConstructorArgs.__init__(
             self,
@@ -83,6 +96,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             memory_slots=memory_slots,
             selection=selection,
             proximity=proximity,
+            version=version,
         )
         gym.Wrapper.__init__(self, env)
         if mode not in ENCODERS:
@@ -101,7 +115,7 @@ class AttentionWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if not isinstance(base, gym.spaces.Dict) or any(k not in base.spaces for k in _REQUIRED_KEYS):
             raise ValueError(f"AttentionWrapper needs a Dict observation with keys {list(_REQUIRED_KEYS)}, got {base}")
         self.mode = mode
-        self.model = AttentionModel(_config_for(env) if config is None else config)
+        self.model = AttentionModel(default_config(env, version) if config is None else config)
         if weights is not None:
             self.model.set_weights(weights)
         if state is not None:
@@ -296,10 +310,22 @@ _SELECTION_STREAM = 0x5E1EC7
 _UNIFORM_SIGMA_PER_HALF_WIDTH = 1.0 / math.sqrt(3.0)
 
 
-def _config_for(env: gym.Env) -> AttentionConfig:
-    """The default configuration, assuming the range noise and laser mount of ``env``'s sensors."""
+def default_config(env: gym.Env, version: int = MODEL_VERSIONS[-1]) -> AttentionConfig:
+    """The defaults of model ``version`` (one of ``MODEL_VERSIONS``) for ``env``'s robot: the
+    range noise and laser mount of its sensors and, from version 1, the dead reckoning of its
+    physics sub-steps (``AttentionConfig.odometry_previous_weight`` = ``(S + 1) / (2 S)``).
+
+    Raises:
+        ValueError: for an unknown version (listing the known ones).
+    """
+    if type(version) is not int or version not in MODEL_VERSIONS:
+        raise ValueError(f"unknown model version {version!r}; allowed: {list(MODEL_VERSIONS)}")
     base = env.unwrapped
-    settings = {}
+    settings: dict[str, Any] = dict(VERSION_0_FIELDS) if version == 0 else {}
+    dt = getattr(base, "dt", None)
+    if version >= 1 and isinstance(dt, float):
+        substeps = physics_substeps(dt)
+        settings["odometry_previous_weight"] = (substeps + 1) / (2 * substeps)
     noise = getattr(base, "sensor_noise", None)
     if noise is not None:
         uniform = getattr(base, "noise_model", "gaussian") == "uniform"

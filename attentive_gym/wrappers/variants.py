@@ -4,12 +4,15 @@
 |---|---|---|
 | ``"raw"`` | ``AttentiveRescue-v0`` | sonar, laser, odometry, goal |
 | ``"raw-stack"`` | ``AttentiveRescueStack-v0`` | the same, sensors stacked over 4 steps |
-| ``"focus"`` | ``AttentiveRescueFocus-v0`` | the attended region and a memory of 3 attended bodies (64 numbers) |
-| ``"saliency"`` | ``AttentiveRescueSaliency-v0`` | raw readings + maps L and M |
-| ``"masked"`` | ``AttentiveRescueMasked-v0`` | raw readings outside the focus masked + masks |
-| ``"goal-action"`` | ``AttentiveRescueGoalAction-v0`` | ``"focus"``, the action also picks goal and weights |
+| ``"focus"`` | ``AttentiveRescueFocus-v1`` | the attended region and a memory of 3 attended bodies (64 numbers) |
+| ``"saliency"`` | ``AttentiveRescueSaliency-v1`` | raw readings + maps L and M |
+| ``"masked"`` | ``AttentiveRescueMasked-v1`` | raw readings outside the focus masked + masks |
+| ``"goal-action"`` | ``AttentiveRescueGoalAction-v1`` | ``"focus"``, the action also picks goal and weights |
 | ``"oracle"`` | ``AttentiveRescueOracle-v0`` | ``"focus"``'s layout filled from the privileged state |
-| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v0`` | ``"focus"`` of a random region each step (a control) |
+| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v1`` | ``"focus"`` of a random region each step (a control) |
+
+The attended ids (``-v1``) use the model's current defaults; their ``-v0`` ids
+(``registration.VERSION_0_IDS``) the first ones (``attention.MODEL_VERSIONS``).
 
 ``flatten=True`` turns the ``Dict`` observation into one ``Box`` (for ``MlpPolicy``);
 keep it False for ``MultiInputPolicy``.
@@ -17,15 +20,16 @@ keep it False for ``MultiInputPolicy``.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
 
-from attentive_gym.attention import AttentionConfig
+from attentive_gym.attention import MODEL_VERSIONS, AttentionConfig
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.registration import VARIANT_IDS
-from attentive_gym.wrappers.attention import AttentionWrapper
+from attentive_gym.wrappers.attention import AttentionWrapper, default_config
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, GoalActionWrapper
 from attentive_gym.wrappers.oracle import OracleFocus
 from attentive_gym.wrappers.stack import StackedReadings
@@ -53,6 +57,7 @@ def make_env(
     goal_menu=DEFAULT_GOAL_MENU,
     memory_slots: int | None = None,
     proximity: bool = False,
+    version: int = MODEL_VERSIONS[-1],
     **env_kwargs: Any,
 ) -> gym.Env:
     """Build the rescue environment with the observation of ``variant``.
@@ -61,8 +66,9 @@ def make_env(
         variant: one of ``VARIANTS``.
         flatten: flatten the ``Dict`` observation into one float32 ``Box``.
         attention: the model's configuration (attended variants only): an
-            ``AttentionConfig``, or a mapping of some of its fields (the others keep their
-            defaults; ``--env-kwargs '{"attention": {"free_space_evidence": true}}'``).
+            ``AttentionConfig`` (taken as it is), or a mapping of some of its fields over
+            the defaults of ``version`` for this robot (``wrappers.attention.default_config``;
+            ``--env-kwargs '{"attention": {"free_space_evidence": false}}'``).
         weights: the model's map weights (attended variants only).
         n_frames: frames stacked by ``"raw-stack"``.
         goal_menu: goals the ``"goal-action"`` agent chooses from.
@@ -72,6 +78,8 @@ def make_env(
         proximity: add the ``"proximity"`` entry (every region's nearest reading, 8
             numbers) to the variants with the focus layout: a sense of what is near, for
             avoiding what the focus does not attend (default False).
+        version: the version of the model's defaults (``attention.MODEL_VERSIONS``; the
+            latest by default): the attended ids' ``-v0`` build version 0, ``-v1`` version 1.
         env_kwargs: keyword arguments of ``AttentiveRescueEnv`` (``scenario``,
             ``sensor_noise``, ``dt``, ``render_mode``, the arena's knobs, ...).
 
@@ -84,13 +92,19 @@ def make_env(
         raise ValueError(
             f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}"
         )
+    if type(version) is not int or version not in MODEL_VERSIONS:
+        raise ValueError(f"unknown model version {version!r}; allowed: {list(MODEL_VERSIONS)}")
     if isinstance(attention, Mapping):
-        attention = AttentionConfig.from_dict(attention)
+        AttentionConfig.from_dict(attention)  # names and values checked before anything is built
+    elif attention is not None and not isinstance(attention, AttentionConfig):
+        raise ValueError(f"attention must be an AttentionConfig or a mapping of its fields, got {attention!r}")
     if memory_slots is not None and variant not in _FOCUS_LAYOUT:
         raise ValueError(f"memory_slots applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
     if proximity and variant not in _FOCUS_LAYOUT:
         raise ValueError(f"proximity applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
     env: gym.Env = AttentiveRescueEnv(**env_kwargs)
+    if isinstance(attention, Mapping):
+        attention = dataclasses.replace(default_config(env, version), **attention)
     if variant == "raw-stack":
         env = StackedReadings(env, n_frames)
     elif variant == "oracle":
@@ -106,6 +120,7 @@ def make_env(
             _ATTENTION_MODES[variant],
             config=attention,
             weights=weights,
+            version=version,
             **(focus if variant in _FOCUS_LAYOUT else {}),
         )
         if variant == "goal-action":

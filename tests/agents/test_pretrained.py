@@ -30,7 +30,7 @@ def test_each_shipped_policy_still_reaches_its_recorded_success(variant):
 def test_evaluate_runs_a_pretrained_policy_and_says_what_it_recorded(capsys):
     assert main(["evaluate", "--pretrained", "focus", "--episodes", "1", "--json"]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
-    assert lines[0].startswith("the pretrained focus policy (AttentiveRescueFocus-v0")
+    assert lines[0].startswith(f"the pretrained focus policy ({VARIANT_IDS['focus']},")
     row = json.loads(lines[-1])
     assert row["variant"] == "focus" and row["n_episodes"] == 1
 

@@ -8,7 +8,7 @@ import pytest
 
 from attentive_gym.agents import warm_start
 from attentive_gym.agents.config import RunSpec
-from attentive_gym.agents.merged import algo_tag
+from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION, algo_tag
 from attentive_gym.agents.results import read_csv
 from attentive_gym.agents.training import _algo_class, _make_vec_env, _policy_name, train, validate_spec
 from attentive_gym.cli import main
@@ -97,6 +97,6 @@ def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
 
 
 def test_warm_started_rows_carry_their_teacher_in_the_tag():
-    plain = RunSpec(variant="oracle").to_dict()
+    plain = RunSpec(variant="oracle", env_version=HEADLINE_MODEL_VERSION).to_dict()
     assert algo_tag({**plain, "warm_start": "clearance"}) == f"{algo_tag(plain)}, warm start clearance"
     assert RunSpec.from_dict({k: v for k, v in plain.items() if k != "warm_start"}).warm_start is None

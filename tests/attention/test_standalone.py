@@ -38,7 +38,8 @@ def test_importing_the_model_with_gymnasium_installed_loads_no_simulator_rendere
         import sys
         import attentive_gym.attention
         import gymnasium as gym
-        assert "AttentiveRescueFocus-v0" in gym.registry and "AttentiveRescueOracle-v0" in gym.registry
+        for env_id in ("AttentiveRescueFocus-v1", "AttentiveRescueFocus-v0", "AttentiveRescueOracle-v0"):
+            assert env_id in gym.registry, env_id
         heavy = [m for m in ("pymunk", "pygame", "torch", "stable_baselines3", "matplotlib",
                              "attentive_gym.envs", "attentive_gym.wrappers") if m in sys.modules]
         assert not heavy, heavy

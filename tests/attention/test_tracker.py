@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from attentive_gym.attention import AttentionConfig, AttentionModel
+from attentive_gym.attention import VERSION_0_FIELDS, AttentionConfig, AttentionModel
 from attentive_gym.attention.regions import laser_bearings_rad
 from attentive_gym.attention.tracking.association import gated_assignment, min_cost_assignment
 from attentive_gym.attention.tracking.kalman import cv_predict, cv_update
@@ -299,15 +299,20 @@ def test_bad_tracker_settings_are_refused(field, value):
 
 
 # --- free-space evidence and dead reckoning (docs/model.md §10) ---------------------------------
+def _version_0(**fields):
+    """Model version 0's configuration (no motion stages) with ``fields``: each stage is
+    measured against the tracker without any of them."""
+    return AttentionConfig(**{**VERSION_0_FIELDS, **fields})
+
+
 def _free_space_config(range_noise_rel=0.01):
-    return AttentionConfig(range_noise_rel=range_noise_rel, laser_mount_x_m=0.0, free_space_evidence=True)
+    return _version_0(range_noise_rel=range_noise_rel, laser_mount_x_m=0.0, free_space_evidence=True)
 
 
-def test_free_space_evidence_is_off_by_default_and_holds_no_scans():
-    assert not AttentionConfig().free_space_evidence
-    model = AttentionModel(AttentionConfig())
-    assert model.tracker.scan_history.shape[0] == 0
-    assert AttentionModel(_free_space_config()).tracker.scan_history.shape[0] > 0
+def test_free_space_evidence_is_on_by_default_and_off_holds_no_scans():
+    assert AttentionConfig().free_space_evidence and not _version_0().free_space_evidence
+    assert AttentionModel(_version_0()).tracker.scan_history.shape[0] == 0
+    assert AttentionModel(AttentionConfig()).tracker.scan_history.shape[0] > 0
 
 
 def test_a_body_appearing_in_free_space_is_born_moving(scene):
@@ -316,7 +321,7 @@ def test_a_body_appearing_in_free_space_is_born_moving(scene):
     walls = [(5.0, -5.0, 5.0, 5.0)]
     appear = lambda t: [] if t < 1.0 else [(3.0, 0.0)]  # noqa: E731
     with_evidence = _run(scene, appear, 22, walls=walls, config=_free_space_config())
-    without = _run(scene, appear, 22, walls=walls, config=AttentionConfig(range_noise_rel=0.01, laser_mount_x_m=0.0))
+    without = _run(scene, appear, 22, walls=walls, config=_version_0(range_noise_rel=0.01, laser_mount_x_m=0.0))
     born = with_evidence[20].tracks  # the scan at t = 1.0 s
     row = int(np.argmin(np.hypot(*(born.position_m - (3.0 + RADIUS_M, 0.0)).T)))
     assert born.moving_probability[row] == pytest.approx(0.9)
@@ -336,7 +341,7 @@ def test_free_space_evidence_keeps_a_corridor_static_and_sees_a_start_sooner(sce
     def victim(t):
         return (4.0, -1.5 + 0.6 * max(t - 1.0, 0.0))
 
-    configs = (_free_space_config(0.05), AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0))
+    configs = (_free_space_config(0.05), _version_0(range_noise_rel=0.05, laser_mount_x_m=0.0))
     latencies = []
     for config in configs:
         outs = _run(scene, lambda t: [victim(t)], 50, sigma=0.05, config=config)
@@ -369,10 +374,12 @@ def _tracks(n=4):
     return cv_x, cv_P, np.full(n, 0.1), np.ones(n, np.bool_), np.zeros(n)
 
 
-def test_the_onset_rules_are_off_by_default():
-    config = AttentionConfig()
-    assert (config.track_onset_speed_sigma_mps, config.track_standing_speed_sigma_mps) == (0.0, 0.0)
-    assert config.track_runaway_speed_mps == 0.0 and config.track_edge_keeps_motion is False
+def test_the_onset_rules_are_on_by_default_and_off_in_version_0():
+    config, first = AttentionConfig(), _version_0()
+    assert (config.track_onset_speed_sigma_mps, config.track_standing_speed_sigma_mps) == (1.0, 0.3)
+    assert config.track_runaway_speed_mps == 1.5 and config.track_edge_keeps_motion is True
+    assert (first.track_onset_speed_sigma_mps, first.track_standing_speed_sigma_mps) == (0.0, 0.0)
+    assert first.track_runaway_speed_mps == 0.0 and first.track_edge_keeps_motion is False
 
 
 def test_a_start_restarts_the_velocity_and_a_standing_track_keeps_it_open():
@@ -419,7 +426,7 @@ def test_with_the_onset_rules_a_start_reaches_the_goals_band_in_half_the_scans(s
 
     for seed in range(3):
         for extra, within in ((_ONSET, range(7)), ({}, range(10, 25))):
-            config = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0, **extra)
+            config = _version_0(range_noise_rel=0.05, laser_mount_x_m=0.0, **extra)
             outs = _run(scene, lambda t: [victim(t)], 45, sigma=0.05, seed=seed, config=config)
             speeds = []
             for k, out in enumerate(outs[20:], start=20):
@@ -444,7 +451,7 @@ def test_a_segment_cut_by_the_field_of_views_edge_leaves_the_probability_of_movi
         for seed in range(3):
             moving_steps = []
             for keeps in (False, True):
-                config = AttentionConfig(
+                config = _version_0(
                     range_noise_rel=max(sigma, 0.01), laser_mount_x_m=0.0, track_edge_keeps_motion=keeps
                 )
                 outs = _run(scene, lambda t: [], 160, sigma=sigma, seed=seed, config=config, **turn)

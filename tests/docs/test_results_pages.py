@@ -273,12 +273,14 @@ def test_the_safe_rescue_table_names_a_runs_rollout_and_warm_start_beside_the_ea
     from attentive_gym.agents.config import RunSpec
 
     table = load_tool("safe_rescue_table")
-    earlier = RunSpec(variant="oracle", algo_defaults=2)  # 4 envs × 256 steps, the rate decayed
-    today = RunSpec(variant="oracle")
+    earlier = RunSpec(variant="oracle", algo_defaults=2, env_version=0)  # 4 envs × 256 steps, the rate decayed
+    today = RunSpec(variant="oracle", env_version=0)
     assert table.controller_label(earlier) == "ppo oracle"
     assert table.controller_label(today) == "ppo oracle (32 envs × 64 steps, batch 512)"
     warm = today.replace(warm_start="clearance")
     assert table.controller_label(warm) == "ppo oracle (32 envs × 64 steps, batch 512, warm start clearance)"
+    newer = today.replace(env_version=1)
+    assert table.controller_label(newer) == "ppo oracle (32 envs × 64 steps, batch 512, model v1)"
 
 
 def test_the_real_bags_page_groups_each_bag_and_leaves_the_focus_out_for_a_driving_robot(tmp_path):

@@ -41,7 +41,7 @@ def registered_ids() -> list[str]:
 
 
 def test_the_registry_holds_the_variants():
-    assert {"AttentiveRescue-v0", "AttentiveRescueFocus-v0"} <= set(registered_ids())
+    assert {"AttentiveRescue-v0", "AttentiveRescueFocus-v1"} <= set(registered_ids())
 
 
 @pytest.mark.parametrize("algo", ZOO_ALGOS)
@@ -104,7 +104,7 @@ def test_rl_zoo_trains_with_the_shipped_file(tmp_path):
         "--algo",
         "ppo",
         "--env",
-        "AttentiveRescueFocus-v0",
+        "AttentiveRescueFocus-v1",
         "--gym-packages",
         "attentive_gym",
         "--conf-file",
@@ -131,5 +131,5 @@ def test_rl_zoo_trains_with_the_shipped_file(tmp_path):
     done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert "MultiInputPolicy" in done.stdout
-    models = list((tmp_path / "logs" / "ppo").glob("AttentiveRescueFocus-v0_*/AttentiveRescueFocus-v0.zip"))
+    models = list((tmp_path / "logs" / "ppo").glob("AttentiveRescueFocus-v1_*/AttentiveRescueFocus-v1.zip"))
     assert len(models) == 1, done.stdout[-3000:]

@@ -40,25 +40,23 @@ _IOR_ALTERNATES = (
     "inhibition of return alternates the focus between the two most salient regions of the static "
     "room (s3 and s6, regions 2 and 5): while one is inhibited the other wins, and a third never does"
 )
-#: The tracker's speed lags every start and turn: it rises from 0 to the true speed over 0.3-0.5 s.
-_LAG = "the track's speed lags each start and turnaround by 0.3-0.5 s: "
+#: The tracker's speed lags every start and turn: with the start rules (model version 1) it
+#: enters a goal's band 4-5 scans after a start, where the window mode's needs one.
+_LAG = "the track's speed lags each start and turnaround by 0.2-0.3 s: "
 
 NOT_REPRODUCED_EXACT = {
     "tracker": {
-        ("exp01", "first_winner_is_s4"): _LAG + "it is 0.16 m/s (F1 = 0.14 >= θ) only 6 steps after the target "
-        "starts at 0.5 m/s, so s4 first wins at 0.85 s, one step late",
         ("exp02", "ior_visits_several_regions"): _IOR_ALTERNATES,
-        ("exp03", "moving_robot_dominates_L"): _LAG + "a wall's F3 region leads L at 19 of 447 steps with a robot "
-        "moving in range (1.10-1.45 s, 5.10-5.35 s, 10.35-10.55 s, "
-        "14.75-14.95 s)",
-        ("exp04", "F4_is_1_while_goal_holds"): _LAG + "F4 < 1 at 16 of 282 steps where the goal holds (0.65-1.05 s "
-        "after the start, 8.80-9.10 s after the pause)",
+        ("exp03", "moving_robot_dominates_L"): _LAG + "a wall's F3 region leads L at 5 of 447 steps with a robot "
+        "moving in range (the first at 1.10 s)",
+        ("exp04", "F4_is_1_while_goal_holds"): _LAG + "F4 < 1 at 11 of 282 steps where the goal holds (the first "
+        "scans after the start and after the pause)",
         ("exp04", "no_ior"): "the laser tracks the target from 7 m, so both top-down courses hold 6.8 s (1.10-7.90 s, "
         "9.15-16.00 s), past the 6 s vigilance onset: vigilance adaptation, not IOR, takes M "
         "to 0.18",
         ("exp04", "combined_L_exceeds_single"): _MEAN,
-        ("exp05", "faster_holds_focus"): _LAG + "the focus is elsewhere at 13 of 224 steps (0.20-0.25 s, and "
-        "6.65-7.15 s after the fast robot's turnaround, when the slow one wins)",
+        ("exp05", "faster_holds_focus"): _LAG + "the focus is elsewhere at 4 of 224 steps (from 6.65 s, after "
+        "the fast robot's turnaround, when the slow one wins)",
         ("exp05", "top_down_never_below_1"): _LAG + "the first fire (0.30 s) is bottom-up and its IOR falls into the "
         "top-down course of 0.50 s; the laser tracks the fast robot from 7 m, "
         "so that course holds 6.1 s, into vigilance, whose adaptation "
@@ -79,20 +77,20 @@ _SPEED_NOISE = "5 % range noise makes the K = 5 range-rate σ ≈ 0.6-0.95 m/s a
 _TRACK_NOISE = "5 % range noise (σ 0.35 m at 7 m) on the tracks: "
 NOT_REPRODUCED_NOISY = {
     "tracker": {
-        ("exp01", "first_winner_is_s4"): _LAG + "s4 first wins 5-9 steps after the start (0.80-1.00 s), or the "
-        "noise makes the static target win at 0.10-0.25 s (7 seeds); 3/20 pass",
+        ("exp01", "first_winner_is_s4"): _LAG + "or the noise makes the static target win before it starts; 4/20 pass",
         ("exp01", "quiet_once_static"): "the track's speed takes ~0.5 s to fall after the target stops at 6 m "
         "(0.3-0.4 m/s at 8.5-8.65 s): s4 fires once or twice more (0/20 seeds)",
         ("exp03", "moving_robot_dominates_L"): _LAG + "and noisy F1 elsewhere: 35-68 of 447 steps (0/20 seeds)",
         ("exp04", "F4_is_1_while_goal_holds"): _LAG + "as noise-free, and noise: 14-33 steps (0/20 seeds)",
         ("exp04", "winners_top_down"): _TRACK_NOISE + "the target still at 7 m or a noisy F4 < 1 fires bottom-up "
-        "at the target (7/20 seeds)",
-        ("exp04", "no_ior"): "vigilance as noise-free, and bottom-up fires bring IOR (1/20 seeds)",
+        "at the target; with starts judged sooner, a bottom-up course fired at the start still runs when the "
+        "goal is judged (2/20 seeds)",
+        ("exp04", "no_ior"): "vigilance as noise-free, and bottom-up fires bring IOR (0/20 seeds)",
         ("exp04", "M_rises_within_onset"): _TRACK_NOISE + "the first top-down fire's hold is often released "
-        "before its 200 ms onset (13/20 seeds)",
+        "before its 200 ms onset (12/20 seeds)",
         ("exp04", "combined_L_exceeds_single"): _MEAN + " (0/20 seeds)",
         ("exp05", "faster_holds_focus"): _LAG + "as noise-free (0/20 seeds)",
-        ("exp05", "top_down_never_below_1"): _LAG + "as noise-free (5/20 seeds)",
+        ("exp05", "top_down_never_below_1"): _LAG + "as noise-free (1/20 seeds)",
     },
     "window": {
         **{

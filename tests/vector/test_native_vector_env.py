@@ -145,7 +145,7 @@ def test_integer_seed_seeds_env_i_with_seed_plus_i_and_none_differs():
 
 _TRAJECTORY_DIGEST = """
 import hashlib, numpy as np, gymnasium as gym, attentive_gym
-env = gym.make_vec("AttentiveRescueFocus-v0", num_envs=3, vectorization_mode="vector_entry_point", time_limit_s=1.0)
+env = gym.make_vec("AttentiveRescueFocus-v1", num_envs=3, vectorization_mode="vector_entry_point", time_limit_s=1.0)
 digest = hashlib.sha256()
 obs, _ = env.reset(seed=5)
 rng = np.random.default_rng(0)

@@ -72,7 +72,7 @@ def test_the_layout_without_proximity_is_unchanged():
 
 def test_a_fleet_gives_each_member_alone_bit_for_bit():
     vector = gym.make_vec(
-        "AttentiveRescueFocus-v0", num_envs=3, vectorization_mode="vector_entry_point", proximity=True
+        "AttentiveRescueFocus-v1", num_envs=3, vectorization_mode="vector_entry_point", proximity=True
     )
     alone = [make_env("focus", proximity=True) for _ in range(3)]
     observations, _ = vector.reset(seed=7)
