@@ -114,10 +114,11 @@ def page(root: Path, write_figures: bool = True) -> str:
             "does: on a drive through a static corridor every one is false (the target for a driving robot in a "
             "static room is 0.5 or fewer).",
             "",
-            "Settings: `defaults` is `AttentionConfig()`; `indoor-people` the laser profile of that name "
-            "(`attend --profile indoor-people`); `motion settings` free-space evidence with the matched dead "
-            "reckoning, the tracker's start rules and the field-of-view edge rule, all off by default "
-            "([The model](../model.md) §10). `laser A,B` merges those LaserScan topics.",
+            "Settings: `defaults` is `AttentionConfig()`, the model's version 1 (free-space evidence, the "
+            "tracker's start rules and the field-of-view edge rule; [The model](../model.md) §10); "
+            "`indoor-people` the laser profile of that name (`attend --profile indoor-people`); `version 0` the "
+            "defaults before those rules (`attention.VERSION_0_FIELDS` as `--config`). `laser A,B` merges those "
+            "LaserScan topics.",
             "",
             "## The bags",
             "",
@@ -139,18 +140,18 @@ def page(root: Path, write_figures: bool = True) -> str:
             "FRONT='--laser-topic /front_scan --laser-mount 0.23565,-0.0005,0'",
             "BOTH='--laser-topic /front_scan,/rear_scan --laser-mount 0.23565,-0.0005,0 "
             "--laser-mount=-0.23832,0.00542,180'",
-            'MOTION=\'{"free_space_evidence": true, "odometry_previous_weight": 0.75, '
-            '"track_onset_speed_sigma_mps": 1.0, "track_standing_speed_sigma_mps": 0.3, '
-            '"track_runaway_speed_mps": 1.5, "track_edge_keeps_motion": true}\'',
-            "# each of these with and without --profile indoor-people, and with and without "
-            "--goal speed:between:0.3:2.0:",
+            'V0=\'{"free_space_evidence": false, "track_onset_speed_sigma_mps": 0.0, '
+            '"track_standing_speed_sigma_mps": 0.0, "track_runaway_speed_mps": 0.0, '
+            '"track_edge_keeps_motion": false}\'',
+            "# each of these with and without --profile indoor-people (with it, label version 0's runs "
+            '"indoor-people, version 0"), and with and without --goal speed:between:0.3:2.0:',
             "python benchmarks/bench_real_bags.py $P --csv part1.csv",
+            'python benchmarks/bench_real_bags.py $P --config "$V0" --label "version 0" --csv part1v0.csv',
             "python benchmarks/bench_real_bags.py B/obstacle_detector_scans_demo.bag $FRONT --csv part2.csv",
             "python benchmarks/bench_real_bags.py B/obstacle_detector_scans_demo.bag $BOTH --csv part3.csv",
             "# the corridors, bottom-up, with and without --profile indoor-people:",
             "python benchmarks/bench_real_bags.py B/corridor_*.bag --csv part4.csv",
-            'python benchmarks/bench_real_bags.py B/corridor_*.bag --config "$MOTION" --label "motion settings" '
-            "--csv part5.csv",
+            'python benchmarks/bench_real_bags.py B/corridor_*.bag --config "$V0" --label "version 0" --csv part5.csv',
             "```",
             "",
             "The whole batch takes about a minute on 2 cores once the kernels are compiled.",

@@ -210,18 +210,6 @@ def _range_sigma(r, noise_rel, noise_floor_m):
 
 
 @njit(cache=True)
-def _to_frame(r, beam, pose, frame):
-    """The echo at range ``r`` (m) on beam ``beam`` of a laser at ``pose`` ``(3,)``, seen from
-    a laser at ``frame`` ``(3,)`` (both in the odometry frame): its range (m) and bearing
-    (rad, in ``(−π, π]``)."""
-    bearing = pose[2] + beam
-    dx = pose[0] + r * math.cos(bearing) - frame[0]
-    dy = pose[1] + r * math.sin(bearing) - frame[1]
-    phi = (math.atan2(dy, dx) - frame[2] + math.pi) % (2.0 * math.pi) - math.pi
-    return math.sqrt(dx * dx + dy * dy), phi
-
-
-@njit(cache=True)
 def _free_score(rho, j, free, params):
     """By how many σ a point at ``rho`` (m) in beam ``j`` of the scan ``free`` lies inside its
     free space (``violations``); 0 where the beams within ``width_m / 2`` of it leave the
@@ -233,9 +221,12 @@ def _free_score(rho, j, free, params):
     f = no_echo
     for i in range(j - half, j + half + 1):
         f = min(f, free[i])
+    inside = f - rho - params[_MARGIN]
+    if inside <= 0.0:  # most echoes: on or behind what B saw, no need for the noise
+        return 0.0
     noise_rel, noise_floor = params[_NOISE_REL], params[_NOISE_FLOOR]
-    sigma = math.hypot(_range_sigma(rho, noise_rel, noise_floor), _range_sigma(f, noise_rel, noise_floor))
-    return max(0.0, (f - rho - params[_MARGIN]) / sigma)
+    sigma_rho, sigma_f = _range_sigma(rho, noise_rel, noise_floor), _range_sigma(f, noise_rel, noise_floor)
+    return inside / math.sqrt(sigma_rho * sigma_rho + sigma_f * sigma_f)
 
 
 @njit(cache=True)
@@ -253,13 +244,22 @@ def violations(hits, hit_pose, free, free_pose, params, scores):
             view, and at no echo.
     """
     first, step = params[_FIRST], params[_STEP]
+    # B's laser sees A's beam b along the bearing turn + first + (b + ½)·step, from (tx, ty):
+    # one rigid transform for the whole scan, the beams' directions rotated on by one step each.
+    turn = hit_pose[2] - free_pose[2]
+    c, s = math.cos(free_pose[2]), math.sin(free_pose[2])
+    dx, dy = hit_pose[0] - free_pose[0], hit_pose[1] - free_pose[1]
+    tx, ty = c * dx + s * dy, -s * dx + c * dy
+    ux, uy = math.cos(turn + first + 0.5 * step), math.sin(turn + first + 0.5 * step)
+    step_c, step_s = math.cos(step), math.sin(step)
     for b in range(hits.shape[0]):
         scores[b] = 0.0
         r = hits[b]
-        if r >= params[_NO_ECHO]:
-            continue
-        rho, phi = _to_frame(r, first + (b + 0.5) * step, hit_pose, free_pose)
-        scores[b] = _free_score(rho, int(math.floor((phi - first) / step)), free, params)
+        if r < params[_NO_ECHO]:
+            x, y = tx + r * ux, ty + r * uy
+            phi = math.atan2(y, x)
+            scores[b] = _free_score(math.sqrt(x * x + y * y), int(math.floor((phi - first) / step)), free, params)
+        ux, uy = ux * step_c - uy * step_s, ux * step_s + uy * step_c
 
 
 @njit(cache=True)
