@@ -19,8 +19,10 @@ markdown tables of:
    track too; the speed of regions whose echoes all come from static structure (should be
    ≈ 0); and how often "the goal holds" judged from the estimate agrees with the truth.
 2. ``focus``: per default task goal, the fraction of the steps with the target in front and
-   within 5 m at which the focus is the target's region (chance: 1/8), and each noisy
-   setting's figure relative to the same mode's noise-free one (what the noise takes away).
+   within 5 m at which the focus is the target's region (chance: 1/8), the same over the
+   steps with the target in sight (also within 80° of the heading and on ≥ 2 laser beams:
+   ``geometry.in_sight``), and each noisy setting's figure relative to the same mode's
+   noise-free one (what the noise takes away).
    Beside the modes, per robot mode and noise setting, the perfect-perception bound
    (``perception.bound``): the same model and readings with the channels' kinematics taken
    from the simulator's truth (the movers the laser sees on ≥ 2 beams), on the same episodes
@@ -87,7 +89,7 @@ from attentive_gym.perception.controllers import (
     stand_still,
     true_bearing_controller,
 )
-from attentive_gym.perception.geometry import GRID, VIEW_RANGE_M
+from attentive_gym.perception.geometry import GRID, SIGHT_BEAMS, SIGHT_BEARING_DEG, VIEW_RANGE_M
 from attentive_gym.perception.metrics import (
     TRACK_AGE_BINS_S,
     TRANSIENT_S,
@@ -262,6 +264,21 @@ TRACK_COLUMNS = (
 )
 
 
+def _in_sight_metrics(rate_and_steps: tuple[float, int]) -> dict[str, float]:
+    """The CSV metrics of ``focus_on_target(..., in_sight_only=True)``'s figure of one goal."""
+    return {"focus_on_target_in_sight": rate_and_steps[0], "target_in_sight_steps": rate_and_steps[1]}
+
+
+def _focus_cells(in_view, in_sight, goal_names) -> list[str]:
+    """A focus table's cells per goal: focus on target in view (steps); in sight (steps)."""
+    missing = (math.nan, 0)
+    cells = []
+    for goal in goal_names:
+        (view_rate, view_steps), (sight_rate, sight_steps) = in_view.get(goal, missing), in_sight.get(goal, missing)
+        cells.append(f"{_fmt(view_rate)} ({view_steps}); {_fmt(sight_rate)} ({sight_steps})")
+    return cells
+
+
 def _cells(metrics: Mapping[str, float], columns) -> list[str]:
     """The table cells of ``metrics`` for ``columns``: m/s to 2 decimals, fractions to 3."""
     return [_fmt(metrics[key], 2 if key.endswith("_mps") else 3) for _, key in columns]
@@ -289,12 +306,12 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
             track_rows.append(label + _cells(metrics, TRACK_COLUMNS))
         focus = focus_on_target(records)
         focus_by_setting[(mode, robot, noise)] = {goal: rate for goal, (rate, _) in focus.items()}
+        sight = focus_on_target(records, in_sight_only=True)
         for goal, (rate, steps) in focus.items():
             if "focus" in sections:
                 results.add("focus", config, {"focus_on_target": rate, "target_in_view_steps": steps}, goal=goal)
-        focus_rows.append(
-            label + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})" for g in goal_names]
-        )
+                results.add("focus", config, _in_sight_metrics(sight[goal]), goal=goal)
+        focus_rows.append(label + _focus_cells(focus, sight, goal_names))
         cases = target_cases(records)
         if not math.isnan(cases[case_key(TARGET_CASES[0])]):
             after_turns = focus_after_turns(records)
@@ -327,18 +344,13 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
                 )
                 continue
             focus = focus_on_target(records)
+            sight = focus_on_target(records, in_sight_only=True)
             bound_by_setting[(robot, noise)] = {goal: rate for goal, (rate, _) in focus.items()}
             for goal, (rate, steps) in focus.items():
-                results.add(
-                    "focus",
-                    {"mode": BOUND, "robot": robot, "noise": noise},
-                    {"focus_on_target": rate, "target_in_view_steps": steps},
-                    goal=goal,
-                )
-            focus_rows.append(
-                label
-                + [f"{_fmt(focus.get(g, (math.nan, 0))[0])} ({focus.get(g, (math.nan, 0))[1]})" for g in goal_names]
-            )
+                config = {"mode": BOUND, "robot": robot, "noise": noise}
+                results.add("focus", config, {"focus_on_target": rate, "target_in_view_steps": steps}, goal=goal)
+                results.add("focus", config, _in_sight_metrics(sight[goal]), goal=goal)
+            focus_rows.append(label + _focus_cells(focus, sight, goal_names))
     header = ["mode", "robot", "noise"]
     print(
         f"\n### Perception ({episodes} episodes × {seconds:g} s per row, seeds 0..{episodes - 1}, "
@@ -361,7 +373,9 @@ def print_perception(results: Results, modes, episodes: int, seconds: float, sec
     if "focus" in sections:
         print(
             "\nFocus on target: fraction of the steps with the target in front within "
-            f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); "
+            f"{VIEW_RANGE_M:g} m at which the focus is the target's region (steps in brackets); then the same "
+            f"over the steps with the target in sight (also within {SIGHT_BEARING_DEG:g}° of the heading and on "
+            f"≥ {SIGHT_BEAMS} laser beams); "
             f"chance = 1/{GRID.n_regions} = {1 / GRID.n_regions:.3f}. `{BOUND}`: the bound, the same model and "
             "readings with the true kinematics of the movers the laser sees on "
             f"≥ {SEEN_BEAMS} beams, on the same episodes.\n"

@@ -18,7 +18,7 @@ from typing import Any
 
 import performance_page
 import rl_page
-from attentive_gym.agents.merged import SCALED, default_tag
+from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION, SCALED, default_tag
 from attentive_gym.agents.plots import recorded, steps_label
 from attentive_gym.agents.results import summarise
 from attentive_gym.envs.reward import SAFE_CONTACT_S
@@ -56,7 +56,8 @@ def block(root: Path) -> str:
         f"![learning curves of PPO with today's defaults]({(FIGURES / 'rl_learning_curves.png').as_posix()})",
         "",
         f"PPO with today's defaults, {' or '.join(map(str, seeds))} seeds per variant, "
-        f"{steps_label(budget)} env steps each, in {rl_page.COMPARISON_ARENA}:",
+        f"{steps_label(budget)} env steps each, in {rl_page.COMPARISON_ARENA}; the attended variants on the "
+        f"model's version {HEADLINE_MODEL_VERSION} (their `-v{HEADLINE_MODEL_VERSION}` ids):",
         "",
         *_success_table(summary),
         f"All results, with the clutter sweep and the other training settings: "

@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+from attentive_gym.perception.geometry import SIGHT_BEAMS, SIGHT_BEARING_DEG
 from page_text import RESULTS, banner, number, read_rows, table, values
 
 NAME = "perception.md"
@@ -122,6 +123,19 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         """still / driving focus on target of the perfect-perception bound."""
         return _pair(bound[("still", goal)].get("focus_on_target"), bound[("driving", goal)].get("focus_on_target"))
 
+    def bound_sight_pair(goal):
+        """still / driving focus on target in sight of the perfect-perception bound."""
+        return _pair(*(bound[(robot, goal)].get("focus_on_target_in_sight") for robot in ("still", "driving")))
+
+    def sight_over_bound(mode, goal):
+        """still / driving focus on target in sight ÷ the bound's; "—" where either is missing."""
+        ratios = []
+        for robot in ("still", "driving"):
+            own = focus[(mode, robot, goal)].get("focus_on_target_in_sight")
+            best = bound[(robot, goal)].get("focus_on_target_in_sight")
+            ratios.append(own / best if own is not None and best else None)
+        return _pair(*ratios)
+
     def goal_text(goal):
         return goal.removeprefix("speed in ").removesuffix(" m/s")
 
@@ -163,6 +177,23 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
             ]
             for goal in GOALS
             if any(bound.values())  # a CSV from before the bound has none
+        ],
+        *[
+            [
+                f"focus on target in sight (also within {SIGHT_BEARING_DEG:g}° of the heading, on ≥ {SIGHT_BEAMS} "
+                f"laser beams), goal {goal_text(goal)}, still / driving",
+                *per_mode(lambda m, g=goal: focus_pair(m, g, "focus_on_target_in_sight")),
+            ]
+            for goal in GOALS
+            if any("focus_on_target_in_sight" in figures for figures in focus.values())
+        ],
+        *[
+            [
+                f"the same ÷ the perfect-perception bound in sight ({bound_sight_pair(goal)}), goal {goal_text(goal)}",
+                *per_mode(lambda m, g=goal: sight_over_bound(m, g)),
+            ]
+            for goal in GOALS
+            if any("focus_on_target_in_sight" in figures for figures in bound.values())
         ],
         [
             f"focus-steered controller, success (÷ true bearing's {true_bearing}; random actions {random_actions})",
@@ -317,7 +348,10 @@ def page(root: Path, write_figures: bool = True) -> str:
             "the 8 m arena with 2 distractors). Speed error: movers within 5 m in front, in view for at least 1 s; "
             "goal agreement: the goal judged from the estimate equals the goal judged from the truth; focus on "
             "target: the share of the steps with the target in front and within 5 m at which the focus is its "
-            "region. The memory controller steers at the first remembered goal match of the `focus` observation: "
+            "region; in sight: the same over the steps at which the laser can see the target (within "
+            f"{SIGHT_BEARING_DEG:g}° of the heading, on {SIGHT_BEAMS} or more beams: the part of the view that "
+            "perception is answerable for). The memory "
+            "controller steers at the first remembered goal match of the `focus` observation: "
             "it sees nothing a policy does not see.",
             "",
             "## The kinematics modes at 5 % noise",

@@ -47,7 +47,7 @@ from attentive_gym.perception.controllers import (
     steer,
     true_bearing_controller,
 )
-from attentive_gym.perception.geometry import in_view, region_of, to_robot_frame, true_target_bearing
+from attentive_gym.perception.geometry import in_sight, in_view, region_of, to_robot_frame, true_target_bearing
 from attentive_gym.perception.metrics import (
     case_key,
     error_stats,
@@ -79,6 +79,7 @@ __all__ = [
     "focus_by_track_age",
     "focus_on_target",
     "in_view",
+    "in_sight",
     "make_attentive_env",
     "memory_controller",
     "pair_masks",

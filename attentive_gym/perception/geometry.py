@@ -3,6 +3,8 @@
 - ``wrap_angle``, ``to_robot_frame``, ``bearing_of``: world points in the robot's frame
   (x forward, y left, m) and their bearings (rad, counter-clockwise from the heading).
 - ``in_view``: in front of the robot (``|bearing| < 90°``) within ``VIEW_RANGE_M``.
+- ``in_sight``: in view as the laser can see it: within ``VIEW_RANGE_M``, ``|bearing| ≤
+  SIGHT_BEARING_DEG`` and on at least ``SIGHT_BEAMS`` laser beams.
 - ``region_of``: the attention region (0..7 on ``GRID``) a point lies in.
 - ``true_target_bearing``: the episode's target's bearing, from the world's truth
   (``info`` of an ``AttentiveRescue`` step).
@@ -25,6 +27,9 @@ __all__ = [
     "to_robot_frame",
     "bearing_of",
     "in_view",
+    "SIGHT_BEARING_DEG",
+    "SIGHT_BEAMS",
+    "in_sight",
     "region_of",
     "true_target_bearing",
 ]
@@ -33,6 +38,9 @@ __all__ = [
 GRID = Grid.make("sonar")
 #: Movers farther than this (m, centre to centre) are out of view.
 VIEW_RANGE_M = 5.0
+#: In sight: within this bearing (degrees either side of the heading), away from the laser's
+#: field-of-view edge, and on at least this many laser beams of the step's scan.
+SIGHT_BEARING_DEG, SIGHT_BEAMS = 80.0, 2
 
 
 def wrap_angle(angle_rad: np.ndarray | float) -> np.ndarray | float:
@@ -58,6 +66,14 @@ def in_view(xy: np.ndarray) -> np.ndarray:
     """Whether robot-frame points ``(..., 2)`` lie in front (``|bearing| < 90°``) within
     ``VIEW_RANGE_M``."""
     return (xy[..., 0] > 0.0) & (np.hypot(xy[..., 0], xy[..., 1]) < VIEW_RANGE_M)
+
+
+def in_sight(xy: np.ndarray, beams: np.ndarray) -> np.ndarray:
+    """Whether robot-frame points ``(..., 2)`` that ``beams`` ``(...)`` laser beams hit lie
+    within ``VIEW_RANGE_M``, within ``SIGHT_BEARING_DEG`` of the heading and on at least
+    ``SIGHT_BEAMS`` beams: a body the laser can see, away from its field of view's edge."""
+    near = np.hypot(xy[..., 0], xy[..., 1]) < VIEW_RANGE_M
+    return near & (np.abs(bearing_of(xy)) <= math.radians(SIGHT_BEARING_DEG)) & (beams >= SIGHT_BEAMS)
 
 
 def region_of(xy: np.ndarray) -> np.ndarray:

@@ -6,8 +6,8 @@ motion, and does it attend to the goal's target?
   where the mover has been in view for ``SETTLE_S`` (steady, and within ``TRANSIENT_S``
   after a turn apart); the speed the regions that see static structure only report; and
   how often "the goal holds" judged from the estimate agrees with the truth.
-- ``focus_on_target``: per goal, the fraction of the steps with the target in view at
-  which the focus is the target's region (chance: 1/8).
+- ``focus_on_target``: per goal, the fraction of the steps with the target in view (or,
+  told so, in sight of the laser) at which the focus is the target's region (chance: 1/8).
 - ``target_cases``: the same steps split by why the focus is or is not on the target
   (``records.TARGET_CASES``).
 - ``focus_by_track_age``, ``focus_after_turns``: the focus on target by the age of the
@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from attentive_gym.attention.goals import Feature
-from attentive_gym.perception.geometry import in_view, region_of
+from attentive_gym.perception.geometry import in_sight, in_view, region_of
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, EpisodeRecord
 
 __all__ = [
@@ -195,14 +195,20 @@ def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     return metrics
 
 
-def focus_on_target(records: Iterable[EpisodeRecord]) -> dict[str, tuple[float, int]]:
+def focus_on_target(records: Iterable[EpisodeRecord], in_sight_only: bool = False) -> dict[str, tuple[float, int]]:
     """Per goal (``str(goal)``): the fraction of the steps with the target in view
-    (``in_view``) at which the focus is the target's region, and the number of such steps
-    (NaN rate for none)."""
+    (``in_view``; with ``in_sight_only``, in sight of the laser: ``in_sight``) at which the
+    focus is the target's region, and the number of such steps (NaN rate for none).
+
+    Raises:
+        ValueError: ``in_sight_only`` for a record without ``target_beams``.
+    """
     hits: dict[str, list[int]] = {}
     for record in records:
         target_xy = record.mover_xy[:, record.target]
-        visible = in_view(target_xy)
+        if in_sight_only and record.target_beams is None:
+            raise ValueError("focus on target in sight needs records with target_beams (record_episode's)")
+        visible = in_sight(target_xy, record.target_beams) if in_sight_only else in_view(target_xy)
         on_target = record.focus[visible] == region_of(target_xy[visible])
         counts = hits.setdefault(str(record.goal), [0, 0])
         counts[0] += int(on_target.sum())

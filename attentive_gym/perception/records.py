@@ -63,6 +63,8 @@ class EpisodeRecord:
             index into ``TARGET_CASES`` (``target_case``); None when not recorded.
         target_track_age: ``(T,)`` age (s) of the target's track (``nearest_track``), NaN
             where it has none; None when not recorded.
+        target_beams: ``(T,)`` int, how many laser beams of the step's scan hit the target;
+            None when not recorded.
     """
 
     goal: Goal
@@ -76,6 +78,7 @@ class EpisodeRecord:
     static_region: np.ndarray
     target_case: np.ndarray | None = None
     target_track_age: np.ndarray | None = None
+    target_beams: np.ndarray | None = None
 
 
 #: ``(J, 180)`` which laser beams each region holds.
@@ -176,6 +179,7 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
         tracks = getattr(output, "tracks", None)
         tracked = tracked or (tracks is not None and len(tracks.id) > 0)
         target_track = None if tracks is None else nearest_track(tracks, xy[info["target_index"]])
+        target_beams = int(np.sum(info["laser_hits"] == target_id))
         steps.append(
             (
                 info["time_s"],
@@ -185,13 +189,14 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
                 np.full(len(xy), np.nan) if tracks is None else matched_track_speeds(tracks, xy),
                 -1 if output.focus is None else output.focus,
                 static_regions(info["laser_hits"], info["sonar_hits"], mover_ids),
-                target_case(output, xy[info["target_index"]], int(np.sum(info["laser_hits"] == target_id))),
+                target_case(output, xy[info["target_index"]], target_beams),
                 math.nan if target_track is None else tracks.age_s[target_track],
+                target_beams,
             )
         )
         if terminated or truncated:
             break
-    t_s, xy, velocity, region_speed, track_speed, focus, static, case, age = zip(*steps)
+    t_s, xy, velocity, region_speed, track_speed, focus, static, case, age, beams = zip(*steps)
     return EpisodeRecord(
         goal=goal,
         target=int(info["target_index"]),
@@ -204,4 +209,5 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
         static_region=np.array(static),
         target_case=np.array(case) if tracked else None,
         target_track_age=np.array(age) if tracked else None,
+        target_beams=np.array(beams, np.int64),
     )

@@ -33,6 +33,15 @@ def test_bearings_and_view():
     assert geometry.in_view(xy).tolist() == [True, False, False, True, False, True]  # front and within 5 m
 
 
+def test_in_sight_needs_the_view_two_beams_and_a_bearing_off_the_edge():
+    edge = 4.0 * np.array([math.cos(math.radians(85.0)), math.sin(math.radians(85.0))])
+    inside = 4.0 * np.array([math.cos(math.radians(75.0)), -math.sin(math.radians(75.0))])
+    xy = np.array([[2.0, 0.0], [2.0, 0.0], [5.1, 0.0], edge, inside, [-1.0, 0.0]])
+    beams = np.array([2, 1, 5, 5, 3, 5])
+    # on 2 beams; on 1; too far; at 85° (the field of view's edge); at -75°; behind
+    assert geometry.in_sight(xy, beams).tolist() == [True, False, False, False, True, False]
+
+
 def test_each_front_sonar_s_bearing_lies_in_its_region():
     bearings = np.radians(SONAR_BEARINGS_DEG[: geometry.GRID.n_regions])
     xy = 2.0 * np.stack([np.cos(bearings), np.sin(bearings)], axis=-1)

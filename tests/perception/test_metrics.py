@@ -11,7 +11,7 @@ import pytest
 
 from attentive_gym.attention import Goal
 from attentive_gym.perception import metrics
-from attentive_gym.perception.geometry import in_view, region_of
+from attentive_gym.perception.geometry import in_sight, in_view, region_of
 from attentive_gym.perception.records import TARGET_CASES, EpisodeRecord
 
 GOAL = Goal.between("speed", 0.5, 0.9)
@@ -70,6 +70,24 @@ def test_a_focus_on_the_target_scores_one(records):
     assert [rate for rate, _ in rates.values()] == [1.0]
     nowhere = metrics.focus_on_target([dataclasses.replace(driving, focus=np.full_like(driving.focus, -1))])
     assert [rate for rate, _ in nowhere.values()] == [0.0]
+
+
+def test_focus_on_target_in_sight_counts_only_the_steps_the_laser_sees_the_target_on(records):
+    driving, _ = records
+    target_xy = driving.mover_xy[:, driving.target]
+    assert driving.target_beams is not None and driving.target_beams.shape == driving.t_s.shape
+    visible = np.flatnonzero(in_view(target_xy))
+    assert visible.size >= 2
+    beams = np.zeros_like(driving.target_beams)
+    beams[visible[::2]] = 3  # the laser sees the target at every other step in view
+    on_target = np.where(np.arange(len(driving.t_s)) % 2 == visible[0] % 2, region_of(target_xy), -1)
+    record = dataclasses.replace(driving, target_beams=beams, focus=on_target)
+    [(rate, steps)] = metrics.focus_on_target([record], in_sight_only=True).values()
+    sighted = np.flatnonzero(in_sight(target_xy, beams))
+    assert steps == sighted.size > 0
+    assert rate == pytest.approx(np.mean(on_target[sighted] == region_of(target_xy[sighted])))
+    with pytest.raises(ValueError, match="target_beams"):
+        metrics.focus_on_target([dataclasses.replace(driving, target_beams=None)], in_sight_only=True)
 
 
 def test_still_robot_sees_static_structure_still(records):
