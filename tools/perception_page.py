@@ -119,13 +119,9 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
 
         return cell
 
-    def bound_pair(goal):
-        """still / driving focus on target of the perfect-perception bound."""
-        return _pair(bound[("still", goal)].get("focus_on_target"), bound[("driving", goal)].get("focus_on_target"))
-
-    def bound_sight_pair(goal):
-        """still / driving focus on target in sight of the perfect-perception bound."""
-        return _pair(*(bound[(robot, goal)].get("focus_on_target_in_sight") for robot in ("still", "driving")))
+    def bound_pair(goal, metric="focus_on_target"):
+        """still / driving focus on target (``metric``) of the perfect-perception bound."""
+        return _pair(bound[("still", goal)].get(metric), bound[("driving", goal)].get(metric))
 
     def sight_over_bound(mode, goal):
         """still / driving focus on target in sight ÷ the bound's; "—" where either is missing."""
@@ -189,7 +185,8 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         ],
         *[
             [
-                f"the same ÷ the perfect-perception bound in sight ({bound_sight_pair(goal)}), goal {goal_text(goal)}",
+                f"the same ÷ the perfect-perception bound in sight ({bound_pair(goal, 'focus_on_target_in_sight')}), "
+                f"goal {goal_text(goal)}",
                 *per_mode(lambda m, g=goal: sight_over_bound(m, g)),
             ]
             for goal in GOALS
