@@ -25,6 +25,7 @@ LAGS = np.array([0.1, 0.2, 0.4, 0.7, 1.0])
 DT = 0.05
 # the evidence's thresholds as the tests use them: each beam ≥ 1 σ, a run ≥ 4 σ over ≥ 3 beams
 BEAM_SIGMAS, RUN_SIGMAS, MIN_BEAMS = 1.0, 4.0, 3
+EVERY_BEAM = np.ones(BEAMS, np.bool_)
 
 
 def parameters(noise_rel: float = 0.01) -> np.ndarray:
@@ -55,19 +56,19 @@ def cast(geometry: SceneGeometry, pose, rng=None, noise_rel: float = 0.0):
 class Run:
     """A history fed one scan per step, and the evidence of the latest."""
 
-    def __init__(self, noise_rel: float = 0.0):
+    def __init__(self, noise_rel: float = 0.0, wanted: np.ndarray = EVERY_BEAM):
         self.history = free_space.ScanHistory.empty(24, BEAMS)
         self.params = parameters(max(noise_rel, 0.01))
         self.appeared = np.zeros(BEAMS)
         self.flags = np.zeros(BEAMS, np.bool_)
+        self.wanted = wanted
 
     def scan(self, t: float, ranges: np.ndarray, pose) -> np.ndarray:
         """The flags of this scan's moving evidence; then the scan is remembered."""
         h = self.history
         pose = np.asarray(pose, float)
-        free_space.scan_evidence(
-            t, ranges, pose, LAGS, h.times, h.poses, h.ranges, h.counters, self.params, self.appeared
-        )
+        history = (h.times, h.poses, h.ranges, h.counters)
+        free_space.scan_evidence(t, ranges, pose, LAGS, *history, self.params, self.wanted, BEAM_SIGMAS, self.appeared)
         free_space.evidence_runs(self.appeared, BEAM_SIGMAS, RUN_SIGMAS, MIN_BEAMS, self.flags)
         free_space.remember_scan(t, ranges, pose, 0.9 * DT, h.times, h.poses, h.ranges, h.counters)
         return self.flags.copy()
@@ -82,6 +83,39 @@ def test_a_body_appearing_in_free_space_is_flagged_and_nothing_else():
     flags = run.scan(10 * DT, ranges, (0.0, 0.0, 0.0))
     assert flags[owners == BODY].all()
     assert not flags[owners != BODY].any()
+
+
+def test_evidence_worked_out_for_some_beams_matches_the_whole_scans_there():
+    """A body moving along a wall under 5 % noise: with only one beam of the body wanted, the
+    scores worked out are the whole scan's, the run through that beam is flagged as in the
+    whole scan, and nothing else is flagged."""
+    radius, wall = 0.2, [[3.0, -5.0, 3.0, 5.0]]
+    rng_whole, rng_some = np.random.default_rng(3), np.random.default_rng(3)
+    whole, some = Run(0.05), Run(0.05)
+    flagged = 0
+    for k in range(30):
+        y = -1.0 + 0.5 * DT * k
+        geometry = scene(wall, [[2.5 - radius, y, radius]], [BODY])
+        ranges_whole, owners = cast(geometry, (0.0, 0.0, 0.0), rng_whole, 0.05)
+        ranges_some, _ = cast(geometry, (0.0, 0.0, 0.0), rng_some, 0.05)
+        body = np.flatnonzero(owners == BODY)
+        wanted = np.zeros(BEAMS, np.bool_)
+        wanted[body[len(body) // 2]] = True
+        some.wanted = wanted
+        flags_whole = whole.scan(k * DT, ranges_whole, (0.0, 0.0, 0.0))
+        flags_some = some.scan(k * DT, ranges_some, (0.0, 0.0, 0.0))
+        worked_out = some.appeared > 0.0
+        assert np.array_equal(some.appeared[worked_out], whole.appeared[worked_out]), k
+        run = np.zeros(BEAMS, np.bool_)  # the whole scan's run of passing beams through the wanted one
+        for direction in (-1, 1):
+            b = body[len(body) // 2]
+            while 0 <= b < BEAMS and whole.appeared[b] >= BEAM_SIGMAS:
+                run[b] = True
+                b += direction
+        assert np.array_equal(flags_some[run], flags_whole[run]), k
+        assert not flags_some[~run].any(), k
+        flagged += int(flags_some.sum())
+    assert flagged > 0  # the body was flagged: the comparison saw evidence, not only its absence
 
 
 @pytest.mark.parametrize("gap_m", [0.2, 0.5, 0.9])

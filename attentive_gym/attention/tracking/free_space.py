@@ -12,14 +12,15 @@ laser's pose at its time, so the robot's own motion is compensated by the poses.
 - ``ScanHistory``: a short ring buffer of past scans and their laser poses.
 - ``remember_scan``: store a scan, at most one per ``spacing_s``.
 - ``past_scan``: the stored scan closest to a lag before now.
-- ``violations``: for each echo of one scan, by how many σ it lies inside the space another
-  scan saw as free (conservatively the smallest range of that scan's beams within a small
-  width of the echo, at least the beam it falls in and its two neighbours, so that depth
-  edges and grazing surfaces give none).
+- ``compared_frames`` / ``violation``: by how many σ one echo of a scan lies inside the space
+  other scans saw as free (conservatively the smallest range of each scan's beams within a
+  small width of the echo, at least the beam it falls in and its two neighbours, so that
+  depth edges and grazing surfaces give none).
 - ``evidence_runs``: runs of neighbouring beams whose scores pass a threshold each and, over
   the run, a combined one: the beams with moving evidence.
 - ``scan_evidence``: one scan's evidence against the past scans at several lags: the
-  echoes that appeared in free space (``violations`` of the current scan against each).
+  echoes that appeared in free space (``violation``), worked out only for the beams a caller
+  wants and the runs that reach them.
 - ``seen_through``: the vacated test of one point (a track's earlier position): by how much
   the current scan sees past it. It is a test per body, not per beam: a beam that now
   passes a body's old place may end on the body itself (it moved away along the beam) or
@@ -54,7 +55,8 @@ __all__ = [
     "ScanHistory",
     "remember_scan",
     "past_scan",
-    "violations",
+    "compared_frames",
+    "violation",
     "evidence_runs",
     "scan_evidence",
     "seen_through",
@@ -88,7 +90,7 @@ def evidence_parameters(
     margin_m: float,
     width_m: float,
 ) -> np.ndarray:
-    """The parameter vector ``(7,)`` of ``violations``, ``scan_evidence`` and ``seen_through``.
+    """The parameter vector ``(7,)`` of ``violation``, ``scan_evidence`` and ``seen_through``.
 
     Args:
         first_rad, step_rad: the beams' geometry (module docstring).
@@ -212,7 +214,7 @@ def _range_sigma(r, noise_rel, noise_floor_m):
 @njit(cache=True)
 def _free_score(rho, j, free, params):
     """By how many σ a point at ``rho`` (m) in beam ``j`` of the scan ``free`` lies inside its
-    free space (``violations``); 0 where the beams within ``width_m / 2`` of it leave the
+    free space (``violation``); 0 where the beams within ``width_m / 2`` of it leave the
     field of view."""
     step, no_echo = params[_STEP], params[_NO_ECHO]
     half = max(1, int(math.ceil(0.5 * params[_WIDTH] / (max(rho, 1e-6) * step))))
@@ -230,36 +232,43 @@ def _free_score(rho, j, free, params):
 
 
 @njit(cache=True)
-def violations(hits, hit_pose, free, free_pose, params, scores):
-    """By how many σ each echo of scan A lies inside the space scan B saw as free.
+def compared_frames(hit_pose, lags_rows, poses, frames):
+    """The rigid transform from scan A's laser pose ``hit_pose`` ``(3,)`` into each compared
+    scan B's (``poses[row]`` for the ``lags_rows`` ``(L,)`` rows): ``frames`` ``(L, 4)`` output,
+    per row A's laser position in B's laser frame ``(tx, ty)`` (m) and the cosine and sine of
+    A's heading relative to B's."""
+    for k in range(lags_rows.shape[0]):
+        free_pose = poses[lags_rows[k]]
+        turn = hit_pose[2] - free_pose[2]
+        c, s = math.cos(free_pose[2]), math.sin(free_pose[2])
+        dx, dy = hit_pose[0] - free_pose[0], hit_pose[1] - free_pose[1]
+        frames[k, 0], frames[k, 1] = c * dx + s * dy, -s * dx + c * dy
+        frames[k, 2], frames[k, 3] = math.cos(turn), math.sin(turn)
 
-    Args:
-        hits: ``(n,)`` scan A's ranges (m); hit_pose: ``(3,)`` its laser pose (odometry frame).
-        free: ``(m,)`` scan B's ranges (m); free_pose: ``(3,)`` its laser pose.
-        params: ``(7,)`` ``evidence_parameters``; both scans share the beams' geometry.
-        scores: ``(n,)`` output, in σ: each A echo's ``max(0, (f − ρ − margin) / σ)``, with
-            ρ its distance from B's laser, f the smallest of B's ranges on the beams within
-            ``width_m / 2`` of it (at ρ) and at least the neighbours of the beam it falls
-            in, and σ the noise of the difference; 0 where those beams leave B's field of
-            view, and at no echo.
-    """
+
+@njit(cache=True)
+def violation(b, r, rows, frames, past, params):
+    """By how many σ the echo at range ``r`` (m) of beam ``b`` of scan A lies inside the space
+    the compared scans B saw as free, the most over them: B's ranges ``past[rows[k]]``, A's
+    pose in B's frame ``frames[k]`` (``compared_frames``); both scans share the beams'
+    geometry (``params``: ``evidence_parameters``).
+
+    Each B's score is ``max(0, (f − ρ − margin) / σ)``, with ρ the echo's distance from B's
+    laser, f the smallest of B's ranges on the beams within ``width_m / 2`` of it (at ρ) and
+    at least the neighbours of the beam it falls in, and σ the noise of the difference; 0
+    where those beams leave B's field of view, and at no echo."""
+    if r >= params[_NO_ECHO]:
+        return 0.0
     first, step = params[_FIRST], params[_STEP]
-    # B's laser sees A's beam b along the bearing turn + first + (b + ½)·step, from (tx, ty):
-    # one rigid transform for the whole scan, the beams' directions rotated on by one step each.
-    turn = hit_pose[2] - free_pose[2]
-    c, s = math.cos(free_pose[2]), math.sin(free_pose[2])
-    dx, dy = hit_pose[0] - free_pose[0], hit_pose[1] - free_pose[1]
-    tx, ty = c * dx + s * dy, -s * dx + c * dy
-    ux, uy = math.cos(turn + first + 0.5 * step), math.sin(turn + first + 0.5 * step)
-    step_c, step_s = math.cos(step), math.sin(step)
-    for b in range(hits.shape[0]):
-        scores[b] = 0.0
-        r = hits[b]
-        if r < params[_NO_ECHO]:
-            x, y = tx + r * ux, ty + r * uy
-            phi = math.atan2(y, x)
-            scores[b] = _free_score(math.sqrt(x * x + y * y), int(math.floor((phi - first) / step)), free, params)
-        ux, uy = ux * step_c - uy * step_s, ux * step_s + uy * step_c
+    bearing = first + (b + 0.5) * step
+    bc, bs = math.cos(bearing), math.sin(bearing)
+    score = 0.0
+    for k in range(rows.shape[0]):
+        tx, ty, ct, st = frames[k, 0], frames[k, 1], frames[k, 2], frames[k, 3]
+        x, y = tx + r * (ct * bc - st * bs), ty + r * (st * bc + ct * bs)
+        beam = int(math.floor((math.atan2(y, x) - first) / step))
+        score = max(score, _free_score(math.sqrt(x * x + y * y), beam, past[rows[k]], params))
+    return score
 
 
 @njit(cache=True)
@@ -287,32 +296,55 @@ def evidence_runs(scores, beam_threshold, run_threshold, min_beams, flags):
 
 
 @njit(cache=True)
-def scan_evidence(t_s, ranges, pose, lags_s, times, poses, past, counters, params, appeared):
+def scan_evidence(t_s, ranges, pose, lags_s, times, poses, past, counters, params, wanted, beam_threshold, appeared):
     """The moving evidence of the scan ``ranges`` ``(n,)`` taken at ``t_s`` (s) from the laser
     pose ``pose`` ``(3,)``: ``appeared`` ``(n,)`` (σ) is, per beam, by how much its echo lies
     inside the free space of the stored scans (``ScanHistory``'s arrays) closest to the lags
-    ``lags_s`` ``(L,)`` (s) before it (``violations``' scores, the maximum over the lags;
-    ``past_scan``, each stored scan used once). Returns how many past scans were compared."""
+    ``lags_s`` ``(L,)`` (s) before it (``violation``: the most over the lags; ``past_scan``,
+    each stored scan used once). Returns how many past scans were compared.
+
+    Only what ``evidence_runs`` needs for the ``wanted`` ``(n,)`` beams is worked out: those
+    beams, and the beams of any run of scores at or above ``beam_threshold`` (σ) that reaches
+    one of them, so that each wanted beam's run is the one the whole scan would give. The
+    other beams' entries are 0.
+    """
+    n = ranges.shape[0]
     appeared[:] = 0.0
-    scores = np.empty(ranges.shape[0])
-    used = np.full(lags_s.shape[0], -1, np.int64)
+    rows = np.full(lags_s.shape[0], -1, np.int64)
     compared = 0
     for k in range(lags_s.shape[0]):
         row = past_scan(t_s, lags_s[k], times, counters)
-        if row < 0 or t_s - times[row] <= 0.0 or row in used[:compared]:
+        if row < 0 or t_s - times[row] <= 0.0 or row in rows[:compared]:
             continue
-        used[compared] = row
+        rows[compared] = row
         compared += 1
-        violations(ranges, pose, past[row], poses[row], params, scores)
-        for b in range(ranges.shape[0]):
-            appeared[b] = max(appeared[b], scores[b])
+    if compared == 0:
+        return 0
+    rows = rows[:compared]
+    frames = np.empty((compared, 4))
+    compared_frames(pose, rows, poses, frames)
+    done = wanted.copy()
+    for b in range(n):
+        if wanted[b]:
+            appeared[b] = violation(b, ranges[b], rows, frames, past, params)
+    for b in range(n):  # runs that pass a wanted beam: follow them out to where they end
+        if not (done[b] and appeared[b] >= beam_threshold):
+            continue
+        for direction in (-1, 1):
+            j = b + direction
+            while 0 <= j < n and not done[j]:
+                appeared[j] = violation(j, ranges[j], rows, frames, past, params)
+                done[j] = True
+                if appeared[j] < beam_threshold:
+                    break
+                j += direction
     return compared
 
 
 @njit(cache=True)
 def seen_through(x, y, ranges, pose, params):
     """By how many σ the scan ``ranges`` ``(n,)`` taken from the laser pose ``pose`` ``(3,)``
-    sees past the point ``(x, y)`` (m, odometry frame): ``violations``' score of an echo at
+    sees past the point ``(x, y)`` (m, odometry frame): ``violation``'s score of an echo at
     that point (0 outside the field of view). A body's earlier point seen through has left
     (the vacated test)."""
     first, step = params[_FIRST], params[_STEP]

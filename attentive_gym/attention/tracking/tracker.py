@@ -757,8 +757,24 @@ def free_space_step(
     lags = params[_FS_LAGS : _FS_LAGS + int(params[_FS_N_LAGS])]
     appeared = np.empty(n)
     flags = np.empty(n, np.bool_)
+    wanted = np.zeros(n, np.bool_)  # the beams of the segments the tracks matched: the only ones weighed
+    for k in range(alive.shape[0]):
+        m = segment_of[k]
+        if alive[k] and m >= 0:
+            wanted[bounds[m, 0] : bounds[m, 1]] = True
     free_space.scan_evidence(
-        t_s, ranges_m, laser, lags, times, poses, past, history_counters, evidence_params, appeared
+        t_s,
+        ranges_m,
+        laser,
+        lags,
+        times,
+        poses,
+        past,
+        history_counters,
+        evidence_params,
+        wanted,
+        free_space.BEAM_SIGMAS,
+        appeared,
     )
     free_space.evidence_runs(appeared, free_space.BEAM_SIGMAS, params[_FS_RUN_SIGMAS], free_space.MIN_BEAMS, flags)
     shares = np.zeros(bounds.shape[0])
