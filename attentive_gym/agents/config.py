@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from attentive_gym._checks import check_int
-from attentive_gym.attention.config import MODEL_VERSIONS
+from attentive_gym.attention.config import MODEL_VERSIONS, check_model_version
 from attentive_gym.envs.config_mappings import env_kwargs_as_mappings
 from attentive_gym.wrappers.variants import VARIANTS
 
@@ -157,8 +157,7 @@ class RunSpec:
             raise ValueError(f"warm_start applies to ppo only, got algo {self.algo!r}")
         if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
             raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
-        if type(self.env_version) is not int or self.env_version not in MODEL_VERSIONS:
-            raise ValueError(f"unknown env_version {self.env_version!r}; allowed: {list(MODEL_VERSIONS)}")
+        check_model_version(self.env_version, "env_version")
         if "version" in self.env_kwargs:
             raise ValueError("env_kwargs cannot hold 'version': the model's version is the spec's env_version")
         if self.n_envs is None:

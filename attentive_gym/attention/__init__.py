@@ -51,6 +51,7 @@ from attentive_gym.attention.config import (
     MODEL_VERSIONS,
     VERSION_0_FIELDS,
     AttentionConfig,
+    check_model_version,
     parse_state,
     profile_config,
 )
@@ -78,6 +79,7 @@ __all__ = [
     "MODEL_VERSIONS",
     "VERSION_0_FIELDS",
     "AttentionConfig",
+    "check_model_version",
     "AttentionModel",
     "AttentionOutput",
     "Direction",

@@ -8,7 +8,8 @@
 - ``LASER_PROFILES`` / ``profile_config``: named sets of tracker values for a kind of laser
   and target (``indoor-people``: a Hokuyo/SICK indoor laser and walking people);
   ``configured``: a profile and a JSON object of fields over the defaults.
-- ``MODEL_VERSIONS`` / ``VERSION_0_FIELDS``: the versions of the defaults, and what the
+- ``MODEL_VERSIONS`` / ``check_model_version`` / ``VERSION_0_FIELDS``: the versions of the
+  defaults, a version checked against them, and what the
   first one had.
 
 Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
@@ -44,6 +45,7 @@ __all__ = [
     "parse_state",
     "LASER_PROFILES",
     "MODEL_VERSIONS",
+    "check_model_version",
     "VERSION_0_FIELDS",
     "profile_config",
     "configured",
@@ -67,6 +69,16 @@ MAX_FREE_SPACE_LAGS = 8
 #:   and, in the simulator, the dead reckoning of its physics sub-steps
 #:   (docs/notes/2026-12-06-motion-by-default.md).
 MODEL_VERSIONS = (0, 1)
+
+
+def check_model_version(version: Any, name: str = "model version") -> int:
+    """``version`` if it is one of ``MODEL_VERSIONS`` (an int, not a bool or a float); else
+    ``ValueError`` naming ``name`` (how the caller calls it), the value and the allowed ones."""
+    if type(version) is not int or version not in MODEL_VERSIONS:
+        raise ValueError(f"unknown {name} {version!r}; allowed: {list(MODEL_VERSIONS)}")
+    return version
+
+
 #: The fields whose defaults version 1 changed, with their version 0 values.
 VERSION_0_FIELDS: Mapping[str, Any] = MappingProxyType(
     {

@@ -25,6 +25,7 @@ from attentive_gym.attention import (
     AttentionModel,
     AttentionOutput,
     Goal,
+    check_model_version,
 )
 from attentive_gym.attention.tracking.tracker import TRACK_TABLE_FIELDS
 from attentive_gym.attention.working_memory import WorkingMemory
@@ -318,8 +319,7 @@ def default_config(env: gym.Env, version: int = MODEL_VERSIONS[-1]) -> Attention
     Raises:
         ValueError: for an unknown version (listing the known ones).
     """
-    if type(version) is not int or version not in MODEL_VERSIONS:
-        raise ValueError(f"unknown model version {version!r}; allowed: {list(MODEL_VERSIONS)}")
+    check_model_version(version)
     base = env.unwrapped
     settings: dict[str, Any] = dict(VERSION_0_FIELDS) if version == 0 else {}
     dt = getattr(base, "dt", None)

@@ -26,7 +26,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from attentive_gym.attention import MODEL_VERSIONS, AttentionConfig
+from attentive_gym.attention import MODEL_VERSIONS, AttentionConfig, check_model_version
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.wrappers.attention import AttentionWrapper, default_config
@@ -92,8 +92,7 @@ def make_env(
         raise ValueError(
             f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}"
         )
-    if type(version) is not int or version not in MODEL_VERSIONS:
-        raise ValueError(f"unknown model version {version!r}; allowed: {list(MODEL_VERSIONS)}")
+    check_model_version(version)
     if isinstance(attention, Mapping):
         AttentionConfig.from_dict(attention)  # names and values checked before anything is built
     elif attention is not None and not isinstance(attention, AttentionConfig):
