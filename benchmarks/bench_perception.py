@@ -756,7 +756,8 @@ def print_cost(results: Results, modes, rounds: int) -> None:
     readings, goal = record_readings(COST_RECORD_S)
     models = {}
     for mode in modes:
-        models[mode] = AttentionModel(AttentionConfig(kinematics=mode, range_noise_rel=_noise(COST_NOISE).sigma_rel))
+        fields = {"kinematics": mode, "range_noise_rel": _noise(COST_NOISE).sigma_rel, **ATTENTION_FIELDS}
+        models[mode] = AttentionModel(AttentionConfig(**fields))  # as make_attentive_env's
         models[mode].set_goals(goal)
     env = make_raw_env(_noise(COST_NOISE), **PERCEPTION_ARENA)
     env.action_space.seed(0)
