@@ -232,13 +232,13 @@ def _free_score(rho, j, free, params):
 
 
 @njit(cache=True)
-def compared_frames(hit_pose, lags_rows, poses, frames):
+def compared_frames(hit_pose, rows, poses, frames):
     """The rigid transform from scan A's laser pose ``hit_pose`` ``(3,)`` into each compared
-    scan B's (``poses[row]`` for the ``lags_rows`` ``(L,)`` rows): ``frames`` ``(L, 4)`` output,
+    scan B's (``poses[row]`` for the history's ``rows`` ``(L,)``): ``frames`` ``(L, 4)`` output,
     per row A's laser position in B's laser frame ``(tx, ty)`` (m) and the cosine and sine of
     A's heading relative to B's."""
-    for k in range(lags_rows.shape[0]):
-        free_pose = poses[lags_rows[k]]
+    for k in range(rows.shape[0]):
+        free_pose = poses[rows[k]]
         turn = hit_pose[2] - free_pose[2]
         c, s = math.cos(free_pose[2]), math.sin(free_pose[2])
         dx, dy = hit_pose[0] - free_pose[0], hit_pose[1] - free_pose[1]
