@@ -36,7 +36,9 @@ markdown tables of:
    actions.
 4. ``cost``: µs per ``AttentionModel.step`` (and of it, the tracker's step) on readings
    recorded from a driving episode at 5 % noise, beside a raw ``AttentiveRescue-v0`` step
-   with random actions, measured in alternating rounds of the same run (medians).
+   with random actions, measured in alternating rounds of the same run (medians); with the
+   tracker, also the tracker with version 0's defaults (``attention.VERSION_0_FIELDS``), the
+   cost that version 1's is held to.
 5. ``clutter`` (only when asked for): in the RL comparison's arena (8 m, 3 rubble pieces
    per 100 m², 5 % noise) with 1, 2, 3 and 5 distractors, the focus on target of the
    driving robot and the success of the memory, true-bearing and random controllers: how
@@ -75,7 +77,7 @@ from typing import Any
 import numpy as np
 
 from attentive_gym._atomic import atomic_file
-from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
+from attentive_gym.attention import VERSION_0_FIELDS, AttentionConfig, AttentionModel, Goal
 from attentive_gym.attention import model as model_module
 from attentive_gym.attention.tracking.tracker import Tracker
 from attentive_gym.perception import motion
@@ -751,19 +753,28 @@ def time_env_us(env, actions: list[np.ndarray]) -> float:
     return elapsed / len(actions) * 1e6
 
 
+#: The cost section's label of the tracker with version 0's defaults, timed beside the others.
+VERSION_0_TRACKER = "tracker (version 0)"
+
+
 def print_cost(results: Results, modes, rounds: int) -> None:
-    """Section 4: µs per model step per mode beside a raw env step, medians of alternating rounds."""
+    """Section 4: µs per model step per mode beside a raw env step, medians of alternating rounds;
+    with the tracker, also the tracker with version 0's defaults (``VERSION_0_TRACKER``), the
+    cost the model's version 1 is held to."""
     readings, goal = record_readings(COST_RECORD_S)
+    noise_rel = _noise(COST_NOISE).sigma_rel
+    configs = {mode: {"kinematics": mode, "range_noise_rel": noise_rel, **ATTENTION_FIELDS} for mode in modes}
+    if "tracker" in modes:
+        configs[VERSION_0_TRACKER] = {"kinematics": "tracker", "range_noise_rel": noise_rel, **VERSION_0_FIELDS}
     models = {}
-    for mode in modes:
-        fields = {"kinematics": mode, "range_noise_rel": _noise(COST_NOISE).sigma_rel, **ATTENTION_FIELDS}
+    for mode, fields in configs.items():
         models[mode] = AttentionModel(AttentionConfig(**fields))  # as make_attentive_env's
         models[mode].set_goals(goal)
     env = make_raw_env(_noise(COST_NOISE), **PERCEPTION_ARENA)
     env.action_space.seed(0)
     actions = [env.action_space.sample() for _ in readings]
     parts = ("", " compiled", " tracker")
-    times: dict[str, list[float]] = {f"{mode}{part}": [] for mode in modes for part in parts}
+    times: dict[str, list[float]] = {f"{mode}{part}": [] for mode in models for part in parts}
     times["env"] = []
     for round_index in range(rounds + 1):  # round 0 warms up (numba compiles) and is dropped
         figures = {}
@@ -776,7 +787,7 @@ def print_cost(results: Results, modes, rounds: int) -> None:
                 times[name].append(value)
     env_us = statistics.median(times["env"])
     rows = []
-    for mode in modes:
+    for mode in models:
         model_us, compiled_us = statistics.median(times[mode]), statistics.median(times[f"{mode} compiled"])
         metrics = {
             "model_step_us": model_us,

@@ -26,6 +26,8 @@ SOURCES = (RESULTS / "perception.csv", RESULTS / "perception_clutter.csv", RESUL
 MODES = ("tracker", "window", "literal")
 #: The benchmark's perfect-perception bound, in the place of a mode in its CSV.
 BOUND = "perfect perception"
+#: The cost section's row of the tracker with version 0's defaults (the benchmark's ``VERSION_0_TRACKER``).
+VERSION_0_TRACKER = "tracker (version 0)"
 NOISY = "gauss 0.05"
 NOISE_FREE = "gauss 0"
 #: The noise settings of the benchmark, as its CSV names them, and how the page names them.
@@ -91,6 +93,7 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
     }
     control = {mode: values(rows, section="control", mode=mode, noise=NOISY) for mode in MODES}
     cost = {mode: values(rows, section="cost", mode=mode, noise=NOISY) for mode in MODES}
+    version_0 = values(rows, section="cost", mode=VERSION_0_TRACKER, noise=NOISY)
 
     def per_mode(cell) -> list[str]:
         return [cell(mode) for mode in MODES]
@@ -204,6 +207,14 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         ["of which the compiled step", *per_mode(lambda m: number(cost[m].get("compiled_over_env")))],
         ["of which the tracker", *per_mode(lambda m: number(cost[m].get("tracker_over_env")))],
     ]
+    if version_0:
+        lines.append(
+            [
+                "the tracker's model step with version 0's defaults, same run (÷ raw env step; of which the tracker)",
+                _pair(version_0.get("model_over_env"), version_0.get("tracker_over_env")),
+                *["—"] * (len(MODES) - 1),
+            ]
+        )
     return table(["at 5 % Gaussian noise", *MODES], lines)
 
 

@@ -135,6 +135,27 @@ def test_cost_times_the_compiled_step_inside_the_model_step():
     assert compiled > 0.0 and total > 0.0 and tracker > 0.0
 
 
+def test_cost_times_the_asked_configuration_beside_version_0(monkeypatch, capsys):
+    """The cost section builds its models from ``--config``'s fields (a candidate is timed, not
+    the defaults) and times the tracker with version 0's defaults in the same rounds."""
+    built = []
+
+    class RecordingModel(bench.AttentionModel):
+        def __init__(self, config):
+            built.append(config)
+            super().__init__(config)
+
+    monkeypatch.setattr(bench, "AttentionModel", RecordingModel)
+    monkeypatch.setattr(bench, "COST_RECORD_S", 0.5)
+    monkeypatch.setattr(bench, "ATTENTION_FIELDS", {"free_space_lags_s": (0.1, 0.3)})
+    results = bench.Results()
+    bench.print_cost(results, ["tracker"], rounds=1)
+    assert [config.free_space_lags_s for config in built] == [(0.1, 0.3), bench.AttentionConfig().free_space_lags_s]
+    assert built[0].free_space_evidence and not built[1].free_space_evidence  # version 1's, then version 0's
+    assert {row["mode"] for row in results.rows} == {"tracker", bench.VERSION_0_TRACKER}
+    assert f"| {bench.VERSION_0_TRACKER} |" in capsys.readouterr().out
+
+
 def test_focus_relative_to_noise_free_divides_by_the_same_mode_and_robot():
     quiet, noisy = bench.NOISE_SETTINGS[0].name, bench.NOISE_SETTINGS[2].name
     focus = {

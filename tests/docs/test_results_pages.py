@@ -223,6 +223,19 @@ def test_the_perception_tables_read_each_mode_and_setting_from_its_rows():
     focus_steered = next(line for key, line in lines.items() if key.startswith("focus-steered controller"))
     assert "true bearing's 0.80; random actions 0.25" in focus_steered
     assert focus_steered.endswith("| 0.70 (0.88×) | — | — |")
+    assert not any("version 0's defaults" in key for key in lines)  # no version 0 rows: no line
+    rows += [
+        row("cost", mode, "driving", metric, value)
+        for mode, metric, value in (
+            ("tracker", "model_over_env", 0.9),
+            ("tracker (version 0)", "model_over_env", 0.7),
+            ("tracker (version 0)", "tracker_over_env", 0.4),
+        )
+    ]
+    lines = {line.split(" | ")[0].lstrip("| "): line for line in perception_page.summary_table(rows).splitlines()}
+    assert lines["model step ÷ raw env step (— µs)"].endswith("| 0.90 | — | — |")
+    version_0 = next(line for key, line in lines.items() if "version 0's defaults" in key)
+    assert version_0.endswith("| 0.70 / 0.40 | — | — |")
 
 
 def test_the_safe_rescue_page_tabulates_each_setting_and_controller_over_its_seeds(tmp_path):
