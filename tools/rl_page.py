@@ -26,7 +26,7 @@ from typing import Any
 
 from attentive_gym.agents.config import ALGO_DEFAULTS, RunSpec
 from attentive_gym.agents.merged import (
-    HEADLINE_MODEL_VERSION,
+    UNNOTED_MODEL_VERSION,
     SCALED,
     algo_tag,
     budgets,
@@ -99,7 +99,8 @@ setting above came from the same commands with the setting's flags: `--algo recu
 `--n-envs 4 --algo-kwargs '{"n_steps": 256, "batch_size": 256}'` for the rollout before
 `algo_defaults` 3, `--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate, `--obs-scaling none`;
 the `model v1` rows need no flag: a run records the model version of the ids it trains on, the
-latest by default). At 1M steps a run takes about 6 to 8 minutes, two at a time on 2 cores:
+latest by default; an attended variant's rows without a model note are on version 0, and raw's
+and the oracle's never carry one, as they run no model). At 1M steps a run takes about 6 to 8 minutes, two at a time on 2 cores:
 
 ```bash
 attentive-gym compare --variants raw,raw-stack,focus,saliency,oracle,random-focus --seeds 5 --steps 1000000 \\
@@ -122,11 +123,12 @@ def default_runs(comparison: Sequence[Mapping[str, Any]]) -> tuple[int, list[dic
     """``(budget, rows)``: the rows of ``HEADLINE_VARIANTS`` trained with today's defaults
     (``RunSpec``'s algorithm tag, normalised observations) at the largest budget every one of
     them reached (runs trained further cut there); None when no budget has them all."""
-    default = default_tag()
     rows = [
         row
         for row in comparison
-        if row["algo"] == default and row.get("obs_scaling") == SCALED and row["variant"] in HEADLINE_VARIANTS
+        if row["variant"] in HEADLINE_VARIANTS
+        and row["algo"] == default_tag(row["variant"])
+        and row.get("obs_scaling") == SCALED
     ]
     complete = [(budget, at) for budget, at in budgets(rows) if {r["variant"] for r in at} == set(HEADLINE_VARIANTS)]
     return complete[-1] if complete else None
@@ -207,24 +209,26 @@ def _rollouts_markdown(
     comparison: Sequence[Mapping[str, Any]], figures: Path, link: Path, write_figures: bool
 ) -> list[str]:
     """The learning curves of raw, focus and oracle under today's PPO rollout beside the earlier
-    one (``algo_defaults`` 2: 4 envs × 256 steps), up to today's headline budget (drawn unless
-    told not to); none without rows of both."""
+    one (``algo_defaults`` 2: 4 envs × 256 steps), both on the model's version
+    ``UNNOTED_MODEL_VERSION`` (the earlier rollout's only one), up to today's headline budget
+    (drawn unless told not to); none without rows of both."""
     found = default_runs(comparison)
-    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2], env_version=HEADLINE_MODEL_VERSION).to_dict())
+    today = algo_tag(RunSpec(env_version=UNNOTED_MODEL_VERSION).to_dict())
+    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2], env_version=UNNOTED_MODEL_VERSION).to_dict())
     if found is None:
         return []
     budget = found[0]
     rows = [
         row
         for row in comparison
-        if row["algo"] in (default_tag(), earlier)
+        if row["algo"] in (today, earlier)
         and row.get("obs_scaling") == SCALED
         and row["variant"] in ROLLOUT_VARIANTS
         and row["env_steps"] <= budget
     ]
-    if {row["algo"] for row in rows} != {default_tag(), earlier}:
+    if {(row["algo"], row["variant"]) for row in rows} != {(t, v) for t in (today, earlier) for v in ROLLOUT_VARIANTS}:
         return []
-    rollout = {default_tag(): "32 envs × 64 steps", earlier: "4 envs × 256 steps"}
+    rollout = {today: "32 envs × 64 steps", earlier: "4 envs × 256 steps"}
     if write_figures:
         plot_learning_curves(
             [
@@ -238,9 +242,9 @@ def _rollouts_markdown(
     return [
         "## Today's PPO rollout against the earlier one",
         "",
-        f"Success of raw, focus and oracle trained with today's defaults (`{default_tag()}`) and with the "
+        f"Success of raw, focus and oracle trained with today's rollout (`{today}`) and with the "
         f"earlier rollout (`{earlier}`: 4 envs × 256 steps, minibatches of 256), up to {steps_label(budget)} env "
-        "steps. Today's takes half the gradient steps per env step and trains 2.4× faster per CPU second "
+        "steps, focus on the model's version 0 in both. Today's takes half the gradient steps per env step and trains 2.4× faster per CPU second "
         "([the note](../notes/2026-12-06-faster-ppo.md)).",
         "",
         f"![learning curves of the two rollouts]({(link / ROLLOUTS).as_posix()})",

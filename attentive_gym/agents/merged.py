@@ -6,9 +6,11 @@ training setting it came from:
 - ``COMPARISON_COLUMNS`` / ``CLUTTER_COLUMNS``: the columns of a merged comparison and of a
   merged clutter sweep (``EVAL_COLUMNS`` with ``algo``, ``obs_scaling`` and, for a sweep,
   ``num_distractors``).
-- ``algo_tag(run)``: the setting tag of a comparison's rows (its algorithm, and its learning
-  rate unless SB3's constant default); ``default_tag()``: the tag of today's default setting
-  (``RunSpec``'s); ``tagged_rate(tag)``: the rate a tag names.
+- ``algo_tag(run, variant)``: the setting tag of a comparison's rows (its algorithm, its
+  learning rate unless SB3's constant default, its rollout, its model version unless 0 for
+  the variants that run the model); ``default_tag(variant)``: the tag of today's default
+  setting (``RunSpec``'s, on ``HEADLINE_MODEL_VERSION``); ``tagged_rate(tag)``: the rate a
+  tag names.
 - ``merge_rows(existing, new, algo, keys, obs_scaling)``: ``new`` rows, tagged, replace the
   rows of the same runs.
 - ``labelled(rows)`` / ``ordered(rows)``: variant names that say their setting
@@ -37,6 +39,7 @@ from typing import Any
 from attentive_gym.agents.config import SB3_LEARNING_RATE, RunSpec, canonical_rate
 from attentive_gym.agents.plots import curve_stats, split_label
 from attentive_gym.agents.results import EVAL_COLUMNS, summarise
+from attentive_gym.registration import VERSION_0_IDS
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [
@@ -49,6 +52,9 @@ __all__ = [
     "algo_tag",
     "default_tag",
     "HEADLINE_MODEL_VERSION",
+    "UNNOTED_MODEL_VERSION",
+    "row_tag",
+    "without_model_note",
     "tagged_rate",
     "merge_rows",
     "labelled",
@@ -73,20 +79,32 @@ NOT_ATTENDED = frozenset({"raw", "raw-stack", "oracle", "random-focus"})
 #: PPO's rollout before ``algo_defaults`` 3 (envs, steps per env, minibatch, epochs): rows
 #: trained with it carry no rollout note in their tag.
 EARLIER_ROLLOUT = (4, 256, 256, 5)
-#: The model version (``RunSpec.env_version``) of the headline's runs: rows of another
-#: version carry ``", model v<N>"`` in their tag. The headline was measured with version 0.
-HEADLINE_MODEL_VERSION = 0
+#: The model version (``RunSpec.env_version``) whose rows carry no model note in their tag:
+#: every row trained before version 1 existed was trained on it.
+UNNOTED_MODEL_VERSION = 0
+#: The model version of the headline's attended variants (raw and the oracle run no model).
+HEADLINE_MODEL_VERSION = 1
+_MODEL_NOTE = re.compile(r", model v\d+")
 
 
-def algo_tag(run: Mapping[str, Any]) -> str:
+def row_tag(tag: str, variant: str) -> str:
+    """The tag of a ``variant`` row of a comparison tagged ``tag``: ``tag`` without its
+    ``", model v<N>"`` note when the variant runs no attention model (``raw``, ``raw-stack``,
+    ``oracle``: their observations are the same under every model version), so that their
+    rows of one training setting share one tag whatever the model."""
+    return tag if variant in VERSION_0_IDS else _MODEL_NOTE.sub("", tag)
+
+
+def algo_tag(run: Mapping[str, Any], variant: str | None = None) -> str:
     """The tag of the rows of a comparison whose run settings (``compare.json``'s ``"run"``)
     are ``run``: its algorithm, followed by ``", lr <rate>"`` unless its learning rate is
     SB3's constant ``SB3_LEARNING_RATE`` (a schedule, the default since ``algo_defaults`` 2,
     or another number given in ``algo_kwargs``), and for PPO and RecurrentPPO by the rollout
     (``", 32 envs × 64 steps, batch 512"``, with ``", N epochs"`` when not 5) unless it is
     ``EARLIER_ROLLOUT``, by ``", warm start <teacher>"`` for a warm-started run, and by
-    ``", model v<N>"`` for a model version other than ``HEADLINE_MODEL_VERSION``, so that runs
-    at different rates, rollouts, starts or models never share a tag."""
+    ``", model v<N>"`` for a model version other than ``UNNOTED_MODEL_VERSION``, so that runs
+    at different rates, rollouts, starts or models never share a tag. Given a ``variant``,
+    the tag of its rows (``row_tag``)."""
     spec = RunSpec.from_dict(run)
     parts = [spec.algo]
     if spec.learning_rate() != SB3_LEARNING_RATE:
@@ -99,16 +117,26 @@ def algo_tag(run: Mapping[str, Any]) -> str:
             parts += [f"{rollout[3]} epochs"] if rollout[3] != EARLIER_ROLLOUT[3] else []
     if spec.warm_start is not None:
         parts.append(f"warm start {spec.warm_start}")
-    if spec.env_version != HEADLINE_MODEL_VERSION:
+    if spec.env_version != UNNOTED_MODEL_VERSION:
         parts.append(f"model v{spec.env_version}")
-    return ", ".join(parts)
+    tag = ", ".join(parts)
+    return tag if variant is None else row_tag(tag, variant)
 
 
-def default_tag() -> str:
+def default_tag(variant: str | None = None) -> str:
     """``algo_tag`` of today's default training setting on the model version of the headline
-    (``HEADLINE_MODEL_VERSION``): the rows a ``RunSpec(env_version=HEADLINE_MODEL_VERSION)``
-    with no other field given would be tagged with."""
-    return algo_tag(RunSpec(env_version=HEADLINE_MODEL_VERSION).to_dict())
+    (``HEADLINE_MODEL_VERSION``): the tag of the rows a ``RunSpec(env_version=
+    HEADLINE_MODEL_VERSION)`` with no other field given would give (``variant``'s rows)."""
+    return algo_tag(RunSpec(env_version=HEADLINE_MODEL_VERSION).to_dict(), variant)
+
+
+def without_model_note(setting: str) -> str:
+    """A label's setting (``split_label``; ``labelled`` writes it) without its ``", model v<N>"``
+    note: the setting of the raw and oracle rows an attended variant's rows are compared with
+    (``" (ppo, lr lin_3e-4, model v1)"`` → ``" (ppo, lr lin_3e-4)"``; ``" (ppo, model v1)"`` →
+    ``""``, as ``labelled`` leaves plain PPO unnamed)."""
+    stripped = _MODEL_NOTE.sub("", setting)
+    return {" (ppo)": "", " (ppo, unscaled)": " (unscaled)"}.get(stripped, stripped)
 
 
 def tagged_rate(tag: str) -> float | str:
@@ -139,8 +167,9 @@ def merge_rows(
 ) -> list[dict[str, Any]]:
     """``existing`` rows with every run of ``new`` (tagged with ``algo`` and ``obs_scaling``)
     replacing the rows of the same run; a run is identified by ``keys`` (with ``algo`` and
-    ``obs_scaling``; an existing row without ``obs_scaling`` has ``"none"``)."""
-    tagged = [{"algo": algo, "obs_scaling": obs_scaling, **row} for row in new]
+    ``obs_scaling``; an existing row without ``obs_scaling`` has ``"none"``). A row of a
+    variant that runs no model is tagged without ``algo``'s model note (``row_tag``)."""
+    tagged = [{"algo": row_tag(algo, row["variant"]), "obs_scaling": obs_scaling, **row} for row in new]
     run = lambda row: tuple(row[k] for k in ("algo", "obs_scaling", *keys))  # noqa: E731
     replaced = {run(row) for row in tagged}
     kept = [{"obs_scaling": "none", **row} for row in existing]
@@ -198,8 +227,13 @@ def summarise_by_setting(rows: Sequence[Mapping[str, Any]], threshold: float = 0
     by_variant = {}
     for setting in settings:
         group = [row for row in rows if split_label(row["variant"])[1] == setting]
-        baseline = BASELINE + setting
+        own = {row["variant"] for row in group}
+        baseline = BASELINE + without_model_note(setting)
+        if baseline not in own:
+            group += [row for row in rows if row["variant"] == baseline]
         for row in summarise(group, threshold=threshold, baseline=baseline):
+            if row["variant"] not in own:
+                continue
             if not any(r["variant"] == baseline for r in group):
                 row.update({key: math.nan for key in row if key.startswith("prob_")}, improvement_over=baseline)
             by_variant[row["variant"]] = row
@@ -208,7 +242,8 @@ def summarise_by_setting(rows: Sequence[Mapping[str, Any]], threshold: float = 0
 
 def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """For every attended variant of ``summary`` (``summarise(rows)``), how it compares with
-    ``raw`` and ``oracle`` of the same algorithm and scaling (NaN where they are missing):
+    ``raw`` and ``oracle`` of the same setting (``without_model_note``; NaN where they are
+    missing):
 
     - ``steps_fraction``: the env steps at which its mean curve first reaches raw's final
       mean success, as a fraction of raw's budget;
@@ -220,7 +255,7 @@ def targets(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, An
     for row in summary:
         if split_label(row["variant"])[0] in NOT_ATTENDED:
             continue
-        setting = split_label(row["variant"])[1]
+        setting = without_model_note(split_label(row["variant"])[1])
         raw, oracle = by_variant.get(BASELINE + setting), by_variant.get(ORACLE + setting)
         steps_fraction = gap = math.nan
         above = False
@@ -247,7 +282,7 @@ def clutter_targets(summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]
     for row in summary:
         if split_label(row["variant"])[0] in NOT_ATTENDED:
             continue
-        n, setting = row["num_distractors"], split_label(row["variant"])[1]
+        n, setting = row["num_distractors"], without_model_note(split_label(row["variant"])[1])
         raw, oracle = cell.get((BASELINE + setting, n)), cell.get((ORACLE + setting, n))
         margin = gap = math.nan
         if raw is not None:
@@ -259,16 +294,26 @@ def clutter_targets(summary: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]
 
 
 def learning_curve_figures(rows: Sequence[Mapping[str, Any]]) -> list[tuple[str, str, list[Mapping[str, Any]]]]:
-    """One learning-curve figure per training setting (the rows' ``algo`` tag), so that no
-    figure mixes more curves than a reader can tell apart: ``(file name, setting, rows)``,
-    today's default setting (``RunSpec``'s) first, in ``rl_learning_curves.png``, the others
-    in ``rl_learning_curves_<setting>.png``; the first setting present takes the plain name
-    when the default's is absent."""
-    default = default_tag()
-    settings = sorted(dict.fromkeys(row["algo"] for row in rows), key=lambda tag: tag != default)
-    figures = []
-    for k, tag in enumerate(settings):
-        suffix = "_" + re.sub(r"[^0-9A-Za-z]+", "-", tag).strip("-") if k else ""
-        setting = f"{tag} (today's defaults)" if tag == default else tag
-        figures.append((f"rl_learning_curves{suffix}.png", setting, [row for row in rows if row["algo"] == tag]))
+    """One learning-curve figure per training setting of the ``labelled`` ``rows``, so that no
+    figure mixes more curves than a reader can tell apart: ``(file name, setting, rows)``.
+    The first, in ``rl_learning_curves.png``, holds today's default setting (each variant's
+    ``default_tag(variant)``: the attended ones on ``HEADLINE_MODEL_VERSION``), their labels
+    without the model note so that they share one line style; then one per ``algo`` tag, in
+    ``rl_learning_curves_<tag>.png``, but for a tag whose rows are all in the first. The first
+    tag present takes the plain name when the default's rows are absent."""
+
+    def in_headline(row: Mapping[str, Any]) -> bool:
+        return row["algo"] == default_tag(split_label(row["variant"])[0])
+
+    headline = []
+    for row in filter(in_headline, rows):
+        variant, setting = split_label(row["variant"])
+        headline.append({**row, "variant": variant + without_model_note(setting)})
+    figures = [("rl_learning_curves.png", f"{default_tag()} (today's defaults)", headline)] if headline else []
+    for tag in dict.fromkeys(row["algo"] for row in rows):
+        tagged = [row for row in rows if row["algo"] == tag]
+        if all(in_headline(row) for row in tagged):
+            continue
+        suffix = "_" + re.sub(r"[^0-9A-Za-z]+", "-", tag).strip("-") if figures else ""
+        figures.append((f"rl_learning_curves{suffix}.png", tag, tagged))
     return figures

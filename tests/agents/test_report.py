@@ -3,6 +3,7 @@ computations (``attentive_gym.agents.merged``) and ``tools/report.py``'s ``add``
 
 import json
 import math
+import re
 import shutil
 import warnings
 from pathlib import Path
@@ -34,8 +35,16 @@ main, rl_page, headline = report.main, report.rl_page, report.headline
 render_block = rl_page.results_markdown
 #: The repository's results folder: the CSVs of the other pages come from there.
 RESULTS = Path(__file__).resolve().parents[2] / "docs" / "results"
-#: The tag of rows trained with today's defaults.
-TODAY = default_tag()
+#: The tags of rows trained with today's defaults: an attended variant's (on the headline's model
+#: version) and raw's or the oracle's (which run no model, so carry no model note).
+TODAY, TODAY_UNNOTED = default_tag("focus"), default_tag("raw")
+#: ``compare.json``'s run settings of a comparison trained with today's defaults.
+TODAY_RUN = {"algo": "ppo", "algo_defaults": 3, "env_version": 1}
+
+
+def _today(rows, **fields):
+    """``rows`` tagged as trained with today's defaults (each variant's own tag), with ``fields``."""
+    return [{**row, "algo": default_tag(row["variant"]), "obs_scaling": "running", **fields} for row in rows]
 
 
 def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
@@ -158,6 +167,39 @@ def test_the_probability_of_improvement_is_taken_over_raw_of_the_same_setting():
     assert "P(success > raw of its setting)" in summary_markdown(summary)
 
 
+def test_attention_on_another_model_version_is_compared_with_raw_and_the_oracle_of_its_setting():
+    """Raw and the oracle run no model, so their rows carry no model note: a focus on model
+    version 1 (0.4, 0.4) is weighed against the raw (0.3) and oracle (0.5) of the same training
+    setting, in the probability of improvement and in the share of the gap it closes."""
+    rows = labelled(
+        [
+            {"algo": algo, "obs_scaling": "running", **r}
+            for algo, levels in (
+                ("ppo", {"raw": [0.3, 0.3], "oracle": [0.5, 0.5]}),
+                ("ppo, model v1", {"focus": [0.4, 0.4]}),
+                ("ppo, lr 1e-4, model v1", {"focus": [0.45, 0.45]}),
+                ("ppo, lr 1e-4", {"raw": [0.5, 0.5], "oracle": [0.6, 0.6]}),
+            )
+            for r in _rows(levels)
+        ]
+    )
+    summary = summarise_by_setting(rows)
+    by_variant = {row["variant"]: row for row in summary}
+    assert [row["variant"] for row in summary] == [
+        "raw",
+        "oracle",
+        "focus (ppo, model v1)",
+        "focus (ppo, lr 1e-4, model v1)",
+        "raw (ppo, lr 1e-4)",
+        "oracle (ppo, lr 1e-4)",
+    ]
+    assert by_variant["focus (ppo, model v1)"]["prob_improvement"] == 1.0  # beats raw (0.3)
+    assert by_variant["focus (ppo, lr 1e-4, model v1)"]["prob_improvement"] == 0.0  # loses to its raw (0.5)
+    gaps = {row["variant"]: row["gap_closed"] for row in targets(rows, summary)}
+    assert gaps["focus (ppo, model v1)"] == pytest.approx(0.5)  # (0.4 - 0.3) / (0.5 - 0.3)
+    assert gaps["focus (ppo, lr 1e-4, model v1)"] == pytest.approx(-0.5)  # (0.45 - 0.5) / (0.6 - 0.5)
+
+
 def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_files(tmp_path, capsys):
     results = tmp_path / "results.csv"
     levels = {
@@ -167,11 +209,17 @@ def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_f
         "random-focus": [0.45, 0.5, 0.4],
     }
     write_csv_atomic(results, _rows(levels), EVAL_COLUMNS)
-    (tmp_path / "compare.json").write_text(json.dumps({"run": {"algo": "ppo", "algo_defaults": 3}}))  # today's defaults
+    (tmp_path / "compare.json").write_text(json.dumps({"run": TODAY_RUN}))  # today's defaults
     root = _root(tmp_path / "repo")
     comparison = root / "docs" / "results" / "rl_comparison.csv"
     assert main(["add", str(results), "--comparison", str(comparison)]) == 0
-    assert len(read_csv(comparison)) == 36 and read_csv(comparison)[0]["algo"] == TODAY
+    assert len(read_csv(comparison)) == 36
+    assert {(row["variant"], row["algo"]) for row in read_csv(comparison)} == {
+        ("oracle", TODAY_UNNOTED),
+        ("focus", TODAY),
+        ("raw", TODAY_UNNOTED),
+        ("random-focus", TODAY),
+    }  # raw and the oracle run no model: their rows carry no model note
     assert read_csv(comparison)[0]["obs_scaling"] == "running"
     assert main(["render", "--check", "--root", str(root)]) == 1  # nothing rendered yet
     err = capsys.readouterr().err
@@ -186,7 +234,9 @@ def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_f
     assert f"| focus ({TODAY}) | 3 | 200 |" in page and "share of the raw → oracle gap closed" in page
     assert "target" not in page.split("## Reproduce")[0].replace("the target's true state", "")
     assert (
-        page.index(f"| raw ({TODAY}) |") < page.index(f"| focus ({TODAY}) |") < page.index(f"| oracle ({TODAY}) |")
+        page.index(f"| raw ({TODAY_UNNOTED}) |")
+        < page.index(f"| focus ({TODAY}) |")
+        < page.index(f"| oracle ({TODAY_UNNOTED}) |")
     )  # baseline, attended, bound
     assert "](../figures/rl_learning_curves.png)" in page and (root / "docs/figures/rl_learning_curves.png").is_file()
     profiles = page.split("## Today's defaults at 200 env steps: IQM, improvement and performance profiles")[1]
@@ -212,11 +262,14 @@ def test_render_writes_the_pages_and_the_readme_headline_and_check_names_stale_f
 
 def test_the_rl_page_sets_todays_rollout_beside_the_earlier_one_where_both_were_run(tmp_path):
     levels = {"raw": [0.4, 0.5], "random-focus": [0.4, 0.4], "focus": [0.7, 0.8], "oracle": [0.9, 0.9]}
-    today = [{"algo": TODAY, "obs_scaling": "running", **row} for row in _rows(levels)]
+    today = _today(_rows(levels))
     earlier = [{"algo": "ppo, lr lin_3e-4", "obs_scaling": "running", **row} for row in _rows(levels)]
     heading = "## Today's PPO rollout against the earlier one"
     assert heading not in render_block(today, [], tmp_path, write_figures=False)
-    page = render_block(today + earlier, [], tmp_path, tmp_path)
+    # the earlier rollout was run on model version 0 only: today's is set beside it on the same version
+    assert heading not in render_block(today + earlier, [], tmp_path, write_figures=False)
+    today_on_v0 = [{**row, "algo": TODAY_UNNOTED} for row in today if row["variant"] == "focus"]
+    page = render_block(today + earlier + today_on_v0, [], tmp_path, tmp_path)
     assert heading in page and "](rl_rollouts.png)" in page and (tmp_path / "rl_rollouts.png").is_file()
 
 
@@ -343,7 +396,11 @@ def test_rows_of_another_rollout_are_tagged_with_it_and_earlier_tags_stand():
     from attentive_gym.agents.merged import algo_tag, default_tag
 
     today = "ppo, lr lin_3e-4, 32 envs × 64 steps, batch 512"
-    assert default_tag() == today and algo_tag({"algo": "ppo", "algo_defaults": 3}) == today
+    assert default_tag("raw") == today and algo_tag({"algo": "ppo", "algo_defaults": 3}) == today
+    # the model's version is noted from version 1 on, on the variants that run the model only
+    assert default_tag() == default_tag("focus") == f"{today}, model v1"
+    assert algo_tag(TODAY_RUN, "random-focus") == f"{today}, model v1"
+    assert algo_tag(TODAY_RUN, "oracle") == algo_tag(TODAY_RUN, "raw-stack") == today
     by_flags = {"algo": "ppo", "algo_defaults": 2, "n_envs": 32, "algo_kwargs": {"n_steps": 64, "batch_size": 512}}
     assert algo_tag(by_flags) == today
     assert algo_tag({"algo": "ppo", "algo_defaults": 2, "n_envs": 4}) == "ppo, lr lin_3e-4"
@@ -414,11 +471,10 @@ def test_the_headline_needs_every_headline_variant_trained_with_todays_defaults(
     earlier = [{**row, "algo": "ppo, lr lin_3e-4"} for row in rows]  # the rollout before algo_defaults 3
     with pytest.raises(ValueError, match="no budget with all of raw, random-focus, focus, oracle"):
         headline.rl_headline(rows + earlier)
-    default = [{**row, "algo": TODAY} for row in rows]
-    longer = [
-        {**row, "algo": TODAY, "obs_scaling": "running", "seed": 1}
-        for row in _rows({"focus": [0.8]}, (0, 100, 200, 300))
-    ]
+    with pytest.raises(ValueError, match="no budget with all of raw, random-focus, focus, oracle"):
+        headline.rl_headline([{**row, "algo": TODAY_UNNOTED} for row in rows])  # attention on model version 0
+    default = _today(rows)
+    longer = _today(_rows({"focus": [0.8]}, (0, 100, 200, 300)), seed=1)
     budget, summary = headline.rl_headline(rows + default + longer)
     assert budget == 200  # the largest budget that every headline variant reached
     assert [row["variant"] for row in summary] == ["raw", "random-focus", "focus", "oracle"]
@@ -530,19 +586,31 @@ def test_each_training_setting_gets_a_learning_curve_figure_of_its_own_defaults_
     rows = _rows({"raw": [0.5, 0.5], "focus": [0.7, 0.7]})
     comparison = (
         [{"algo": "recurrent-ppo", "obs_scaling": "running", **r} for r in rows]
-        + [{"algo": TODAY, "obs_scaling": "running", **r} for r in rows]
+        + _today(rows)
         + [{"algo": "ppo", "obs_scaling": "none", **r} for r in rows]
     )  # unscaled: in the tables only
     block = render_block(comparison, [], tmp_path, tmp_path)
     assert set(drawn) == {"rl_learning_curves.png", "rl_learning_curves_recurrent-ppo.png"}
     variants, title = drawn["rl_learning_curves.png"]  # RunSpec's default setting takes the plain name
-    assert variants == {f"raw ({TODAY})", f"focus ({TODAY})"} and "today's defaults" in title
+    assert variants == {f"raw ({TODAY_UNNOTED})", f"focus ({TODAY_UNNOTED})"}  # one setting: one line style
+    assert f"{TODAY} (today's defaults)" in title
     assert drawn["rl_learning_curves_recurrent-ppo.png"][0] == {"raw (recurrent-ppo)", "focus (recurrent-ppo)"}
     assert block.index("rl_learning_curves.png") < block.index("rl_learning_curves_recurrent-ppo.png")
     assert "| focus (unscaled) |" in block
     drawn.clear()
     render_block(comparison[-len(rows) :], [], tmp_path, tmp_path)
     assert set(drawn) == {"rl_learning_curves.png"}  # no normalised runs: the unscaled ones, under the plain name
+    drawn.clear()
+    on_v0 = [{**row, "algo": TODAY_UNNOTED} for row in _today(rows) if row["variant"] == "focus"]
+    render_block(_today(rows) + on_v0, [], tmp_path, tmp_path)
+    assert set(drawn) == {
+        "rl_learning_curves.png",
+        f"rl_learning_curves_{re.sub('[^0-9A-Za-z]+', '-', TODAY_UNNOTED)}.png",
+    }
+    assert drawn[next(name for name in drawn if name != "rl_learning_curves.png")][0] == {
+        f"raw ({TODAY_UNNOTED})",
+        f"focus ({TODAY_UNNOTED})",
+    }  # today's rollout with attention on model version 0: raw with the focus of that version
 
 
 def test_a_variant_has_the_same_colour_in_every_figure():
@@ -567,7 +635,7 @@ def _safe(rows, contact_s=1.5):
 
 def test_runs_from_before_the_safe_success_measure_add_and_render_and_the_pages_say_so(tmp_path, capsys):
     levels = {"raw": [0.4, 0.5], "random-focus": [0.45, 0.5], "focus": [0.6, 0.8], "oracle": [0.9, 0.8]}
-    (tmp_path / "compare.json").write_text(json.dumps({"run": {"algo": "ppo", "algo_defaults": 3}}))
+    (tmp_path / "compare.json").write_text(json.dumps({"run": TODAY_RUN}))
     results = tmp_path / "results.csv"
     write_csv_atomic(results, _v0(_rows(levels)), [c for c in EVAL_COLUMNS if c not in SAFE_COLUMNS])
     root = _root(tmp_path / "repo")

@@ -98,5 +98,7 @@ def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
 
 def test_warm_started_rows_carry_their_teacher_in_the_tag():
     plain = RunSpec(variant="oracle", env_version=HEADLINE_MODEL_VERSION).to_dict()
-    assert algo_tag({**plain, "warm_start": "clearance"}) == f"{algo_tag(plain)}, warm start clearance"
+    assert (
+        algo_tag({**plain, "warm_start": "clearance"}, "oracle") == f"{algo_tag(plain, 'oracle')}, warm start clearance"
+    )
     assert RunSpec.from_dict({k: v for k, v in plain.items() if k != "warm_start"}).warm_start is None
