@@ -26,8 +26,8 @@ from typing import Any
 
 from attentive_gym.agents.config import ALGO_DEFAULTS, RunSpec
 from attentive_gym.agents.merged import (
-    UNNOTED_MODEL_VERSION,
     SCALED,
+    UNNOTED_MODEL_VERSION,
     algo_tag,
     budgets,
     clutter_targets,
@@ -100,7 +100,8 @@ setting above came from the same commands with the setting's flags: `--algo recu
 `algo_defaults` 3, `--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate, `--obs-scaling none`;
 the `model v1` rows need no flag: a run records the model version of the ids it trains on, the
 latest by default; an attended variant's rows without a model note are on version 0, and raw's
-and the oracle's never carry one, as they run no model). At 1M steps a run takes about 6 to 8 minutes, two at a time on 2 cores:
+and the oracle's never carry one, as they run no model). At 1M steps a run takes about 6 to 8
+minutes, two at a time on 2 cores:
 
 ```bash
 attentive-gym compare --variants raw,raw-stack,focus,saliency,oracle,random-focus --seeds 5 --steps 1000000 \\
@@ -244,7 +245,8 @@ def _rollouts_markdown(
         "",
         f"Success of raw, focus and oracle trained with today's rollout (`{today}`) and with the "
         f"earlier rollout (`{earlier}`: 4 envs × 256 steps, minibatches of 256), up to {steps_label(budget)} env "
-        "steps, focus on the model's version 0 in both. Today's takes half the gradient steps per env step and trains 2.4× faster per CPU second "
+        "steps, focus on the model's version 0 in both. Today's takes half the gradient steps per env step and "
+        "trains 2.4× faster per CPU second "
         "([the note](../notes/2026-12-06-faster-ppo.md)).",
         "",
         f"![learning curves of the two rollouts]({(link / ROLLOUTS).as_posix()})",

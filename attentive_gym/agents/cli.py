@@ -151,7 +151,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
         default=None,
         help=f"ppo only: clone a scripted teacher's demonstrations ({DEMO_STEPS:,} env steps, counted in --steps) "
         "before training; clearance: the reactive avoider on the working memory's first row and the proximity "
-        "entry (a focus-layout variant with --env-kwargs '{\"proximity\": true}') (default: none)",
+        "entry (a focus-layout variant with --env-kwargs '{\"proximity\": true}'); privileged: the same avoider "
+        "steering for the target's true bearing, for raw too (default: none)",
     )
     parser.add_argument(
         "--eval-every",

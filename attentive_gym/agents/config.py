@@ -117,7 +117,8 @@ class RunSpec:
         torch_threads: threads of torch and of the compiled sensor sweep (numba) in the
             training process (1 suits a pool of runs).
         obs_scaling: one of ``OBS_SCALINGS``: how the observation reaches the policy.
-        warm_start: None, or a teacher of ``agents.warm_start.WARM_STARTS`` (``"clearance"``)
+        warm_start: None, or a teacher of ``agents.warm_start.WARM_STARTS`` (``"clearance"``,
+            ``"privileged"``)
             whose demonstrations PPO clones before it trains; their env steps count in
             ``total_steps``.
         env_version: the version of the attentional model's defaults the environments are

@@ -17,10 +17,18 @@ PPO what the teacher knows, as demonstrations (behaviour cloning, then PPO fine-
 
 ``warm_start(model, vec_env, vec_normalize, spec)`` does both; ``train`` calls it on a new
 run whose ``RunSpec.warm_start`` is set, and the demonstrations' env steps count in the run's
-budget. Teachers (``WARM_STARTS``): ``"clearance"``, ``perception.controllers.
-clearance_controller``, which reads the first working-memory row (the target in the oracle's
-observation; the latest attended body in ``focus``'s) and the ``"proximity"`` entry; so it
-needs a focus-layout variant built with ``proximity=True`` and a (linear, angular) action.
+budget. Teachers (``WARM_STARTS``), each needing a (linear, angular) action:
+
+- ``"clearance"``, ``perception.controllers.clearance_controller``: reads the first
+  working-memory row (the target in the oracle's observation; the latest attended body in
+  ``focus``'s) and the ``"proximity"`` entry; so it needs a focus-layout variant built with
+  ``proximity=True``.
+- ``"privileged"``, ``perception.controllers.privileged_clearance_controller``: the same
+  avoider steering for the target's true bearing and distance, read from each step's
+  ``info`` (the world's truth), and the ``"proximity"`` entry or the raw ``"sonar"`` and
+  ``"laser"`` ranges; so it teaches every variant, ``raw`` included, one behaviour, which each
+  student clones from its own observation (a privileged teacher, as in learning by
+  cheating).
 """
 
 from __future__ import annotations
@@ -33,7 +41,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from attentive_gym.perception.controllers import clearance_controller
+from attentive_gym.perception.controllers import clearance_controller, privileged_clearance_controller
 
 __all__ = [
     "WARM_STARTS",
@@ -51,9 +59,20 @@ __all__ = [
 #: Teacher name → the policy (observation, info) → action it demonstrates.
 WARM_STARTS: dict[str, Callable[[Mapping[str, np.ndarray], Mapping[str, Any]], np.ndarray]] = {
     "clearance": clearance_controller,
+    "privileged": privileged_clearance_controller,
 }
-#: The observation entries each teacher reads.
-_NEEDS = {"clearance": ("memory", "proximity")}
+#: The observation entries each teacher reads (entry → its shape, None: any): it needs one of
+#: these sets, and no masked readings.
+_NEEDS = {
+    "clearance": ({"memory": None, "proximity": None},),
+    "privileged": ({"proximity": None}, {"sonar": (16,), "laser": (180,)}),
+}
+_MASKS = ("sonar_mask", "laser_mask")
+#: Which variants can have each teacher, in its refusal.
+_FOR = {
+    "clearance": 'the focus, random-focus or oracle variant with env_kwargs {"proximity": true}',
+    "privileged": 'raw or saliency, or the focus, random-focus or oracle variant with env_kwargs {"proximity": true}',
+}
 #: Env steps of demonstrations (over all training envs), counted in the run's budget.
 DEMO_STEPS = 64_000
 #: Standard deviation of the noise added to the executed action (the label stays clean).
@@ -81,13 +100,20 @@ def check_warm_start(name: str, observation_space: gym.Space, action_space: gym.
     """``ValueError`` unless teacher ``name`` is known and can act in these spaces."""
     if name not in WARM_STARTS:
         raise ValueError(f"unknown warm_start {name!r}; allowed: None, {', '.join(map(repr, WARM_STARTS))}")
-    entries = list(observation_space.spaces) if isinstance(observation_space, gym.spaces.Dict) else []
-    missing = [entry for entry in _NEEDS[name] if entry not in entries]
-    if missing or getattr(action_space, "shape", None) != (2,):
+    spaces = dict(observation_space.spaces) if isinstance(observation_space, gym.spaces.Dict) else {}
+    entries = list(spaces)
+    readable = not any(mask in spaces for mask in _MASKS) and any(
+        all(entry in spaces and shape in (None, spaces[entry].shape) for entry, shape in needed.items())
+        for needed in _NEEDS[name]
+    )
+    if not readable or getattr(action_space, "shape", None) != (2,):
+        needs = " or ".join(
+            str([entry if shape is None else f"{entry} {shape}" for entry, shape in needed.items()])
+            for needed in _NEEDS[name]
+        )
         raise ValueError(
-            f"warm_start {name!r} needs the observation entries {list(_NEEDS[name])} and a (linear, angular) action: "
-            'the focus, random-focus or oracle variant with env_kwargs {"proximity": true}; '
-            f"this run's observation has {entries or 'no entries'}"
+            f"warm_start {name!r} needs the observation entries {needs} and a (linear, angular) action: "
+            f"{_FOR[name]}; this run's observation has {entries or 'no entries'}"
         )
 
 
@@ -99,15 +125,18 @@ def collect_demonstrations(vec_env, name: str, steps: int, seed: int) -> Demonst
     rng = np.random.default_rng(seed)
     n = vec_env.num_envs
     obs = vec_env.reset()
+    infos = list(vec_env.reset_infos)
     seen: dict[str, list[np.ndarray]] = {key: [] for key in obs}
     labels, rewards, dones = [], [], []
     for _ in range(math.ceil(steps / n)):
-        action = np.stack([teacher({key: value[i] for key, value in obs.items()}, {}) for i in range(n)])
+        action = np.stack([teacher({key: value[i] for key, value in obs.items()}, infos[i]) for i in range(n)])
         executed = np.clip(action + DEMO_NOISE * rng.standard_normal(action.shape), -1.0, 1.0).astype(np.float32)
         for key, value in obs.items():
             seen[key].append(np.array(value, copy=True))
         labels.append(action)
-        obs, reward, done, _ = vec_env.step(executed)
+        obs, reward, done, step_infos = vec_env.step(executed)
+        # a finished episode's info is its last step's; its member's next observation is the new episode's
+        infos = [vec_env.reset_infos[i] if done[i] else step_infos[i] for i in range(n)]
         rewards.append(reward)
         dones.append(done)
     returns = np.zeros((len(rewards), n))

@@ -228,6 +228,13 @@ class Grid:
         """Per-front-sonar values ``(..., 8)`` → per-region values ``(..., J)``."""
         return values if not self.is_laser else values[..., self.region_sonar]
 
+    def nearest_reading(self, sonar_m: np.ndarray, laser_m: np.ndarray) -> np.ndarray:
+        """Each region's nearest reading (m) ``(..., J)``: the least of its front sonar's range
+        (``sonar_m`` ``(..., 16)``) and its laser beams' ranges (``laser_m`` ``(..., 180)``)."""
+        return np.minimum(
+            np.asarray(sonar_m)[..., self.region_sonar], self.reduce_beams(np.minimum, np.asarray(laser_m))
+        )
+
     def reduce_beams(self, ufunc: np.ufunc, values: np.ndarray) -> np.ndarray:
         """Reduce per-beam values ``(..., 180)`` to regions ``(..., J)`` with ``ufunc``.
 

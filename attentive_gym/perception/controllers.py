@@ -9,7 +9,9 @@ a fraction in [−1, 1] of the robot's top speeds (0.7 m/s and 140°/s).
   memory when that body matched the goal: it reads nothing but the observation a policy gets.
 - ``true_bearing_controller``: steer towards the target's true bearing (a privileged oracle).
 - ``clearance_controller``: steer towards the first working-memory row's bearing through the
-  free heading nearest to it, from the ``proximity`` entry alone (a reactive avoider).
+  free heading nearest to it, from the ``proximity`` entry alone (a reactive avoider);
+  ``privileged_clearance_controller``: the same towards the target's true bearing (a
+  privileged teacher, for any variant); ``clearance_action``: what both do.
 - ``RandomController``: seeded random actions.
 - ``Wander``: a seeded scripted exploration; ``stand_still``: the zero action.
 - ``control_success``: how often a policy reaches the target, over seeded episodes.
@@ -26,7 +28,7 @@ import numpy as np
 from attentive_gym.attention import ORIGIN_TOP_DOWN
 from attentive_gym.attention.regions import Grid
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
-from attentive_gym.perception.geometry import bearing_of, true_target_bearing, wrap_angle
+from attentive_gym.perception.geometry import bearing_of, to_robot_frame, true_target_bearing, wrap_angle
 
 __all__ = [
     "Policy",
@@ -36,6 +38,8 @@ __all__ = [
     "memory_controller",
     "true_bearing_controller",
     "clearance_controller",
+    "privileged_clearance_controller",
+    "clearance_action",
     "free_heading",
     "RandomController",
     "Wander",
@@ -166,15 +170,33 @@ def free_heading(proximity: np.ndarray, bearing_rad: float, distance_m: float) -
 
 def clearance_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
     """A reactive avoider on a focus-layout observation with ``proximity`` (the oracle's, where
-    the first memory row is the target): head for the first memory row's bearing through
-    ``free_heading``, slowing as the front regions close in, turning towards the most open
-    region when every heading is blocked; it reads nothing but the observation."""
+    the first memory row is the target): ``clearance_action`` towards the first memory row's
+    bearing and distance; it reads nothing but the observation."""
     row = np.asarray(obs["memory"]).reshape(-1, len(MEMORY_FIELDS))[0]
-    bearing, distance = math.atan2(row[_SIN], row[_COS]), float(row[_DISTANCE])
-    proximity = np.asarray(obs["proximity"], float)
-    heading = bearing
-    if abs(bearing) <= 0.5 * math.pi:
-        free = free_heading(proximity, bearing, distance)
+    return clearance_action(math.atan2(row[_SIN], row[_COS]), float(row[_DISTANCE]), obs["proximity"])
+
+
+def privileged_clearance_controller(obs: Mapping[str, np.ndarray], info: Mapping[str, Any]) -> np.ndarray:
+    """``clearance_action`` towards the target's true bearing and distance (``info``, the
+    world's truth: a privileged teacher), clear of each region's nearest reading: the
+    observation's ``"proximity"`` entry, or its ``"sonar"`` and ``"laser"`` ranges where it has
+    none (``raw``); straight ahead while the episode has no target."""
+    proximity = obs["proximity"] if "proximity" in obs else _GRID.nearest_reading(obs["sonar"], obs["laser"])
+    if info["target_index"] < 0:
+        return clearance_action(0.0, 0.0, proximity)
+    target = to_robot_frame(np.asarray(info["mover_positions"][info["target_index"]], float), info["robot_pose"])
+    return clearance_action(float(bearing_of(target)), float(np.hypot(*target)), proximity)
+
+
+def clearance_action(bearing_rad: float, distance_m: float, proximity: np.ndarray) -> np.ndarray:
+    """Head for ``bearing_rad`` (robot frame) through ``free_heading`` given the target's
+    ``distance_m`` and each region's nearest reading ``proximity`` ``(J,)`` (m), slowing as the
+    front regions close in, turning towards the most open region when every heading is
+    blocked; a target behind is turned to directly."""
+    proximity = np.asarray(proximity, float)
+    heading = bearing_rad
+    if abs(bearing_rad) <= 0.5 * math.pi:
+        free = free_heading(proximity, bearing_rad, distance_m)
         heading = float(_GRID.bearings_rad[np.argmax(proximity)]) if free is None else free
     front = proximity[np.abs(_GRID.bearings_rad) < CLEARANCE_FRONT_RAD].min()
     linear = float(np.clip(front - CLEARANCE_STOP_M, 0.0, 1.0)) * max(0.0, math.cos(heading))

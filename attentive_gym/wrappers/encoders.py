@@ -336,10 +336,9 @@ class FocusEncoder:
         part = self._parts.get("proximity")
         if part is None:
             return
-        laser = _rows([raw["laser"] for raw in raws])
-        nearest = _rows([raw["sonar"] for raw in raws])[:, self.grid.region_sonar]
-        for j, beams in enumerate(self.grid.beam_slices):
-            np.minimum(nearest[:, j], laser[:, beams].min(axis=1), out=nearest[:, j])
+        nearest = self.grid.nearest_reading(
+            _rows([raw["sonar"] for raw in raws]), _rows([raw["laser"] for raw in raws])
+        )
         block[:, part] = np.minimum(nearest, self._max_distance)
 
     def _memory_rows(self, memories: Sequence[np.ndarray | None]) -> np.ndarray:

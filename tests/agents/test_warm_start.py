@@ -12,7 +12,8 @@ from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION, algo_tag
 from attentive_gym.agents.results import read_csv
 from attentive_gym.agents.training import _algo_class, _make_vec_env, _policy_name, train, validate_spec
 from attentive_gym.cli import main
-from attentive_gym.perception.controllers import clearance_controller
+from attentive_gym.perception.controllers import clearance_controller, privileged_clearance_controller
+from attentive_gym.wrappers import make_env
 
 PROXIMITY = {"time_limit_s": 2.0, "proximity": True}
 
@@ -87,7 +88,12 @@ def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
         validate_spec(tiny(variant="raw", warm_start="clearance"))
     with pytest.raises(ValueError, match="proximity"):
         validate_spec(tiny(variant="oracle", warm_start="clearance"))  # no proximity entry
-    with pytest.raises(ValueError, match="unknown warm_start 'teacher'; allowed: None, 'clearance'"):
+    with pytest.raises(ValueError, match=r"needs the observation entries \['proximity'\] or \['sonar \(16,\)', 'laser"):
+        validate_spec(tiny(variant="raw-stack", warm_start="privileged"))  # stacked readings
+    with pytest.raises(ValueError, match="privileged"):
+        validate_spec(tiny(variant="masked", warm_start="privileged"))  # masked readings
+    validate_spec(tiny(variant="raw", warm_start="privileged"))  # raw readings: the privileged teacher acts
+    with pytest.raises(ValueError, match="unknown warm_start 'teacher'; allowed: None, 'clearance', 'privileged'"):
         validate_spec(tiny(variant="oracle", env_kwargs=PROXIMITY, warm_start="teacher"))
     with pytest.raises(ValueError, match="warm_start applies to ppo only"):
         RunSpec(algo="sac", warm_start="clearance")
@@ -102,3 +108,49 @@ def test_warm_started_rows_carry_their_teacher_in_the_tag():
         algo_tag({**plain, "warm_start": "clearance"}, "oracle") == f"{algo_tag(plain, 'oracle')}, warm start clearance"
     )
     assert RunSpec.from_dict({k: v for k, v in plain.items() if k != "warm_start"}).warm_start is None
+
+
+def test_the_privileged_teacher_on_raw_readings_acts_as_the_avoider_on_the_oracles_observation():
+    """The same world seen as ``raw`` and as ``oracle`` with proximity: the privileged teacher,
+    reading the truth from ``info`` and the proximity from the raw ranges, acts as the
+    ``clearance`` avoider on the oracle's observation, step after step."""
+    kwargs = {"arena_size_m": 8.0, "num_distractors": 2, "rubble_per_100m2": 3.0, "time_limit_s": 6.0}
+    raw_env, oracle_env = make_env("raw", **kwargs), make_env("oracle", proximity=True, **kwargs)
+    try:
+        (raw, raw_info), (oracle, oracle_info) = raw_env.reset(seed=5), oracle_env.reset(seed=5)
+        turned = 0
+        for _ in range(120):
+            action = privileged_clearance_controller(raw, raw_info)
+            assert np.allclose(action, clearance_controller(oracle, oracle_info), atol=1e-4)
+            assert np.allclose(action, privileged_clearance_controller(oracle, oracle_info), atol=1e-4)
+            turned += abs(float(action[1])) > 0.1
+            raw, _, done, cut, raw_info = raw_env.step(action)
+            oracle, _, *_, oracle_info = oracle_env.step(action)
+            if done or cut:
+                break
+        assert turned > 0  # the episode asked for steering, not only straight driving
+    finally:
+        raw_env.close()
+        oracle_env.close()
+
+
+def test_each_demonstration_is_labelled_from_its_own_steps_info(tiny, monkeypatch):
+    """The teacher sees, beside each observation, the info of the same step: the reset's
+    (time 0) at every episode's first observation, then the step's; two episodes per env."""
+    seen = []
+
+    def recording(obs, info):
+        seen.append(float(info["time_s"]))
+        return np.zeros(2, np.float32)
+
+    monkeypatch.setitem(warm_start.WARM_STARTS, "recording", recording)
+    spec = tiny(variant="raw", env_kwargs={**tiny.env_kwargs, "time_limit_s": 0.5})
+    vec = _make_vec_env(spec)
+    try:
+        demos = warm_start.collect_demonstrations(vec, "recording", 2 * 25, seed=0)
+    finally:
+        vec.close()
+    dt = 0.05
+    times = np.array(seen).reshape(-1, spec.n_envs)  # (steps, envs)
+    expected = (np.arange(times.shape[0]) % round(0.5 / dt)) * dt  # every env: 10 steps, then a new episode
+    assert np.allclose(times, expected[:, None]) and len(demos.actions) == times.size
