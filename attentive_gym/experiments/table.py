@@ -8,6 +8,9 @@
   tidy rows (``CSV_COLUMNS``, one per check and column) and back, so that a table can be
   rendered again without rerunning the experiments.
 - ``markdown(measured)``: the table as Markdown, with a row of totals.
+- ``measure_causes(config, workers)``: every check with the tracker, noise-free, under each
+  of ``CAUSE_SETTINGS`` (the laser clipped to the sonars' range; no vigilance), as tidy rows:
+  which checks fail only through what a setting removes.
 
 The repository's ``tools/experiments_table.py`` measures the table into
 ``docs/results/experiment_checks.csv`` (its run time: ``docs/results/checks.md``) and
@@ -32,8 +35,21 @@ from attentive_gym._scripts import CHECKOUT_TOOLS, load_checkout_tool
 from attentive_gym.experiments.checks import CHECKS, check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES
 from attentive_gym.experiments.runner import _check_config, _check_noise, run_experiment
+from attentive_gym.sensors.sonar import SonarConfig
 
-__all__ = ["COLUMNS", "CSV_COLUMNS", "MIN_PASS_RATE", "measure", "to_rows", "from_rows", "markdown", "main"]
+__all__ = [
+    "COLUMNS",
+    "CSV_COLUMNS",
+    "MIN_PASS_RATE",
+    "CAUSE_SETTINGS",
+    "CAUSE_COLUMNS",
+    "measure",
+    "measure_causes",
+    "to_rows",
+    "from_rows",
+    "markdown",
+    "main",
+]
 
 #: The measured set-ups: (kinematics mode, sensor profile); None = Gaussian noise, a scan a step.
 COLUMNS: tuple[tuple[str, str | None], ...] = (
@@ -182,6 +198,50 @@ def from_rows(rows: Sequence[Mapping[str, str]]) -> tuple[Measured, int, float, 
             cell["exact"][column] = row["noise_free"] == "pass"
         cell["rate"][column] = int(row["seeds_passed"]) / n_seeds
     return measured, n_seeds, noise, json.loads(next(iter(shared["config"])))
+
+
+#: Settings of the tracker that each remove one cause of failing a check noise-free: (label,
+#: ``AttentionConfig`` fields over the measurement's). The laser's range is clipped to the
+#: sonars' (the paper's robot saw a target only within them), or vigilance is put off beyond
+#: every experiment's length (so a top-down course never adapts).
+CAUSE_SETTINGS: tuple[tuple[str, dict[str, float]], ...] = (
+    (f"laser clipped to {SonarConfig().max_range_m:g} m", {"laser_max_range_m": SonarConfig().max_range_m}),
+    ("no vigilance", {"vigilance_after_s": 1000.0}),
+)
+#: The tidy CSV of ``measure_causes``: one row per (check, setting); ``noise_free``: "pass" or "fail".
+CAUSE_COLUMNS = ("experiment", "check", "setting", "config", "noise_free")
+
+
+def measure_causes(
+    config: Mapping[str, Any] | None = None, workers: int = 1, names: Sequence[str] = EXPERIMENT_NAMES
+) -> list[dict[str, str]]:
+    """Every check of ``names`` with the tracker, noise-free, under each of ``CAUSE_SETTINGS``
+    (its fields over ``config``), as tidy rows of text (``CAUSE_COLUMNS``): a check that
+    fails by default and holds under a setting fails through what that setting removes."""
+    config = _check_config(config)
+    check_int("workers", workers, 1)
+    jobs = [
+        ("exact", name, 0.0, 0, "tracker", None, {**config, **fields})
+        for label, fields in CAUSE_SETTINGS
+        for name in names
+    ]
+    if workers > 1:
+        with ProcessPoolExecutor(workers) as pool:
+            done = list(pool.map(_outcomes, jobs, chunksize=2))
+    else:
+        done = [_outcomes(job) for job in jobs]
+    labels = [label for label, _ in CAUSE_SETTINGS for _ in names]
+    return [
+        {
+            "experiment": job[1],
+            "check": check,
+            "setting": label,
+            "config": json.dumps(job[6], sort_keys=True),
+            "noise_free": "pass" if ok else "fail",
+        }
+        for label, (job, passed) in zip(labels, done)
+        for check, ok in passed.items()
+    ]
 
 
 def _header(column: tuple[str, str | None], n_seeds: int, noise: float) -> str:

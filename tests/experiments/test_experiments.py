@@ -8,6 +8,7 @@ that does not reproduce is a strict xfail carrying the measured reason, so a fix
 import ast
 import csv
 import functools
+import json
 import math
 from pathlib import Path
 
@@ -23,7 +24,7 @@ from attentive_gym.experiments import (
     pass_rates,
     run_experiment,
 )
-from attentive_gym.experiments.table import COLUMNS, markdown, measure
+from attentive_gym.experiments.table import CAUSE_SETTINGS, COLUMNS, markdown, measure, measure_causes
 from support import load_tool
 
 SEEDS = range(20)
@@ -314,6 +315,18 @@ def test_table_has_a_column_per_mode_and_the_profile():
     assert "tracker, usarsim" in lines[0] and "| exp02 | `ior_visits_several_regions` | **fail**;" in text
     cell = measured[("exp02", "static_scene_fires")]
     assert all(cell["exact"].values()) and set(cell["rate"]) == set(COLUMNS)
+
+
+def test_the_causes_rerun_every_check_with_the_tracker_under_each_setting_over_the_config():
+    rows = measure_causes(config={"threshold": 0.2}, names=("exp05",))
+    assert [(row["setting"], row["check"]) for row in rows] == [
+        (label, check) for label, _ in CAUSE_SETTINGS for check in CHECKS["exp05"]
+    ]
+    for row in rows:
+        fields = dict(CAUSE_SETTINGS)[row["setting"]]
+        assert json.loads(row["config"]) == {"threshold": 0.2, **fields} and row["noise_free"] in ("pass", "fail")
+    outcome = {(row["setting"], row["check"]): row["noise_free"] for row in rows}
+    assert outcome[("no vigilance", "top_down_never_below_1")] == "pass"  # no adaptation: M stays >= 1 on course
 
 
 @pytest.mark.parametrize(
