@@ -79,7 +79,8 @@ The comparison trains every variant in {COMPARISON_ARENA} (the clutter sweep: 0â
 distractors) and evaluates it at every checkpoint on {" or ".join(map(str, episodes))} episodes
 with the deterministic policy. A variant's name says how it was trained
 when that is not PPO with SB3's constant learning rate on normalised observations:
-`({default})` is today's default, `(recurrent-ppo)` an LSTM policy, `(unscaled)` a policy
+`({default})` is today's default (raw's and the oracle's tag has no model note: they run no
+model; attended rows without one are on its version 0), `(recurrent-ppo)` an LSTM policy, `(unscaled)` a policy
 that saw the observation in its own units. Intervals are 95 % stratified-bootstrap
 intervals across seeds, as `rliable` computes them; P(success > raw of its setting) is the
 probability that a seed of the variant beats a seed of raw trained the same way. Safe success

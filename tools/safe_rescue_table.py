@@ -70,9 +70,10 @@ def setting_label(env_kwargs: Mapping[str, Any]) -> str:
 
 def controller_label(spec: RunSpec) -> str:
     """``ppo oracle``, with the rollout in brackets when it is not the earlier 4 envs × 256
-    steps and the warm start when there is one: ``ppo oracle (32 envs × 64 steps, batch 512,
-    warm start clearance)``."""
-    notes = [part for part in algo_tag(spec.to_dict()).split(", ")[1:] if not part.startswith("lr ")]
+    steps, the warm start when there is one and the model's version where the variant runs
+    it (``merged.algo_tag``): ``ppo oracle (32 envs × 64 steps, batch 512, warm start
+    clearance)``."""
+    notes = [part for part in algo_tag(spec.to_dict(), spec.variant).split(", ")[1:] if not part.startswith("lr ")]
     return f"ppo {spec.variant}" + (f" ({', '.join(notes)})" if notes else "")
 
 

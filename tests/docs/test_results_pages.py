@@ -321,7 +321,11 @@ def test_the_safe_rescue_table_names_a_runs_rollout_and_warm_start_beside_the_ea
     warm = today.replace(warm_start="clearance")
     assert table.controller_label(warm) == "ppo oracle (32 envs × 64 steps, batch 512, warm start clearance)"
     newer = today.replace(env_version=1)
-    assert table.controller_label(newer) == "ppo oracle (32 envs × 64 steps, batch 512, model v1)"
+    assert table.controller_label(newer) == "ppo oracle (32 envs × 64 steps, batch 512)"  # it runs no model
+    attended = newer.replace(variant="focus", warm_start="privileged")
+    assert (
+        table.controller_label(attended) == "ppo focus (32 envs × 64 steps, batch 512, warm start privileged, model v1)"
+    )
 
 
 def test_the_real_bags_page_groups_each_bag_and_leaves_the_focus_out_for_a_driving_robot(tmp_path):
