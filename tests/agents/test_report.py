@@ -56,6 +56,7 @@ def _root(tmp_path, readme="# title\n\n{start}\nold\n{end}\n\nafter\n"):
         "perception_clutter.csv",
         "perception_motion.csv",
         "experiment_checks.csv",
+        "experiment_causes.csv",
         "safe_rescue.csv",
         "real_bags.csv",
         "goal_choice.csv",
