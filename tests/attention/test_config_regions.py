@@ -102,3 +102,18 @@ def test_virtual_sonar_is_min_over_cone_and_exact_at_edges():
     beams = laser_bearings_rad()
     expected = [min(scan[s:e].min(), np.interp(plan[2][k], beams, scan).min()) for k, (s, e) in enumerate(bounds)]
     np.testing.assert_allclose(virtual_sonar(scan, beams, plan), expected)
+
+
+def test_each_regions_nearest_reading_is_the_least_of_its_sonar_and_its_beams():
+    rng = np.random.default_rng(0)
+    sonar, laser = rng.uniform(0.2, 5.0, (3, 16)), rng.uniform(0.2, 20.0, (3, 180))
+    grid = Grid.make("sonar")
+    nearest = grid.nearest_reading(sonar, laser)
+    expected = [
+        [min(sonar[n, grid.region_sonar[j]], laser[n, beams].min()) for j, beams in enumerate(grid.beam_slices)]
+        for n in range(3)
+    ]
+    assert nearest.shape == (3, grid.n_regions) and np.array_equal(nearest, expected)
+    laser[1, grid.beam_slices[2].start] = 0.05  # a near echo on the region's first beam wins over its sonar
+    assert grid.nearest_reading(sonar, laser)[1, 2] == 0.05
+    assert np.array_equal(grid.nearest_reading(sonar[0], laser[0]), expected[0])  # one reading, no batch axis
