@@ -71,6 +71,14 @@ def _outcomes(job: tuple) -> tuple[tuple, dict[str, bool]]:
     return job, {c.name: c.passed for c in check_experiment(result)}
 
 
+def _run_jobs(jobs: list[tuple], workers: int) -> list[tuple[tuple, dict[str, bool]]]:
+    """Each job's ``_outcomes``, in order, in ``workers`` processes (1: in this one)."""
+    if workers == 1:
+        return [_outcomes(job) for job in jobs]
+    with ProcessPoolExecutor(workers) as pool:
+        return list(pool.map(_outcomes, jobs, chunksize=4))
+
+
 def measure(
     seeds: Sequence[int] = range(20),
     noise: float = 0.05,
@@ -109,11 +117,7 @@ def measure(
         for kinematics, profile in COLUMNS
         for seed in seeds
     ]
-    if workers > 1:
-        with ProcessPoolExecutor(workers) as pool:
-            done = list(pool.map(_outcomes, jobs, chunksize=4))
-    else:
-        done = [_outcomes(job) for job in jobs]
+    done = _run_jobs(jobs, workers)
     table: Measured = {(name, check): {"exact": {}, "rate": {}} for name in names for check in CHECKS[name]}
     for (kind, name, _, _, kinematics, profile, _), passed in done:
         column = (kinematics, profile)
@@ -225,11 +229,7 @@ def measure_causes(
         for label, fields in CAUSE_SETTINGS
         for name in names
     ]
-    if workers > 1:
-        with ProcessPoolExecutor(workers) as pool:
-            done = list(pool.map(_outcomes, jobs, chunksize=2))
-    else:
-        done = [_outcomes(job) for job in jobs]
+    done = _run_jobs(jobs, workers)
     labels = [label for label, _ in CAUSE_SETTINGS for _ in names]
     return [
         {
