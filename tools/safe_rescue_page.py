@@ -69,8 +69,8 @@ def page(root: Path, write_figures: bool = True) -> str:
             "A success is **safe** when the robot reached the target with at most 1 s in contact in the episode. "
             "Each task setting below changes the defaults (`RewardConfig()`, the focus layout without `proximity`) "
             "by the fields it names; the arena is the main comparison's (8 m, 2 distractors, 3 rubble pieces per "
-            f"100 m²). `ppo raw`, `ppo focus`, `ppo oracle`: PPO on that variant (at {budget} env steps), its final "
-            "evaluation (raw has no `proximity` entry: its laser holds it); "
+            f"100 m²). `ppo raw`, `ppo focus`, `ppo random-focus`, `ppo oracle`: PPO on that variant (at {budget} "
+            "env steps), its final evaluation (raw has no `proximity` entry: its laser holds it); "
             "in brackets where it differs from the earlier 4 envs × 256-step rollout, its rollout; `warm start "
             "clearance` where PPO first cloned the clearance controller's demonstrations (`--warm-start clearance`, "
             "[Agents](../agents.md); their 64,000 env steps count in the budget), `warm start privileged` where the "
@@ -102,19 +102,23 @@ def page(root: Path, write_figures: bool = True) -> str:
             'attentive-gym compare $COMMON --env-kwargs "$TASK" --out runs/safe-plain',
             'attentive-gym compare $COMMON --env-kwargs "$TASK" --warm-start clearance --out runs/safe-warm',
             "# focus: the same with --variants focus, into runs/safe-focus-plain and runs/safe-focus-warm",
-            "# one teacher for all (about 20 minutes per line): the privileged teacher for raw, focus and the oracle,",
-            "# and raw without it; raw's task has no proximity entry",
-            'RAW_TASK="{$ARENA, "reward": {"contact_limit_s": 1.0, "near_per_s": 4.0}}"',
-            "COMMON='--seeds 41,42,43,44,45 --steps 1000000 --eval-every 250000 --eval-episodes 40 --workers 2'",
+            "# one teacher for all (10 seeds, about 40 minutes per line): the privileged teacher for raw, focus,",
+            "# random-focus and the oracle, and raw without it (5 seeds); raw's task has no proximity entry",
+            'RAW_TASK="{$ARENA, \\"reward\\": {\\"contact_limit_s\\": 1.0, \\"near_per_s\\": 4.0}}"',
+            "COMMON='--seeds 41,42,43,44,45,46,47,48,49,50 --steps 1000000 --eval-every 250000 --eval-episodes 40 "
+            "--workers 2'",
             'attentive-gym compare --variants raw $COMMON --env-kwargs "$RAW_TASK" --warm-start privileged '
             "--out runs/safe-raw-privileged",
-            'attentive-gym compare --variants raw $COMMON --env-kwargs "$RAW_TASK" --out runs/safe-raw-plain',
+            'attentive-gym compare --variants raw $COMMON --seeds 41,42,43,44,45 --env-kwargs "$RAW_TASK" '
+            "--out runs/safe-raw-plain",
             'attentive-gym compare --variants focus $COMMON --env-kwargs "$TASK" --warm-start privileged '
             "--out runs/safe-focus-privileged",
+            'attentive-gym compare --variants random-focus $COMMON --env-kwargs "$TASK" --warm-start privileged '
+            "--out runs/safe-random-focus-privileged",
             'attentive-gym compare --variants oracle $COMMON --env-kwargs "$TASK" --warm-start privileged '
             "--out runs/safe-oracle-privileged",
             f"{WRITTEN_BY} runs/safe-plain/runs/* runs/safe-warm/runs/* runs/safe-focus-*/runs/* "
-            "runs/safe-raw-*/runs/* runs/safe-oracle-privileged/runs/*",
+            "runs/safe-raw-*/runs/* runs/safe-random-focus-privileged/runs/* runs/safe-oracle-privileged/runs/*",
             "python tools/report.py render",
             "```",
             "",
