@@ -37,7 +37,7 @@ from attentive_gym._kernel_cache import announce_compilation
 from attentive_gym._optional import MissingExtraError, require
 from attentive_gym.agents.cli import add_compare, add_evaluate, add_generalise, add_train
 from attentive_gym.agents.config import QUICK, RunSpec
-from attentive_gym.agents.stopping import Interrupted
+from attentive_gym.agents.stopping import Interrupted, quiet_teardown
 from attentive_gym.attention.config import LASER_PROFILES, configured
 from attentive_gym.experiments.cli import add_experiment_parser
 
@@ -272,6 +272,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt as stop:
         stop = stop if isinstance(stop, Interrupted) else Interrupted(signal.SIGINT)
         print(f"attentive-gym {args.command}: {stop}", file=sys.stderr)
+        quiet_teardown()
         return stop.exit_status
 
 

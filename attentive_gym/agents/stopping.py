@@ -33,6 +33,7 @@ __all__ = [
     "signals_blocked",
     "stop_on_sigterm_only",
     "stop_signals_ignored",
+    "quiet_teardown",
 ]
 
 #: Signals that stop ``run_many`` (and ``attentive-gym train``).
@@ -81,13 +82,22 @@ def raise_if_stopped() -> None:
 
 def _quiet_about_lost_interrupts(passed_on: Callable[[Any], None]) -> Callable[[Any], None]:
     """A ``sys.unraisablehook`` silent about an ``Interrupted`` that a finalizer dropped (``raise_if_stopped``
-    raises it again), passing anything else on to ``passed_on``."""
+    raises it again) and, once a stop signal has arrived, about any finalizer's error (see
+    ``quiet_teardown``), passing anything else on to ``passed_on``."""
 
     def hook(unraisable: Any) -> None:
-        if not isinstance(unraisable.exc_value, Interrupted):
+        if not isinstance(unraisable.exc_value, Interrupted) and not _received:
             passed_on(unraisable)
 
     return hook
+
+
+def quiet_teardown() -> None:
+    """Report no finalizer's error from here on: call once a stop signal has ended the work. The
+    interpreter's teardown then finalizes objects the stop cut short (a numba compilation's
+    LLVM objects among them, whose ``__del__`` can fail), and their errors are the stop's
+    consequences, not faults to show the user as an "Exception ignored ... Traceback"."""
+    sys.unraisablehook = lambda unraisable: None
 
 
 @contextlib.contextmanager
@@ -143,8 +153,8 @@ def stop_signals_ignored() -> contextlib.AbstractContextManager[None]:
 def stop_on_sigterm_only() -> None:
     """Set up a child process that its parent stops: SIGINT ignored (Ctrl-C reaches the whole
     process group; the parent decides), SIGTERM raises ``Interrupted`` with no report of a
-    dropped one, and both stop signals unblocked (a parent inside ``signals_blocked`` starts
-    its children with them blocked). Main thread only."""
+    dropped one nor of a finalizer's error after it, and both stop signals unblocked (a parent
+    inside ``signals_blocked`` starts its children with them blocked). Main thread only."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _raise_interrupted)
     sys.unraisablehook = _quiet_about_lost_interrupts(sys.unraisablehook)

@@ -203,6 +203,34 @@ def test_a_stop_signal_dropped_by_a_finalizer_is_raised_at_the_next_check(monkey
     raise_if_stopped()  # the record ends with the block
 
 
+def test_after_a_stop_a_finalizers_error_is_not_reported_and_before_it_it_is(monkeypatch):
+    """A stop can cut a compilation short; the finalizers of what it left (llvmlite's objects)
+    may then fail during the teardown: no "Exception ignored ... Traceback" after a stop, but
+    the same error without one is reported as ever."""
+    from attentive_gym.agents import stopping
+
+    reported = []
+    monkeypatch.setattr(sys, "unraisablehook", reported.append)
+
+    class FailsWhenFreed:
+        def __del__(self):
+            raise RuntimeError("a finalizer's own failure")
+
+    with stopping.raise_on_stop_signals():
+        FailsWhenFreed()
+        assert [type(u.exc_value) for u in reported] == [RuntimeError]  # no stop: reported
+        reported.clear()
+        with pytest.raises(stopping.Interrupted):
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(1.0)
+        FailsWhenFreed()
+        assert reported == []  # after the stop: a consequence of it, not reported
+    monkeypatch.setattr(sys, "unraisablehook", reported.append)
+    stopping.quiet_teardown()  # what the command line does once a stop ended its work
+    FailsWhenFreed()
+    assert reported == []
+
+
 def test_a_stop_signal_wrapped_by_a_compiled_callee_leaves_as_interrupted():
     """numba turns a handler's exception raised inside a compiled call into a SystemError."""
     from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
