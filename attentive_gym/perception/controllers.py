@@ -28,7 +28,7 @@ import numpy as np
 from attentive_gym.attention import ORIGIN_TOP_DOWN
 from attentive_gym.attention.regions import Grid
 from attentive_gym.attention.working_memory import MEMORY_FIELDS
-from attentive_gym.perception.geometry import bearing_of, to_robot_frame, true_target_bearing, wrap_angle
+from attentive_gym.perception.geometry import bearing_of, true_target_bearing, true_target_xy, wrap_angle
 
 __all__ = [
     "Policy",
@@ -184,7 +184,7 @@ def privileged_clearance_controller(obs: Mapping[str, np.ndarray], info: Mapping
     proximity = obs["proximity"] if "proximity" in obs else _GRID.nearest_reading(obs["sonar"], obs["laser"])
     if info["target_index"] < 0:
         return clearance_action(0.0, 0.0, proximity)
-    target = to_robot_frame(np.asarray(info["mover_positions"][info["target_index"]], float), info["robot_pose"])
+    target = true_target_xy(info)
     return clearance_action(float(bearing_of(target)), float(np.hypot(*target)), proximity)
 
 

@@ -6,7 +6,7 @@
 - ``in_sight``: in view as the laser can see it: within ``VIEW_RANGE_M``, ``|bearing| ≤
   SIGHT_BEARING_DEG`` and on at least ``SIGHT_BEAMS`` laser beams.
 - ``region_of``: the attention region (0..7 on ``GRID``) a point lies in.
-- ``true_target_bearing``: the episode's target's bearing, from the world's truth
+- ``true_target_xy`` / ``true_target_bearing``: the episode's target's position / bearing, from the world's truth
   (``info`` of an ``AttentiveRescue`` step).
 """
 
@@ -31,6 +31,7 @@ __all__ = [
     "SIGHT_BEAMS",
     "in_sight",
     "region_of",
+    "true_target_xy",
     "true_target_bearing",
 ]
 
@@ -82,7 +83,11 @@ def region_of(xy: np.ndarray) -> np.ndarray:
     return nearest_sonar(bearing_of(xy))
 
 
+def true_target_xy(info: Mapping[str, Any]) -> np.ndarray:
+    """The episode's target ``(2,)`` in the robot's frame (m), from the world's truth."""
+    return to_robot_frame(np.asarray(info["mover_positions"][info["target_index"]], float), info["robot_pose"])
+
+
 def true_target_bearing(info: Mapping[str, Any]) -> float:
     """Bearing (rad, robot frame) of the episode's target, from the world's truth."""
-    target = info["mover_positions"][info["target_index"]]
-    return float(bearing_of(to_robot_frame(target, info["robot_pose"])))
+    return float(bearing_of(true_target_xy(info)))
