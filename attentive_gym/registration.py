@@ -1,56 +1,74 @@
 """Idempotent registration of the package's environments with Gymnasium.
 
-``AttentiveRescue-v0`` is the base environment; the other ids are its observation
-variants (``attentive_gym.wrappers.variants``). The attended variants' ids carry the version
-of the model's defaults (``attention.MODEL_VERSIONS``): ``-v1`` the current one, ``-v0`` the
-first (``VERSION_0_IDS``), kept so that results and policies of version 0 reproduce. Every id has a vector entry point
-(``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``:
-``attentive_gym.vector.vector_env``). Entry points are strings, so that
-registering (which ``import attentive_gym`` does) loads neither the simulator nor the
-wrappers: ``import attentive_gym.attention`` stays light.
+An id's version changes whenever what it builds changes: the task (``envs.tasks.TASK_VERSIONS``)
+or, for the variants that run the attentional model, the model's defaults
+(``attention.MODEL_VERSIONS``). ``VARIANT_IDS`` build the current task and model;
+``EARLIER_IDS`` the earlier ones, kept so that their results and policies reproduce:
+
+| id version | raw, raw-stack, oracle | the attended variants |
+|---|---|---|
+| task 0, model 0 | ``-v0`` | ``-v0`` |
+| task 0, model 1 | ``-v0`` | ``-v1`` |
+| task 1, model 1 (current) | ``-v1`` | ``-v2`` |
+
+Every id is built by ``attentive_gym.wrappers.variants:make_env`` and has a vector entry
+point (``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``:
+``attentive_gym.vector.vector_env``). Entry points are strings, so that registering (which
+``import attentive_gym`` does) loads neither the simulator nor the wrappers:
+``import attentive_gym.attention`` stays light.
 """
 
 from gymnasium.envs.registration import register, registry
 
-__all__ = ["VARIANT_IDS", "VERSION_0_IDS", "register_environments"]
+__all__ = ["VARIANT_IDS", "EARLIER_IDS", "ID_VERSIONS", "MODEL_VARIANTS", "register_environments"]
 
-#: Variant name → registered environment id (the current version).
-VARIANT_IDS: dict[str, str] = {
-    "raw": "AttentiveRescue-v0",
-    "raw-stack": "AttentiveRescueStack-v0",
-    "focus": "AttentiveRescueFocus-v1",
-    "saliency": "AttentiveRescueSaliency-v1",
-    "masked": "AttentiveRescueMasked-v1",
-    "goal-action": "AttentiveRescueGoalAction-v1",
-    "oracle": "AttentiveRescueOracle-v0",
-    "random-focus": "AttentiveRescueRandomFocus-v1",
-}
-#: Attended variant → its id with the model's version 0 defaults.
-VERSION_0_IDS: dict[str, str] = {
-    variant: env_id.replace("-v1", "-v0") for variant, env_id in VARIANT_IDS.items() if env_id.endswith("-v1")
+#: The variants whose observation the attentional model makes (the others run no model).
+MODEL_VARIANTS = frozenset({"focus", "saliency", "masked", "goal-action", "random-focus"})
+_BASES = {
+    "raw": "AttentiveRescue",
+    "raw-stack": "AttentiveRescueStack",
+    "focus": "AttentiveRescueFocus",
+    "saliency": "AttentiveRescueSaliency",
+    "masked": "AttentiveRescueMasked",
+    "goal-action": "AttentiveRescueGoalAction",
+    "oracle": "AttentiveRescueOracle",
+    "random-focus": "AttentiveRescueRandomFocus",
 }
 
-_BASE_ENTRY_POINT = "attentive_gym.envs.rescue_env:AttentiveRescueEnv"
-_VARIANT_ENTRY_POINT = "attentive_gym.wrappers.variants:make_env"
+
+def _id(variant: str, task: int, model: int) -> str:
+    """The id of ``variant`` on task version ``task`` and model version ``model``."""
+    if variant not in MODEL_VARIANTS:
+        return f"{_BASES[variant]}-v{task}"
+    return f"{_BASES[variant]}-v{task + model}"
+
+
+#: Variant name → its registered id on the current task and model.
+VARIANT_IDS: dict[str, str] = {variant: _id(variant, 1, 1) for variant in _BASES}
+#: Every registered id → ``(variant, task version, model version)``; the model version is
+#: that of the ``make_env`` call, which the variants that run no model ignore.
+ID_VERSIONS: dict[str, tuple[str, int, int]] = {
+    **{_id(variant, 0, model): (variant, 0, model) for variant in _BASES for model in (0, 1)},
+    **{env_id: (variant, 1, 1) for variant, env_id in VARIANT_IDS.items()},
+}
+#: The ids of earlier task or model versions, each → ``(variant, task, model)``.
+EARLIER_IDS: dict[str, tuple[str, int, int]] = {
+    env_id: versions for env_id, versions in ID_VERSIONS.items() if env_id not in VARIANT_IDS.values()
+}
+
+_ENTRY_POINT = "attentive_gym.wrappers.variants:make_env"
 _VECTOR_ENTRY_POINT = "attentive_gym.vector.vector_env:make_vector_env"
 
 
 def register_environments() -> None:
     """Register every environment of the package once; later calls do nothing."""
-    ids = [(variant, env_id, {}) for variant, env_id in VARIANT_IDS.items()]
-    ids += [(variant, env_id, {"version": 0}) for variant, env_id in VERSION_0_IDS.items()]
-    for variant, env_id, version in ids:
+    for env_id, (variant, task, model) in ID_VERSIONS.items():
         if env_id in registry:
             continue
-        if variant == "raw":
-            register(
-                id=env_id, entry_point=_BASE_ENTRY_POINT, vector_entry_point=_VECTOR_ENTRY_POINT, max_episode_steps=None
-            )
-        else:
-            register(
-                id=env_id,
-                entry_point=_VARIANT_ENTRY_POINT,
-                vector_entry_point=_VECTOR_ENTRY_POINT,
-                kwargs={"variant": variant, **version},
-                max_episode_steps=None,
-            )
+        register(
+            id=env_id,
+            entry_point=_ENTRY_POINT,
+            vector_entry_point=_VECTOR_ENTRY_POINT,
+            kwargs={"variant": variant, "task": task, "version": model},
+            max_episode_steps=None,
+        )

@@ -103,7 +103,13 @@ from attentive_gym.perception.metrics import (
     target_cases,
 )
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, TRACK_MATCH_M, record_episode
-from attentive_gym.perception.settings import CONTROL_ARENA, PERCEPTION_ARENA, VARIANT, make_attentive_env
+from attentive_gym.perception.settings import (
+    CONTROL_ARENA,
+    PERCEPTION_ARENA,
+    PERCEPTION_TASK,
+    VARIANT,
+    make_attentive_env,
+)
 from attentive_gym.world import arena
 from attentive_gym.wrappers import make_env
 from call_timer import CallTimer
@@ -154,8 +160,9 @@ ATTENTION_FIELDS: dict[str, Any] = {}
 
 # ===================================================================== environments
 def make_raw_env(noise: NoiseSetting, **env_kwargs: Any):
-    """The raw ``AttentiveRescue-v0`` environment (no model, no checker wrappers)."""
-    return make_env("raw", **noise.env_kwargs, **env_kwargs)
+    """The raw environment of the perception measurements' task (``PERCEPTION_TASK``; no model,
+    no checker wrappers)."""
+    return make_env("raw", task=PERCEPTION_TASK, **noise.env_kwargs, **env_kwargs)
 
 
 # ===================================================================== sections

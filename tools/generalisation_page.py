@@ -87,7 +87,9 @@ def page(root: Path, write_figures: bool = True) -> str:
         banner([SOURCE]),
         "The policies of the main comparison ([RL results](rl.md): PPO with today's defaults, "
         f"{' or '.join(f'{s:,}' for s in steps)} env steps, {' or '.join(map(str, seeds))} seeds per variant, "
-        "trained in an 8 m arena with 2 distractors, 3 rubble pieces per 100 m² and 5 % Gaussian noise) are "
+        "trained on the safe task (task version 1: an episode ends once the robot has been in contact for more "
+        f"than {SAFE_CONTACT_S:g} s, so that every success is a safe one) in an 8 m arena with 2 distractors, "
+        "3 rubble pieces per 100 m² and 5 % Gaussian noise) are "
         f"evaluated, without further training, on {' or '.join(map(str, episodes))} episodes of each run's own "
         "evaluation seeds under one change of the environment at a time. `as trained` is the training setting "
         f"on the same episodes. The changes, as `make_env` keywords: {settings}.",
@@ -109,7 +111,7 @@ def page(root: Path, write_figures: bool = True) -> str:
         "## Reproduce",
         "",
         "```bash",
-        "# runs/main: the comparison of rl.md; about 4 minutes per 20 runs with 2 workers on 2 cores",
+        "# runs/main: the headline comparison of rl.md; about 4 minutes per 20 runs with 2 workers on 2 cores",
         "attentive-gym generalise runs/main --episodes 20 --workers 2",
         "cp runs/main/generalisation.csv docs/results/ && python tools/report.py render",
         "```",

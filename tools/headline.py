@@ -18,10 +18,12 @@ from typing import Any
 
 import performance_page
 import rl_page
-from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION, SCALED, default_tag
+from attentive_gym.agents.merged import SCALED, default_tag
 from attentive_gym.agents.plots import recorded, steps_label
 from attentive_gym.agents.results import summarise
+from attentive_gym.agents.warm_start import DEMO_STEPS
 from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.registration import VARIANT_IDS
 from page_text import FIGURES, RENDER_COMMAND, RESULTS, summary_interval, table
 
 START, END = "<!-- results-headline:start -->", "<!-- results-headline:end -->"
@@ -56,8 +58,10 @@ def block(root: Path) -> str:
         f"![learning curves of PPO with today's defaults]({(FIGURES / 'rl_learning_curves.png').as_posix()})",
         "",
         f"PPO with today's defaults, {' or '.join(map(str, seeds))} seeds per variant, "
-        f"{steps_label(budget)} env steps each, in {rl_page.COMPARISON_ARENA}; the attended variants on the "
-        f"model's version {HEADLINE_MODEL_VERSION} (their `-v{HEADLINE_MODEL_VERSION}` ids):",
+        f"{steps_label(budget)} env steps each (the first {DEMO_STEPS // 1000}k cloning the privileged teacher), "
+        f"in {rl_page.COMPARISON_ARENA}, on the ids of today's task and model "
+        f"(`{VARIANT_IDS['raw']}`, `{VARIANT_IDS['focus']}`, ...): more than {SAFE_CONTACT_S:g} s of contact ends "
+        "an episode, so every success is a safe one:",
         "",
         *_success_table(summary),
         f"All results, with the clutter sweep and the other training settings: "

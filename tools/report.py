@@ -180,7 +180,11 @@ def _add(args) -> int:
         if evaluation in seen:
             raise ValueError(f"{args.csv} holds the evaluation {dict(zip((*keys, 'env_steps'), evaluation))} twice")
         seen.add(evaluation)
-    rows = merge_rows(read_csv(target) if target.is_file() else [], new, algo, keys, scaling)
+    rows = read_csv(target) if target.is_file() else []
+    run = _trained_with(args.csv) if args.algo is None else {}
+    for variant in dict.fromkeys(row["variant"] for row in new):  # each variant's own warm start (compare.json)
+        tag = algo_tag(run, variant) if run else algo
+        rows = merge_rows(rows, [row for row in new if row["variant"] == variant], tag, keys, scaling)
     write_csv_atomic(target, rows, columns)
     print(f"{target}: {len(rows)} rows ({len(new)} from {args.csv})")
     return 0

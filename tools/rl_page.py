@@ -28,6 +28,7 @@ from attentive_gym.agents.config import ALGO_DEFAULTS, RunSpec
 from attentive_gym.agents.merged import (
     SCALED,
     UNNOTED_MODEL_VERSION,
+    UNNOTED_TASK_VERSION,
     algo_tag,
     budgets,
     clutter_targets,
@@ -95,29 +96,39 @@ A run trained further than a table's budget counts there with its curve cut at t
 _REPRODUCE = """\
 ## Reproduce
 
-Train a comparison, merge its rows into the CSVs, and render this page (the rows of each
-setting above came from the same commands with the setting's flags: `--algo recurrent-ppo`,
-`--n-envs 4 --algo-kwargs '{"n_steps": 256, "batch_size": 256}'` for the rollout before
-`algo_defaults` 3, `--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate, `--obs-scaling none`;
-the `model v1` rows need no flag: a run records the model version of the ids it trains on, the
-latest by default; an attended variant's rows without a model note are on version 0, and raw's
-and the oracle's never carry one, as they run no model). At 1M steps a run takes about 6 to 8
-minutes, two at a time on 2 cores:
+Train a comparison, merge its rows into the CSVs, and render this page. The headline's rows
+(`warm start privileged, task v1, model v1`) need no flag beyond the budget and the arena: a
+run records the task and model versions it trains on, the latest by default, and PPO clones
+the privileged teacher first by default. At 1M steps a run takes about 4 to 6 minutes, two at
+a time on 2 cores, so the 40 runs about 100 minutes:
 
 ```bash
-attentive-gym compare --variants raw,raw-stack,focus,saliency,oracle,random-focus --seeds 5 --steps 1000000 \\
-    --eval-every 50000 --eval-episodes 20 --checkpoint-every 50000 \\
+attentive-gym compare --variants raw,random-focus,focus,oracle --seeds 41,42,43,44,45,46,47,48,49,50 \\
+    --steps 1000000 --eval-every 250000 --eval-episodes 40 \\
     --env-kwargs '{"arena_size_m": 8, "num_distractors": 2, "rubble_per_100m2": 3}' --workers 2 --out runs/main
 python tools/report.py add runs/main/results.csv              # into docs/results/rl_comparison.csv
-attentive-gym compare --variants raw,focus,oracle,random-focus --distractors 0,1,2,3,5 --seeds 5 --steps 250000 \\
-    --eval-every 50000 --eval-episodes 20 --checkpoint-every 50000 \\
-    --env-kwargs '{"arena_size_m": 8, "rubble_per_100m2": 3}' --workers 2 --out runs/clutter
-python tools/report.py add runs/clutter/sweep.csv --clutter   # into docs/results/rl_clutter.csv
 python tools/report.py render                                  # this page, the figures and the README's headline
 ```
 
-`report add` tags the rows with the comparison's algorithm, learning rate and rollout (from its
-`compare.json`) and replaces the rows of the same runs; see [the agents guide](../agents.md).
+The rows of the other settings came from the same command with their flags: `--task 0
+--warm-start none` for the rows without a task note (the first task, without a warm start),
+`--algo
+recurrent-ppo`, `--n-envs 4 --algo-kwargs '{"n_steps": 256, "batch_size": 256}'` for the rollout
+before `algo_defaults` 3, `--algo-kwargs '{"learning_rate": 3e-4}'` for the constant rate,
+`--obs-scaling none`. An attended variant's rows without a model note are on the model's
+version 0; raw's and the oracle's never carry one, as they run no model. The clutter sweep
+(the first task, 250k steps):
+
+```bash
+attentive-gym compare --variants raw,focus,oracle,random-focus --distractors 0,1,2,3,5 --seeds 5 --steps 250000 \\
+    --task 0 --warm-start none --eval-every 50000 --eval-episodes 20 --checkpoint-every 50000 \\
+    --env-kwargs '{"arena_size_m": 8, "rubble_per_100m2": 3}' --workers 2 --out runs/clutter
+python tools/report.py add runs/clutter/sweep.csv --clutter   # into docs/results/rl_clutter.csv
+```
+
+`report add` tags the rows with the comparison's algorithm, learning rate, rollout, warm start,
+task and model (from its `compare.json`) and replaces the rows of the same runs; see
+[the agents guide](../agents.md).
 """
 
 
@@ -212,11 +223,13 @@ def _rollouts_markdown(
 ) -> list[str]:
     """The learning curves of raw, focus and oracle under today's PPO rollout beside the earlier
     one (``algo_defaults`` 2: 4 envs × 256 steps), both on the model's version
-    ``UNNOTED_MODEL_VERSION`` (the earlier rollout's only one), up to today's headline budget
+    ``UNNOTED_MODEL_VERSION`` and the task's ``UNNOTED_TASK_VERSION`` without a warm start (the
+    earlier rollout's only setting), up to today's headline budget
     (drawn unless told not to); none without rows of both."""
     found = default_runs(comparison)
-    today = algo_tag(RunSpec(env_version=UNNOTED_MODEL_VERSION).to_dict())
-    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2], env_version=UNNOTED_MODEL_VERSION).to_dict())
+    first = {"env_version": UNNOTED_MODEL_VERSION, "task_version": UNNOTED_TASK_VERSION, "warm_start": None}
+    today = algo_tag(RunSpec(**first).to_dict())
+    earlier = algo_tag(RunSpec(algo_defaults=ALGO_DEFAULTS[-2], **first).to_dict())
     if found is None:
         return []
     budget = found[0]

@@ -35,11 +35,12 @@ from attentive_gym.agents.config import RunSpec
 from attentive_gym.agents.merged import algo_tag
 from attentive_gym.agents.results import read_csv, write_csv_atomic
 from attentive_gym.agents.training import eval_seed
-from attentive_gym.envs import AttentiveRescueEnv, RewardConfig
+from attentive_gym.envs import RewardConfig
 from attentive_gym.envs.config_mappings import config_as_mapping
 from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.envs.tasks import task_proximity, task_reward
 from attentive_gym.perception.controllers import Policy, clearance_controller, true_bearing_controller
-from attentive_gym.wrappers import make_env
+from attentive_gym.wrappers.variants import FOCUS_LAYOUT, make_env
 
 #: The repository's root (this file is in ``tools/``).
 ROOT = Path(__file__).resolve().parents[1]
@@ -57,13 +58,15 @@ COLUMNS = (
 )
 
 
-def setting_label(env_kwargs: Mapping[str, Any]) -> str:
-    """The task's fields that differ from the defaults, e.g. ``contact_limit_s=1, proximity``;
-    ``v0 reward`` when none does."""
+def setting_label(spec: RunSpec) -> str:
+    """The fields of the run's task (its ``task_version`` and ``env_kwargs``) that differ from
+    task version 0's, e.g. ``contact_limit_s=1, proximity``; ``v0 reward`` when none does.
+    ``proximity`` is named where the run's variant has the focus layout and carries it."""
     defaults = config_as_mapping(RewardConfig())
-    reward = {**defaults, **env_kwargs.get("reward", {})}
+    reward = config_as_mapping(task_reward(spec.task_version, spec.env_kwargs.get("reward")))
     parts = [f"{key}={_text(reward[key])}" for key in defaults if reward[key] != defaults[key]]
-    if env_kwargs.get("proximity"):
+    proximity = spec.env_kwargs.get("proximity")
+    if spec.variant in FOCUS_LAYOUT and (task_proximity(spec.task_version) if proximity is None else proximity):
         parts.append("proximity")
     return ", ".join(parts) or "v0 reward"
 
@@ -73,7 +76,11 @@ def controller_label(spec: RunSpec) -> str:
     steps, the warm start when there is one and the model's version where the variant runs
     it (``merged.algo_tag``): ``ppo oracle (32 envs × 64 steps, batch 512, warm start
     clearance)``."""
-    notes = [part for part in algo_tag(spec.to_dict(), spec.variant).split(", ")[1:] if not part.startswith("lr ")]
+    notes = [
+        part
+        for part in algo_tag(spec.to_dict(), spec.variant).split(", ")[1:]
+        if not part.startswith(("lr ", "task v"))  # the task is the row's setting
+    ]
     return f"ppo {spec.variant}" + (f" ({', '.join(notes)})" if notes else "")
 
 
@@ -85,9 +92,11 @@ def _text(value: Any) -> str:
 def scripted_rows(spec: RunSpec, episodes: int) -> list[dict[str, Any]]:
     """Each scripted controller on ``spec``'s task and evaluation episodes."""
     task = {key: value for key, value in spec.env_kwargs.items() if key != "proximity"}
+    raw = make_env("raw", task=spec.task_version, **task)
+    oracle = make_env("oracle", proximity=True, task=spec.task_version, **task)
     return [
-        scripted_row("true-bearing", true_bearing_controller, AttentiveRescueEnv(**task), spec, episodes),
-        scripted_row("clearance", clearance_controller, make_env("oracle", proximity=True, **task), spec, episodes),
+        scripted_row("true-bearing", true_bearing_controller, raw, spec, episodes),
+        scripted_row("clearance", clearance_controller, oracle, spec, episodes),
     ]
 
 
@@ -120,7 +129,7 @@ def rows_of(run: Path) -> list[dict[str, Any]]:
     """The run's last evaluation and the scripted controllers on the same episodes."""
     spec = RunSpec.from_dict(json.loads((run / "spec.json").read_text()))
     last = read_csv(run / "eval.csv")[-1]
-    common = {"setting": setting_label(spec.env_kwargs), "seed": spec.seed}
+    common = {"setting": setting_label(spec), "seed": spec.seed}
     trained = {key: last[key] for key in COLUMNS[3:]} | {"controller": controller_label(spec)}
     return [common | trained, *(common | row for row in scripted_rows(spec, int(last["n_episodes"])))]
 

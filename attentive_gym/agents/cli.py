@@ -20,6 +20,7 @@ from attentive_gym.agents.backends import BACKENDS
 from attentive_gym.agents.config import (
     ALGO_DEFAULTS,
     ALGOS,
+    DEFAULT_WARM_START,
     N_ENVS,
     OBS_SCALINGS,
     PPO_N_ENVS,
@@ -27,6 +28,7 @@ from attentive_gym.agents.config import (
     SCHEDULE_KEYS,
     STEPS_PER_EVAL_EPISODE,
     VEC_ENVS,
+    WARM_START_MIN_STEPS,
     RunSpec,
     default_eval_episodes,
 )
@@ -35,6 +37,7 @@ from attentive_gym.agents.stopping import Interrupted, raise_on_stop_signals
 from attentive_gym.agents.warm_start import DEMO_STEPS, WARM_STARTS
 from attentive_gym.attention.config import MODEL_VERSIONS
 from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.envs.tasks import TASK_VERSIONS
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = ["add_train", "add_evaluate", "add_compare", "add_generalise", "parse_json_object"]
@@ -147,12 +150,23 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
     )
     parser.add_argument(
         "--warm-start",
-        choices=list(WARM_STARTS),
+        choices=[*WARM_STARTS, "none"],
         default=None,
         help=f"ppo only: clone a scripted teacher's demonstrations ({DEMO_STEPS:,} env steps, counted in --steps) "
         "before training; clearance: the reactive avoider on the working memory's first row and the proximity "
-        "entry (a focus-layout variant with --env-kwargs '{\"proximity\": true}'); privileged: the same avoider "
-        "steering for the target's true bearing, for raw too (default: none)",
+        "entry (a focus-layout variant with its proximity entry); privileged: the same avoider steering for the "
+        "target's true bearing, read from the world's truth during the demonstrations only; none: no warm start "
+        "(default: privileged where it can read the observation, in a budget of at least "
+        f"{WARM_START_MIN_STEPS:,} steps: raw, saliency, and the focus layout with its proximity entry; none for the "
+        "others and for other algorithms; a trained folder keeps its own)",
+    )
+    parser.add_argument(
+        "--task",
+        type=int,
+        choices=TASK_VERSIONS,
+        help="the task's version (envs.tasks): 1, safe rescue, an episode ends after 1 s of contact and the focus "
+        "layout senses each region's nearest reading; 0, the first task, contact only costs (default: the latest, "
+        f"{TASK_VERSIONS[-1]}; a trained folder keeps its own)",
     )
     parser.add_argument(
         "--eval-every",
@@ -204,7 +218,9 @@ def _spec_from_args(
     in for the defaults that depend on ``--steps``: resuming a run needs none of those flags,
     and extending it only ``--extend`` and the new ``--steps``. Their
     ``algo_defaults`` (1 where they have none) and ``env_version`` (0 where they have none)
-    always stand: a folder keeps the default hyper-parameters and model it was trained with.
+    always stand, and ``task_version`` (0 where they have none) and ``warm_start`` unless
+    ``--task`` or ``--warm-start`` is given: a folder keeps the default hyper-parameters, model,
+    task and start it was trained with (a flag that differs is refused as a change of settings).
     """
     defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
@@ -230,10 +246,27 @@ def _spec_from_args(
         algo_kwargs=parse_json_object(args.algo_kwargs, "--algo-kwargs"),
         torch_threads=getattr(args, "torch_threads", RunSpec.torch_threads),
         obs_scaling=args.obs_scaling,
-        warm_start=getattr(args, "warm_start", None),
+        warm_start=_warm_start(getattr(args, "warm_start", None), stored),
         algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
         env_version=MODEL_VERSIONS[-1] if stored is None else stored.get("env_version", 0),
+        task_version=_task_version(getattr(args, "task", None), stored),
     )
+
+
+def _task_version(option: int | None, stored: dict[str, Any] | None) -> int:
+    """``RunSpec.task_version`` from ``--task``: the version given; when not given, the trained
+    folder's own (0 where it has none), else the latest."""
+    if option is not None:
+        return option
+    return TASK_VERSIONS[-1] if stored is None else stored.get("task_version", 0)
+
+
+def _warm_start(option: str | None, stored: dict[str, Any] | None) -> str | None:
+    """``RunSpec.warm_start`` from ``--warm-start``: the teacher named, None for ``none``; when
+    not given, the trained folder's own (None where it has none), else the run's default."""
+    if option is not None:
+        return None if option == "none" else option
+    return DEFAULT_WARM_START if stored is None else stored.get("warm_start")
 
 
 def _trained_settings(path: Path, trained: bool, *keys: str) -> dict[str, Any] | None:

@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from attentive_gym.agents.backends import JobOutcome, run_many
-from attentive_gym.agents.config import QUICK, RunSpec
+from attentive_gym.agents.config import DEFAULT_WARM_START, QUICK, RunSpec
 from attentive_gym.agents.goal_choice import GOAL_CHOICE_FILE
 from attentive_gym.agents.plots import plot_goal_choice, plot_learning_curves, plot_performance_profiles
 from attentive_gym.agents.results import (
@@ -78,9 +78,14 @@ def run_dir_of(out: str | os.PathLike, spec: RunSpec) -> Path:
 
 
 def _settings(variants, seeds, base: RunSpec, threshold: float) -> dict[str, Any]:
+    """``compare.json``: the variants, seeds and threshold, and ``run``, the runs' settings but
+    their variant and seed; its ``warm_start`` is ``DEFAULT_WARM_START`` where each variant
+    takes its own default (``RunSpec.for_variant``), so that a row's tag can name it."""
     template = base.to_dict()
     template.pop("variant")
     template.pop("seed")
+    if base.warm_start == base.default_warm_start():
+        template["warm_start"] = DEFAULT_WARM_START
     return {"variants": list(variants), "seeds": list(seeds), "run": template, "threshold": threshold}
 
 
@@ -118,9 +123,9 @@ def compare(
     """
     if not variants or not seeds:
         raise ValueError("compare needs at least one variant and one seed")
-    specs = [base.replace(variant=v, seed=s) for s in seeds for v in variants]
+    specs = [base.for_variant(v, seed=s) for s in seeds for v in variants]
     for variant in variants:  # the seed changes nothing that validation checks
-        validate_spec(base.replace(variant=variant))
+        validate_spec(base.for_variant(variant))
     out = Path(out)
     _bind_settings(out, _settings(variants, seeds, base, threshold), base, extend)
     skipped = [spec.run_name for spec in specs if is_done(run_dir_of(out, spec), spec.total_steps)]

@@ -17,8 +17,9 @@ from typing import Any
 
 from attentive_gym._checks import check_int
 from attentive_gym.attention.config import MODEL_VERSIONS, check_model_version
-from attentive_gym.envs.config_mappings import env_kwargs_as_mappings
-from attentive_gym.wrappers.variants import VARIANTS
+from attentive_gym.envs.config_mappings import config_as_mapping, env_kwargs_as_mappings
+from attentive_gym.envs.tasks import TASK_VERSIONS, check_task_version, task_proximity, task_reward
+from attentive_gym.wrappers.variants import FOCUS_LAYOUT, VARIANTS
 
 __all__ = [
     "ALGOS",
@@ -31,6 +32,8 @@ __all__ = [
     "SCHEDULE_KEYS",
     "SB3_LEARNING_RATE",
     "STEPS_PER_EVAL_EPISODE",
+    "DEFAULT_WARM_START",
+    "WARM_START_MIN_STEPS",
     "RunSpec",
     "canonical_rate",
     "default_eval_episodes",
@@ -72,6 +75,15 @@ SCHEDULE_KEYS = ("learning_rate", "clip_range", "clip_range_vf")
 _LINEAR_PREFIX = "lin_"
 #: The learning rate of PPO, RecurrentPPO and SAC when none is given (SB3's).
 SB3_LEARNING_RATE = 3e-4
+
+#: ``RunSpec.warm_start`` when none is given: ``RunSpec.default_warm_start`` picks the teacher.
+DEFAULT_WARM_START = "default"
+#: The smallest budget (env steps) that warm-starts by default: the demonstrations take
+#: 64,000 env steps of it (``agents.warm_start.DEMO_STEPS``), a quarter of this.
+WARM_START_MIN_STEPS = 256_000
+#: The variants whose observation the privileged teacher can read as ``make_env`` builds it
+#: (raw and saliency: their sonar and laser; the focus layout: its ``proximity`` entry).
+_PRIVILEGED_READABLE = ("raw", "saliency", "focus", "random-focus", "oracle")
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 300 000 PPO steps, 10 eval episodes every 50 000 steps, in the main
@@ -120,10 +132,13 @@ class RunSpec:
         warm_start: None, or a teacher of ``agents.warm_start.WARM_STARTS`` (``"clearance"``,
             ``"privileged"``)
             whose demonstrations PPO clones before it trains; their env steps count in
-            ``total_steps``.
+            ``total_steps``. Not given (``DEFAULT_WARM_START``): ``default_warm_start``'s.
         env_version: the version of the attentional model's defaults the environments are
             built with (``attention.MODEL_VERSIONS``; the latest unless a stored spec says
             otherwise: one without it was trained with version 0).
+        task_version: the version of the task the environments are built with
+            (``envs.tasks.TASK_VERSIONS``: its reward and ``proximity`` defaults; the latest
+            unless a stored spec says otherwise: one without it was trained on version 0).
     """
 
     variant: str = "focus"
@@ -140,8 +155,9 @@ class RunSpec:
     algo_defaults: int = ALGO_DEFAULTS[-1]
     torch_threads: int = 1
     obs_scaling: str = "running"
-    warm_start: str | None = None
+    warm_start: str | None = DEFAULT_WARM_START
     env_version: int = MODEL_VERSIONS[-1]
+    task_version: int = TASK_VERSIONS[-1]
 
     def __post_init__(self) -> None:
         if self.variant not in VARIANTS:
@@ -154,13 +170,16 @@ class RunSpec:
             raise ValueError(f"unknown obs_scaling {self.obs_scaling!r}; allowed: {list(OBS_SCALINGS)}")
         check_int("total_steps", self.total_steps, 1)
         check_int("seed", self.seed, 0)
-        if self.warm_start is not None and self.algo != "ppo":
-            raise ValueError(f"warm_start applies to ppo only, got algo {self.algo!r}")
+        check_model_version(self.env_version, "env_version")
+        check_task_version(self.task_version, "task_version")
+        for name, what in (
+            ("version", "the model's version is the spec's env_version"),
+            ("task", "the task's version is the spec's task_version"),
+        ):
+            if name in self.env_kwargs:
+                raise ValueError(f"env_kwargs cannot hold {name!r}: {what}")
         if type(self.algo_defaults) is not int or self.algo_defaults not in ALGO_DEFAULTS:
             raise ValueError(f"unknown algo_defaults {self.algo_defaults!r}; allowed: {list(ALGO_DEFAULTS)}")
-        check_model_version(self.env_version, "env_version")
-        if "version" in self.env_kwargs:
-            raise ValueError("env_kwargs cannot hold 'version': the model's version is the spec's env_version")
         if self.n_envs is None:
             object.__setattr__(self, "n_envs", self.default_n_envs())
         check_int("n_envs", self.n_envs, 1)
@@ -173,7 +192,11 @@ class RunSpec:
             if not isinstance(value, Mapping):
                 raise ValueError(f"{name} must be a mapping, got {type(value).__name__}")
             object.__setattr__(self, name, dict(value))
-        object.__setattr__(self, "env_kwargs", _resolved_env_kwargs(self.env_kwargs))
+        object.__setattr__(self, "env_kwargs", _resolved_env_kwargs(self.env_kwargs, self.task_version))
+        if self.warm_start == DEFAULT_WARM_START:
+            object.__setattr__(self, "warm_start", self.default_warm_start())
+        if self.warm_start is not None and self.algo != "ppo":
+            raise ValueError(f"warm_start applies to ppo only, got algo {self.algo!r}")
         _check_finite("algo_kwargs", self.algo_kwargs)
         for key in SCHEDULE_KEYS:
             if isinstance(self.algo_kwargs.get(key), str):
@@ -188,6 +211,22 @@ class RunSpec:
         """The training envs when ``n_envs`` is not given: ``PPO_N_ENVS`` (32) for PPO under
         ``algo_defaults`` 3, ``N_ENVS`` (4) otherwise (RecurrentPPO and SAC, and earlier defaults)."""
         return PPO_N_ENVS if self.algo == "ppo" and self.algo_defaults >= 3 else N_ENVS
+
+    def default_warm_start(self) -> str | None:
+        """The teacher PPO clones when ``warm_start`` is not given: ``"privileged"`` (the
+        clearance avoider steering for the target's true bearing) wherever it can read the
+        observation, so that every variant starts from one behaviour, cloned from its own
+        observation (docs/results/safe_rescue.md); None for the other algorithms, for
+        stacked or masked readings, for ``goal-action``'s larger action, for a focus layout
+        without the ``proximity`` entry, and for a budget under ``WARM_START_MIN_STEPS``,
+        which the demonstrations would take too much of."""
+        if self.algo != "ppo" or self.variant not in _PRIVILEGED_READABLE or self.total_steps < WARM_START_MIN_STEPS:
+            return None
+        if self.variant in FOCUS_LAYOUT:
+            proximity = self.env_kwargs.get("proximity")
+            if not (task_proximity(self.task_version) if proximity is None else proximity):
+                return None
+        return "privileged"
 
     def default_algo_kwargs(self) -> dict[str, Any]:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.
@@ -261,12 +300,23 @@ class RunSpec:
         """Build from ``to_dict``'s output; unknown keys raise ``ValueError``. A spec without
         ``obs_scaling`` was written before observations were scaled: it reads as ``"none"``;
         one without ``algo_defaults`` before the learning rate decayed by default: it reads as 1;
-        one without ``env_version`` before the model's defaults had versions: it reads as 0."""
+        one without ``env_version`` before the model's defaults had versions, or without
+        ``task_version`` before the task had versions: it reads as 0; one without
+        ``warm_start`` before warm starts existed: it reads as None."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(data) - names)
         if unknown:
             raise ValueError(f"unknown RunSpec field(s) {unknown}; allowed: {sorted(names)}")
-        return cls(**{"obs_scaling": "none", "algo_defaults": 1, "env_version": 0, **data})
+        return cls(
+            **{
+                "obs_scaling": "none",
+                "algo_defaults": 1,
+                "env_version": 0,
+                "task_version": 0,
+                "warm_start": None,
+                **data,
+            }
+        )
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)
@@ -274,6 +324,14 @@ class RunSpec:
     def replace(self, **changes: Any) -> RunSpec:
         """A copy with ``changes`` applied (validated again)."""
         return dataclasses.replace(self, **changes)
+
+    def for_variant(self, variant: str, **changes: Any) -> RunSpec:
+        """A copy for ``variant`` (with ``changes``): a comparison's run of each variant. Where
+        this spec's warm start is its variant's default, the copy takes its own variant's
+        default (``default_warm_start``: the privileged teacher for raw, none for
+        ``raw-stack``), so that one command trains every variant with the start it can have."""
+        warm_start = DEFAULT_WARM_START if self.warm_start == self.default_warm_start() else self.warm_start
+        return self.replace(variant=variant, warm_start=warm_start, **changes)
 
     def same_settings(self, other: RunSpec) -> bool:
         """Whether ``other`` has the same ``settings``."""
@@ -311,12 +369,15 @@ def default_eval_episodes(total_steps: int) -> int:
     return max(1, min(RunSpec.eval_episodes, total_steps // STEPS_PER_EVAL_EPISODE))
 
 
-def _resolved_env_kwargs(env_kwargs: dict[str, Any]) -> dict[str, Any]:
+def _resolved_env_kwargs(env_kwargs: dict[str, Any], task_version: int) -> dict[str, Any]:
     """``env_kwargs`` with the env's settings objects (``reward``, ``robot``, ``sonar``,
     ``laser``; a dataclass or a mapping of some fields) as the mapping of every field
-    (``env_kwargs_as_mappings``): plain JSON, equal however the same settings were given;
+    (``env_kwargs_as_mappings``; a ``reward`` mapping's missing fields are those of task
+    ``task_version``'s reward): plain JSON, equal however the same settings were given;
     ``ValueError`` for a field or value their dataclass refuses."""
     try:
+        if "reward" in env_kwargs:
+            env_kwargs = {**env_kwargs, "reward": config_as_mapping(task_reward(task_version, env_kwargs["reward"]))}
         return env_kwargs_as_mappings(env_kwargs)
     except TypeError as err:
         raise ValueError(f"env_kwargs: {err}") from None

@@ -39,7 +39,7 @@ from typing import Any
 from attentive_gym.agents.config import SB3_LEARNING_RATE, RunSpec, canonical_rate
 from attentive_gym.agents.plots import curve_stats, split_label
 from attentive_gym.agents.results import EVAL_COLUMNS, summarise
-from attentive_gym.registration import VERSION_0_IDS
+from attentive_gym.registration import MODEL_VARIANTS
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [
@@ -52,7 +52,9 @@ __all__ = [
     "algo_tag",
     "default_tag",
     "HEADLINE_MODEL_VERSION",
+    "HEADLINE_STEPS",
     "UNNOTED_MODEL_VERSION",
+    "UNNOTED_TASK_VERSION",
     "row_tag",
     "without_model_note",
     "tagged_rate",
@@ -84,6 +86,11 @@ EARLIER_ROLLOUT = (4, 256, 256, 5)
 UNNOTED_MODEL_VERSION = 0
 #: The model version of the headline's attended variants (raw and the oracle run no model).
 HEADLINE_MODEL_VERSION = 1
+#: The budget (env steps) of the headline's runs, whose default settings ``default_tag`` names.
+HEADLINE_STEPS = 1_000_000
+#: The task version (``RunSpec.task_version``) whose rows carry no task note in their tag:
+#: every row trained before version 1 existed was trained on it.
+UNNOTED_TASK_VERSION = 0
 _MODEL_NOTE = re.compile(r", model v\d+")
 
 
@@ -92,7 +99,7 @@ def row_tag(tag: str, variant: str) -> str:
     ``", model v<N>"`` note when the variant runs no attention model (``raw``, ``raw-stack``,
     ``oracle``: their observations are the same under every model version), so that their
     rows of one training setting share one tag whatever the model."""
-    return tag if variant in VERSION_0_IDS else _MODEL_NOTE.sub("", tag)
+    return tag if variant in MODEL_VARIANTS else _MODEL_NOTE.sub("", tag)
 
 
 def algo_tag(run: Mapping[str, Any], variant: str | None = None) -> str:
@@ -102,10 +109,12 @@ def algo_tag(run: Mapping[str, Any], variant: str | None = None) -> str:
     or another number given in ``algo_kwargs``), and for PPO and RecurrentPPO by the rollout
     (``", 32 envs × 64 steps, batch 512"``, with ``", N epochs"`` when not 5) unless it is
     ``EARLIER_ROLLOUT``, by ``", warm start <teacher>"`` for a warm-started run, and by
+    ``", task v<N>"`` for a task version other than ``UNNOTED_TASK_VERSION`` and by
     ``", model v<N>"`` for a model version other than ``UNNOTED_MODEL_VERSION``, so that runs
-    at different rates, rollouts, starts or models never share a tag. Given a ``variant``,
-    the tag of its rows (``row_tag``)."""
-    spec = RunSpec.from_dict(run)
+    at different rates, rollouts, starts, tasks or models never share a tag. Given a ``variant``,
+    the tag of its rows (``row_tag``), with its own warm start where ``run`` leaves it to each
+    variant's default (``compare.json``)."""
+    spec = RunSpec.from_dict(run if variant is None else {**run, "variant": variant})
     parts = [spec.algo]
     if spec.learning_rate() != SB3_LEARNING_RATE:
         parts.append(f"lr {spec.hyper_parameters()['learning_rate']}")
@@ -117,6 +126,8 @@ def algo_tag(run: Mapping[str, Any], variant: str | None = None) -> str:
             parts += [f"{rollout[3]} epochs"] if rollout[3] != EARLIER_ROLLOUT[3] else []
     if spec.warm_start is not None:
         parts.append(f"warm start {spec.warm_start}")
+    if spec.task_version != UNNOTED_TASK_VERSION:
+        parts.append(f"task v{spec.task_version}")
     if spec.env_version != UNNOTED_MODEL_VERSION:
         parts.append(f"model v{spec.env_version}")
     tag = ", ".join(parts)
@@ -124,10 +135,13 @@ def algo_tag(run: Mapping[str, Any], variant: str | None = None) -> str:
 
 
 def default_tag(variant: str | None = None) -> str:
-    """``algo_tag`` of today's default training setting on the model version of the headline
-    (``HEADLINE_MODEL_VERSION``): the tag of the rows a ``RunSpec(env_version=
-    HEADLINE_MODEL_VERSION)`` with no other field given would give (``variant``'s rows)."""
-    return algo_tag(RunSpec(env_version=HEADLINE_MODEL_VERSION).to_dict(), variant)
+    """``algo_tag`` of today's default training setting for a run of ``HEADLINE_STEPS`` (the
+    latest task, and the privileged warm start where the variant can have it) on the model
+    version of the headline (``HEADLINE_MODEL_VERSION``): the tag of the rows a
+    ``RunSpec(variant=variant, total_steps=HEADLINE_STEPS, env_version=HEADLINE_MODEL_VERSION)``
+    with no other field given would give (``variant``'s rows; None: ``focus``'s setting)."""
+    spec = RunSpec(variant=variant or "focus", total_steps=HEADLINE_STEPS, env_version=HEADLINE_MODEL_VERSION)
+    return algo_tag(spec.to_dict(), variant)
 
 
 def without_model_note(setting: str) -> str:
@@ -297,19 +311,16 @@ def learning_curve_figures(rows: Sequence[Mapping[str, Any]]) -> list[tuple[str,
     """One learning-curve figure per training setting of the ``labelled`` ``rows``, so that no
     figure mixes more curves than a reader can tell apart: ``(file name, setting, rows)``.
     The first, in ``rl_learning_curves.png``, holds today's default setting (each variant's
-    ``default_tag(variant)``: the attended ones on ``HEADLINE_MODEL_VERSION``), their labels
-    without the model note so that they share one line style; then one per ``algo`` tag, in
+    ``default_tag(variant)``: the attended ones on ``HEADLINE_MODEL_VERSION``), labelled by
+    their variant alone (the page says what today's defaults are); then one per ``algo`` tag, in
     ``rl_learning_curves_<tag>.png``, but for a tag whose rows are all in the first. The first
     tag present takes the plain name when the default's rows are absent."""
 
     def in_headline(row: Mapping[str, Any]) -> bool:
         return row["algo"] == default_tag(split_label(row["variant"])[0])
 
-    headline = []
-    for row in filter(in_headline, rows):
-        variant, setting = split_label(row["variant"])
-        headline.append({**row, "variant": variant + without_model_note(setting)})
-    figures = [("rl_learning_curves.png", f"{default_tag()} (today's defaults)", headline)] if headline else []
+    headline = [{**row, "variant": split_label(row["variant"])[0]} for row in filter(in_headline, rows)]
+    figures = [("rl_learning_curves.png", "today's defaults", headline)] if headline else []
     for tag in dict.fromkeys(row["algo"] for row in rows):
         tagged = [row for row in rows if row["algo"] == tag]
         if all(in_headline(row) for row in tagged):

@@ -83,7 +83,9 @@ _SET_BY_TRAIN = ("self", "policy", "env", "seed", "device", "verbose", "tensorbo
 
 def env_factory(spec: RunSpec, **overrides: Any) -> Callable[..., gym.Env]:
     """A picklable zero-argument builder of one environment of ``spec`` (Dict observation)."""
-    return functools.partial(make_env, spec.variant, version=spec.env_version, **{**spec.env_kwargs, **overrides})
+    return functools.partial(
+        make_env, spec.variant, version=spec.env_version, task=spec.task_version, **{**spec.env_kwargs, **overrides}
+    )
 
 
 def eval_seed(spec: RunSpec) -> int:

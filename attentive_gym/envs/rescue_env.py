@@ -179,6 +179,11 @@ class AttentiveRescueEnv(gym.Env):
     **Version History** (the registered ids' version; any change of a default that can
     change learning results bumps it, as Gymnasium does, and adds a line here):
 
+    - The safe task (2026-12-07): ``AttentiveRescue-v1``, ``AttentiveRescueStack-v1``,
+      ``AttentiveRescueOracle-v1`` and v2 of the five attended ids build version 1 of the task
+      (``envs.tasks``): the episode ends after 1 s of contact, a clearance under 0.3 m costs
+      up to 4 per second, and the focus layout carries ``proximity``. This class's own
+      ``reward`` default stays ``RewardConfig()``; the ids and ``make_env`` pass the task's.
     - v1 of the five attended ids (2026-12-06): the attentional model's motion stages on
       (free-space evidence, the tracker's start and edge rules, the simulator's dead
       reckoning; ``attention.MODEL_VERSIONS``). This environment and the raw, raw-stack and

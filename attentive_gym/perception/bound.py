@@ -49,6 +49,7 @@ from attentive_gym.attention.compiled.step_kernels import select, sense, sonar_g
 from attentive_gym.attention.model import _N_CHANNELS, _output
 from attentive_gym.attention.tracking.track_regions import track_channels
 from attentive_gym.perception.motion import VIEW_BEAMS
+from attentive_gym.perception.settings import PERCEPTION_TASK
 from attentive_gym.wrappers import make_env
 
 __all__ = [
@@ -371,4 +372,4 @@ def make_bound_env(
     """
     fields = {key: value for key, value in attention_fields.items() if key != "kinematics"}
     config = AttentionConfig(kinematics="tracker", range_noise_rel=range_noise_rel, **fields)
-    return PerfectPerceptionWrapper(make_env("raw", **env_kwargs), config)
+    return PerfectPerceptionWrapper(make_env("raw", task=PERCEPTION_TASK, **env_kwargs), config)

@@ -15,7 +15,12 @@ from typing import Any
 
 from attentive_gym.wrappers import make_env
 
-__all__ = ["VARIANT", "PERCEPTION_ARENA", "CONTROL_ARENA", "make_attentive_env"]
+__all__ = ["PERCEPTION_TASK", "VARIANT", "PERCEPTION_ARENA", "CONTROL_ARENA", "make_attentive_env"]
+
+#: The task version of every perception measurement (``envs.tasks``): the first one, whose
+#: episodes end only at the target or the time limit, so that a contact never cuts a measured
+#: course short. The readings, and with them the model's output, are the same in every task.
+PERCEPTION_TASK = 0
 
 #: The attended variant measured. The model and ``info["attention"]`` are the same in every
 #: attended variant; "saliency" also passes the raw laser on, which ``Wander`` needs.
@@ -46,4 +51,4 @@ def make_attentive_env(
         ValueError: for a field of ``attention_fields`` that ``AttentionConfig`` refuses.
     """
     fields = {"kinematics": mode, "range_noise_rel": range_noise_rel, **attention_fields}
-    return make_env(variant, attention=fields, **env_kwargs)
+    return make_env(variant, attention=fields, task=PERCEPTION_TASK, **env_kwargs)

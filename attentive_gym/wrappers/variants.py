@@ -2,17 +2,19 @@
 
 | variant | id | observation |
 |---|---|---|
-| ``"raw"`` | ``AttentiveRescue-v0`` | sonar, laser, odometry, goal |
-| ``"raw-stack"`` | ``AttentiveRescueStack-v0`` | the same, sensors stacked over 4 steps |
-| ``"focus"`` | ``AttentiveRescueFocus-v1`` | the attended region and a memory of 3 attended bodies (64 numbers) |
-| ``"saliency"`` | ``AttentiveRescueSaliency-v1`` | raw readings + maps L and M |
-| ``"masked"`` | ``AttentiveRescueMasked-v1`` | raw readings outside the focus masked + masks |
-| ``"goal-action"`` | ``AttentiveRescueGoalAction-v1`` | ``"focus"``, the action also picks goal and weights |
-| ``"oracle"`` | ``AttentiveRescueOracle-v0`` | ``"focus"``'s layout filled from the privileged state |
-| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v1`` | ``"focus"`` of a random region each step (a control) |
+| ``"raw"`` | ``AttentiveRescue-v1`` | sonar, laser, odometry, goal |
+| ``"raw-stack"`` | ``AttentiveRescueStack-v1`` | the same, sensors stacked over 4 steps |
+| ``"focus"`` | ``AttentiveRescueFocus-v2`` | the attended region, 3 remembered bodies, each region's nearest reading |
+| ``"saliency"`` | ``AttentiveRescueSaliency-v2`` | raw readings + maps L and M |
+| ``"masked"`` | ``AttentiveRescueMasked-v2`` | raw readings outside the focus masked + masks |
+| ``"goal-action"`` | ``AttentiveRescueGoalAction-v2`` | ``"focus"``, the action also picks goal and weights |
+| ``"oracle"`` | ``AttentiveRescueOracle-v1`` | ``"focus"``'s layout filled from the privileged state |
+| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v2`` | ``"focus"`` of a random region each step (a control) |
 
-The attended ids (``-v1``) use the model's current defaults; their ``-v0`` ids
-(``registration.VERSION_0_IDS``) the first ones (``attention.MODEL_VERSIONS``).
+These ids build the current task (``envs.tasks.TASK_VERSIONS``: safe rescue) and the model's
+current defaults (``attention.MODEL_VERSIONS``); the earlier ids
+(``registration.EARLIER_IDS``) keep the earlier versions, so that their results and policies
+reproduce.
 
 ``flatten=True`` turns the ``Dict`` observation into one ``Box`` (for ``MlpPolicy``);
 keep it False for ``MultiInputPolicy``.
@@ -28,13 +30,14 @@ import gymnasium as gym
 
 from attentive_gym.attention import MODEL_VERSIONS, AttentionConfig, check_model_version
 from attentive_gym.envs.rescue_env import AttentiveRescueEnv
+from attentive_gym.envs.tasks import TASK_VERSIONS, check_task_version, task_proximity, task_reward
 from attentive_gym.registration import VARIANT_IDS
 from attentive_gym.wrappers.attention import AttentionWrapper, default_config
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, GoalActionWrapper
 from attentive_gym.wrappers.oracle import OracleFocus
 from attentive_gym.wrappers.stack import StackedReadings
 
-__all__ = ["VARIANTS", "VARIANT_IDS", "make_env"]
+__all__ = ["FOCUS_LAYOUT", "VARIANTS", "VARIANT_IDS", "make_env"]
 
 VARIANTS = tuple(VARIANT_IDS)
 _ATTENTION_MODES = {
@@ -44,7 +47,8 @@ _ATTENTION_MODES = {
     "goal-action": "focus",
     "random-focus": "focus",
 }
-_FOCUS_LAYOUT = ("focus", "goal-action", "random-focus", "oracle")
+#: The variants whose observation has the focus layout (attended region, memory, optional proximity).
+FOCUS_LAYOUT = ("focus", "goal-action", "random-focus", "oracle")
 
 
 def make_env(
@@ -56,8 +60,9 @@ def make_env(
     n_frames: int = 4,
     goal_menu=DEFAULT_GOAL_MENU,
     memory_slots: int | None = None,
-    proximity: bool = False,
+    proximity: bool | None = None,
     version: int = MODEL_VERSIONS[-1],
+    task: int = TASK_VERSIONS[-1],
     **env_kwargs: Any,
 ) -> gym.Env:
     """Build the rescue environment with the observation of ``variant``.
@@ -77,11 +82,15 @@ def make_env(
             0 = no ``"memory"`` entry).
         proximity: add the ``"proximity"`` entry (every region's nearest reading, 8
             numbers) to the variants with the focus layout: a sense of what is near, for
-            avoiding what the focus does not attend (default False).
+            avoiding what the focus does not attend (None: the task's default,
+            ``envs.tasks.task_proximity``; True from task version 1).
         version: the version of the model's defaults (``attention.MODEL_VERSIONS``; the
-            latest by default): the attended ids' ``-v0`` build version 0, ``-v1`` version 1.
+            latest by default).
+        task: the version of the task (``envs.tasks.TASK_VERSIONS``; the latest by
+            default): the defaults of ``reward`` and ``proximity``.
         env_kwargs: keyword arguments of ``AttentiveRescueEnv`` (``scenario``,
-            ``sensor_noise``, ``dt``, ``render_mode``, the arena's knobs, ...).
+            ``sensor_noise``, ``dt``, ``render_mode``, the arena's knobs, ...); a ``reward``
+            mapping sets its fields over the task's reward (``envs.tasks.task_reward``).
 
     Returns:
         The wrapped environment (no ``TimeLimit``: the environment truncates itself).
@@ -93,15 +102,18 @@ def make_env(
             f"variant {variant!r} has no attention; 'attention' and 'weights' apply to {list(_ATTENTION_MODES)}"
         )
     check_model_version(version)
+    check_task_version(task)
     if isinstance(attention, Mapping):
         AttentionConfig.from_dict(attention)  # names and values checked before anything is built
     elif attention is not None and not isinstance(attention, AttentionConfig):
         raise ValueError(f"attention must be an AttentionConfig or a mapping of its fields, got {attention!r}")
-    if memory_slots is not None and variant not in _FOCUS_LAYOUT:
-        raise ValueError(f"memory_slots applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
-    if proximity and variant not in _FOCUS_LAYOUT:
-        raise ValueError(f"proximity applies to the variants {list(_FOCUS_LAYOUT)}, not {variant!r}")
-    env: gym.Env = AttentiveRescueEnv(**env_kwargs)
+    if memory_slots is not None and variant not in FOCUS_LAYOUT:
+        raise ValueError(f"memory_slots applies to the variants {list(FOCUS_LAYOUT)}, not {variant!r}")
+    if proximity and variant not in FOCUS_LAYOUT:
+        raise ValueError(f"proximity applies to the variants {list(FOCUS_LAYOUT)}, not {variant!r}")
+    if proximity is None:
+        proximity = variant in FOCUS_LAYOUT and task_proximity(task)
+    env: gym.Env = AttentiveRescueEnv(**{**env_kwargs, "reward": task_reward(task, env_kwargs.get("reward"))})
     if isinstance(attention, Mapping):
         attention = dataclasses.replace(default_config(env, version), **attention)
     if variant == "raw-stack":
@@ -120,7 +132,7 @@ def make_env(
             config=attention,
             weights=weights,
             version=version,
-            **(focus if variant in _FOCUS_LAYOUT else {}),
+            **(focus if variant in FOCUS_LAYOUT else {}),
         )
         if variant == "goal-action":
             env = GoalActionWrapper(env, goal_menu)

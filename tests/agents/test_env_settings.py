@@ -11,14 +11,26 @@ from attentive_gym.envs import RewardConfig
 from attentive_gym.envs.config_mappings import config_as_mapping
 from attentive_gym.sensors import LaserConfig, SonarConfig
 
-REWARD_10 = config_as_mapping(RewardConfig(collision_per_s=10.0))
+#: Task 1's reward (the default task) with contact costing 10 per second.
+REWARD_10 = config_as_mapping(RewardConfig(collision_per_s=10.0, contact_limit_s=1.0, near_per_s=4.0))
 
 
 def test_a_spec_stores_every_field_however_the_settings_were_given():
     partial = RunSpec(env_kwargs={"reward": {"collision_per_s": 10}, "time_limit_s": 2.0})
     assert partial.env_kwargs == {"reward": REWARD_10, "time_limit_s": 2.0}
-    assert RunSpec(env_kwargs={"reward": RewardConfig(collision_per_s=10), "time_limit_s": 2.0}).same_settings(partial)
+    whole = RewardConfig(collision_per_s=10, contact_limit_s=1.0, near_per_s=4.0)
+    assert RunSpec(env_kwargs={"reward": whole, "time_limit_s": 2.0}).same_settings(partial)
     assert RunSpec(env_kwargs={"reward": REWARD_10, "time_limit_s": 2.0}) == partial
+
+
+def test_a_reward_mapping_fills_its_missing_fields_from_the_specs_task():
+    fields = {"reward": {"collision_per_s": 10}}
+    assert RunSpec(env_kwargs=fields, task_version=0).env_kwargs["reward"] == config_as_mapping(
+        RewardConfig(collision_per_s=10.0)
+    )
+    assert RunSpec(env_kwargs=fields, task_version=1).env_kwargs["reward"] == REWARD_10
+    spec = RunSpec(variant="raw", env_kwargs={"reward": {"contact_limit_s": None}})
+    assert env_factory(spec)().unwrapped.reward_config == RewardConfig(near_per_s=4.0)
 
 
 def test_a_spec_round_trips_through_json_and_rebuilds_the_same_env_settings():
@@ -61,5 +73,7 @@ def test_train_takes_a_reward_mapping_records_it_and_the_run_reads_back_with_it(
     assert main([*argv, "--env-kwargs", json.dumps(env_kwargs)]) == 0
     assert json.loads((out / "spec.json").read_text())["env_kwargs"] == {**tiny.env_kwargs, "reward": REWARD_10}
     _, spec = find_spec(out / "final_model.zip")  # what evaluate reads
-    assert env_factory(spec)().unwrapped.reward_config == RewardConfig(collision_per_s=10.0)
+    assert env_factory(spec)().unwrapped.reward_config == RewardConfig(
+        collision_per_s=10.0, contact_limit_s=1.0, near_per_s=4.0
+    )
     assert main([*argv, "--env-kwargs", json.dumps({**tiny.env_kwargs, "reward": REWARD_10})]) == 0  # the same run

@@ -9,7 +9,7 @@ from attentive_gym.agents.evaluation import evaluate_policy
 from attentive_gym.agents.pretrained import PRETRAINED, pretrained_record, pretrained_run
 from attentive_gym.agents.training import env_factory, load_policy
 from attentive_gym.cli import main
-from attentive_gym.registration import VARIANT_IDS
+from attentive_gym.registration import ID_VERSIONS, VARIANT_IDS
 
 
 @pytest.mark.parametrize("variant", PRETRAINED)
@@ -21,7 +21,7 @@ def test_each_shipped_policy_still_reaches_its_recorded_success(variant):
     record = pretrained_record(variant)
     assert record["env_id"] == VARIANT_IDS[variant]
     policy, spec = load_policy(run)
-    assert spec.variant == variant
+    assert spec.variant == variant and spec.task_version == ID_VERSIONS[record["env_id"]][1]
     result = evaluate_policy(policy, env_factory(spec), record["episodes"], record["first_seed"])
     low, high = record["success_ci"]
     assert low <= result.success_rate <= high, (result.success_rate, record)

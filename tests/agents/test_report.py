@@ -39,7 +39,14 @@ RESULTS = Path(__file__).resolve().parents[2] / "docs" / "results"
 #: version) and raw's or the oracle's (which run no model, so carry no model note).
 TODAY, TODAY_UNNOTED = default_tag("focus"), default_tag("raw")
 #: ``compare.json``'s run settings of a comparison trained with today's defaults.
-TODAY_RUN = {"algo": "ppo", "algo_defaults": 3, "env_version": 1}
+TODAY_RUN = {
+    "algo": "ppo",
+    "algo_defaults": 3,
+    "env_version": 1,
+    "task_version": 1,
+    "warm_start": "default",
+    "total_steps": 1_000_000,
+}
 
 
 def _today(rows, **fields):
@@ -267,10 +274,12 @@ def test_the_rl_page_sets_todays_rollout_beside_the_earlier_one_where_both_were_
     earlier = [{"algo": "ppo, lr lin_3e-4", "obs_scaling": "running", **row} for row in _rows(levels)]
     heading = "## Today's PPO rollout against the earlier one"
     assert heading not in render_block(today, [], tmp_path, write_figures=False)
-    # the earlier rollout was run on model version 0 only: today's is set beside it on the same version
+    # the earlier rollout was run on the first task and model version 0 only, without a warm start:
+    # today's rollout is set beside it in that setting
     assert heading not in render_block(today + earlier, [], tmp_path, write_figures=False)
-    today_on_v0 = [{**row, "algo": TODAY_UNNOTED} for row in today if row["variant"] == "focus"]
-    page = render_block(today + earlier + today_on_v0, [], tmp_path, tmp_path)
+    rollout_today = "ppo, lr lin_3e-4, 32 envs × 64 steps, batch 512"
+    today_first = [{**row, "algo": rollout_today} for row in today]
+    page = render_block(today + earlier + today_first, [], tmp_path, tmp_path)
     assert heading in page and "](rl_rollouts.png)" in page and (tmp_path / "rl_rollouts.png").is_file()
 
 
@@ -397,11 +406,15 @@ def test_rows_of_another_rollout_are_tagged_with_it_and_earlier_tags_stand():
     from attentive_gym.agents.merged import algo_tag, default_tag
 
     today = "ppo, lr lin_3e-4, 32 envs × 64 steps, batch 512"
-    assert default_tag("raw") == today and algo_tag({"algo": "ppo", "algo_defaults": 3}) == today
-    # the model's version is noted from version 1 on, on the variants that run the model only
-    assert default_tag() == default_tag("focus") == f"{today}, model v1"
-    assert algo_tag(TODAY_RUN, "random-focus") == f"{today}, model v1"
-    assert algo_tag(TODAY_RUN, "oracle") == algo_tag(TODAY_RUN, "raw-stack") == today
+    assert algo_tag({"algo": "ppo", "algo_defaults": 3}) == today
+    # the warm start, the task from version 1 and the model from version 1 are noted, the model
+    # on the variants that run it only; each variant of a comparison has its own default start
+    assert default_tag("raw") == f"{today}, warm start privileged, task v1"
+    assert default_tag() == default_tag("focus") == f"{today}, warm start privileged, task v1, model v1"
+    assert algo_tag(TODAY_RUN, "random-focus") == f"{today}, warm start privileged, task v1, model v1"
+    assert algo_tag(TODAY_RUN, "oracle") == f"{today}, warm start privileged, task v1"
+    assert algo_tag(TODAY_RUN, "raw-stack") == f"{today}, task v1"  # no teacher reads stacked readings
+    assert algo_tag(TODAY_RUN, "goal-action") == f"{today}, task v1, model v1"
     by_flags = {"algo": "ppo", "algo_defaults": 2, "n_envs": 32, "algo_kwargs": {"n_steps": 64, "batch_size": 512}}
     assert algo_tag(by_flags) == today
     assert algo_tag({"algo": "ppo", "algo_defaults": 2, "n_envs": 4}) == "ppo, lr lin_3e-4"
@@ -593,8 +606,8 @@ def test_each_training_setting_gets_a_learning_curve_figure_of_its_own_defaults_
     block = render_block(comparison, [], tmp_path, tmp_path)
     assert set(drawn) == {"rl_learning_curves.png", "rl_learning_curves_recurrent-ppo.png"}
     variants, title = drawn["rl_learning_curves.png"]  # RunSpec's default setting takes the plain name
-    assert variants == {f"raw ({TODAY_UNNOTED})", f"focus ({TODAY_UNNOTED})"}  # one setting: one line style
-    assert f"{TODAY} (today's defaults)" in title
+    assert variants == {"raw", "focus"}  # one setting, named by the page: one line style
+    assert title.startswith("today's defaults")
     assert drawn["rl_learning_curves_recurrent-ppo.png"][0] == {"raw (recurrent-ppo)", "focus (recurrent-ppo)"}
     assert block.index("rl_learning_curves.png") < block.index("rl_learning_curves_recurrent-ppo.png")
     assert "| focus (unscaled) |" in block

@@ -1,13 +1,15 @@
 """Warm starts: the teacher's demonstrations are cloned into the policy, counted in the
 budget, deterministic, and refused where the teacher cannot act."""
 
+import argparse
 import json
 
 import numpy as np
 import pytest
 
 from attentive_gym.agents import warm_start
-from attentive_gym.agents.config import RunSpec
+from attentive_gym.agents.cli import _spec_from_args, add_train
+from attentive_gym.agents.config import WARM_START_MIN_STEPS, RunSpec
 from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION, algo_tag
 from attentive_gym.agents.results import read_csv
 from attentive_gym.agents.training import _algo_class, _make_vec_env, _policy_name, train, validate_spec
@@ -87,7 +89,7 @@ def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
     with pytest.raises(ValueError, match=r"needs the observation entries \['memory', 'proximity'\]"):
         validate_spec(tiny(variant="raw", warm_start="clearance"))
     with pytest.raises(ValueError, match="proximity"):
-        validate_spec(tiny(variant="oracle", warm_start="clearance"))  # no proximity entry
+        validate_spec(tiny(variant="oracle", env_kwargs={"proximity": False}, warm_start="clearance"))
     with pytest.raises(ValueError, match=r"needs the observation entries \['proximity'\] or \['sonar \(16,\)', 'laser"):
         validate_spec(tiny(variant="raw-stack", warm_start="privileged"))  # stacked readings
     with pytest.raises(ValueError, match="privileged"):
@@ -103,11 +105,43 @@ def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
 
 
 def test_warm_started_rows_carry_their_teacher_in_the_tag():
-    plain = RunSpec(variant="oracle", env_version=HEADLINE_MODEL_VERSION).to_dict()
-    assert (
-        algo_tag({**plain, "warm_start": "clearance"}, "oracle") == f"{algo_tag(plain, 'oracle')}, warm start clearance"
+    plain = RunSpec(variant="oracle", env_version=HEADLINE_MODEL_VERSION, warm_start=None).to_dict()
+    assert algo_tag({**plain, "warm_start": "clearance"}, "oracle") == algo_tag(plain, "oracle").replace(
+        ", task v1", ", warm start clearance, task v1"
     )
     assert RunSpec.from_dict({k: v for k, v in plain.items() if k != "warm_start"}).warm_start is None
+
+
+def test_ppo_warm_starts_from_the_privileged_teacher_by_default_where_it_can():
+    long = {"total_steps": WARM_START_MIN_STEPS}
+    for variant in ("raw", "saliency", "focus", "random-focus", "oracle"):
+        assert RunSpec(variant=variant, **long).warm_start == "privileged", variant
+    for variant in ("raw-stack", "masked", "goal-action"):
+        assert RunSpec(variant=variant, **long).warm_start is None, variant
+    assert RunSpec(variant="focus", env_kwargs={"proximity": False}, **long).warm_start is None
+    assert RunSpec(variant="focus", task_version=0, **long).warm_start is None  # no proximity entry there
+    assert RunSpec(variant="raw", total_steps=WARM_START_MIN_STEPS - 1).warm_start is None
+    assert RunSpec(variant="raw", algo="sac", **long).warm_start is None
+    assert RunSpec(variant="raw", warm_start=None, **long).warm_start is None
+    base = RunSpec(variant="raw", **long)
+    assert base.for_variant("raw-stack").warm_start is None and base.for_variant("focus").warm_start == "privileged"
+    chosen = RunSpec(variant="oracle", warm_start="clearance", **long)
+    assert chosen.for_variant("focus").warm_start == "clearance"
+
+
+def test_the_command_line_warm_starts_by_default_and_none_turns_it_off():
+    parser = argparse.ArgumentParser()
+    add_train(parser.add_subparsers())
+    parse = lambda *extra: parser.parse_args(["train", "--variant", "raw", "--steps", "300000", *extra])  # noqa: E731
+    assert _spec_from_args(parse(), "raw", 0).warm_start == "privileged"
+    assert _spec_from_args(parse("--warm-start", "none"), "raw", 0).warm_start is None
+    stored = RunSpec(variant="raw", total_steps=300_000, warm_start=None).to_dict()
+    assert _spec_from_args(parse(), "raw", 0, stored=stored).warm_start is None  # a trained folder keeps its own
+    assert _spec_from_args(parse("--task", "0"), "raw", 0).task_version == 0
+    assert (
+        _spec_from_args(parse(), "raw", 0, stored={k: v for k, v in stored.items() if k != "task_version"}).task_version
+        == 0
+    )
 
 
 def test_the_privileged_teacher_on_raw_readings_acts_as_the_avoider_on_the_oracles_observation():

@@ -16,7 +16,7 @@ def _run_until_focus(env, max_steps=200):
 
 @pytest.fixture
 def exp01_focus_env():
-    env = make_env("focus", scenario="exp01", sensor_noise=0.0)
+    env = make_env("focus", scenario="exp01", sensor_noise=0.0, proximity=False)
     env.reset(seed=0)
     yield env
     env.close()

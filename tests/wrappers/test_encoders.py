@@ -58,7 +58,7 @@ def test_focus_observation_carries_nothing_from_outside_the_focus(exp01_focus_en
 
 
 def test_focus_observation_without_focus_is_the_none_slot_only():
-    env = make_env("focus", scenario="exp01", sensor_noise=0.0, weights={"motion": 1.0})
+    env = make_env("focus", scenario="exp01", sensor_noise=0.0, weights={"motion": 1.0}, proximity=False)
     obs, info = env.reset(seed=0)
     assert info["attention"].focus is None  # nothing moves in the first reading
     assert obs["region"][-1] == 1.0 and obs["region"][:-1].sum() == 0.0
@@ -175,7 +175,7 @@ def _reference_focus_encode(encoder, raw, view, event, memory):
 
 
 def test_focus_encodings_of_a_view_and_of_a_region_equal_the_numpy_encoding_exactly():
-    env = make_env("focus", sensor_noise=0.05)
+    env = make_env("focus", sensor_noise=0.05, proximity=False)
     encoder = env._encoder
     rng = np.random.default_rng(3)
     obs, info = env.reset(seed=3)

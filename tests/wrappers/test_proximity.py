@@ -64,7 +64,7 @@ def test_the_oracle_senses_no_more_than_the_focus():
 
 
 def test_the_layout_without_proximity_is_unchanged():
-    with_it, without = make_env("focus", proximity=True), make_env("focus")
+    with_it, without = make_env("focus", proximity=True), make_env("focus", proximity=False)
     assert "proximity" not in without.observation_space.spaces
     assert set(with_it.observation_space.spaces) - set(without.observation_space.spaces) == {"proximity"}
     assert gym.spaces.flatdim(with_it.observation_space) == gym.spaces.flatdim(without.observation_space) + 8
