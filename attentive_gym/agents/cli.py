@@ -157,8 +157,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
         "entry (a focus-layout variant with its proximity entry); privileged: the same avoider steering for the "
         "target's true bearing, read from the world's truth during the demonstrations only; none: no warm start "
         "(default: privileged where it can read the observation, in a budget of at least "
-        f"{WARM_START_MIN_STEPS:,} steps: raw, saliency, and the focus layout with its proximity entry; none for the "
-        "others and for other algorithms; a trained folder keeps its own)",
+        f"{WARM_START_MIN_STEPS:,} steps: raw, saliency, and the focus layout with its proximity entry, goal-action "
+        "with the task's goal; none for the others and for other algorithms; a trained folder keeps its own)",
     )
     parser.add_argument(
         "--task",

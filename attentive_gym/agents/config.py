@@ -82,8 +82,9 @@ DEFAULT_WARM_START = "default"
 #: 64,000 env steps of it (``agents.warm_start.DEMO_STEPS``), a quarter of this.
 WARM_START_MIN_STEPS = 256_000
 #: The variants whose observation the privileged teacher can read as ``make_env`` builds it
-#: (raw and saliency: their sonar and laser; the focus layout: its ``proximity`` entry).
-_PRIVILEGED_READABLE = ("raw", "saliency", "focus", "random-focus", "oracle")
+#: (raw and saliency: their sonar and laser; the focus layout: its ``proximity`` entry; in
+#: ``goal-action`` it also sets the task's goal, ``agents.warm_start.goal_action_label``).
+_PRIVILEGED_READABLE = ("raw", "saliency", "focus", "goal-action", "random-focus", "oracle")
 
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 300 000 PPO steps, 10 eval episodes every 50 000 steps, in the main
@@ -216,10 +217,10 @@ class RunSpec:
         """The teacher PPO clones when ``warm_start`` is not given: ``"privileged"`` (the
         clearance avoider steering for the target's true bearing) wherever it can read the
         observation, so that every variant starts from one behaviour, cloned from its own
-        observation (docs/results/safe_rescue.md); None for the other algorithms, for
-        stacked or masked readings, for ``goal-action``'s larger action, for a focus layout
-        without the ``proximity`` entry, and for a budget under ``WARM_START_MIN_STEPS``,
-        which the demonstrations would take too much of."""
+        observation (docs/results/safe_rescue.md; in ``goal-action`` with the task's goal and
+        the default weights); None for the other algorithms, for stacked or masked readings,
+        for a focus layout without the ``proximity`` entry, and for a budget under
+        ``WARM_START_MIN_STEPS``, which the demonstrations would take too much of."""
         if self.algo != "ppo" or self.variant not in _PRIVILEGED_READABLE or self.total_steps < WARM_START_MIN_STEPS:
             return None
         if self.variant in FOCUS_LAYOUT:

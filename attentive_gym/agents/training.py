@@ -155,7 +155,8 @@ def _check_env_and_algo_values(spec: RunSpec) -> None:
         raise ValueError(f"env_kwargs: {err}") from None
     if spec.warm_start is not None:
         try:
-            check_warm_start(spec.warm_start, env.observation_space, env.action_space)
+            menu = len(env.get_wrapper_attr("goal_menu")) if spec.variant == "goal-action" else None
+            check_warm_start(spec.warm_start, env.observation_space, env.action_space, menu)
         except ValueError:
             env.close()
             raise

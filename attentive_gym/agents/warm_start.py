@@ -34,13 +34,14 @@ budget. Teachers (``WARM_STARTS``), each needing a (linear, angular) action:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
+from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.perception.controllers import clearance_controller, privileged_clearance_controller
 
 __all__ = [
@@ -70,8 +71,8 @@ _NEEDS = {
 _MASKS = ("sonar_mask", "laser_mask")
 #: Which variants can have each teacher, in its refusal.
 _FOR = {
-    "clearance": 'the focus, random-focus or oracle variant with env_kwargs {"proximity": true}',
-    "privileged": 'raw or saliency, or the focus, random-focus or oracle variant with env_kwargs {"proximity": true}',
+    "clearance": "the focus, random-focus or oracle variant with its proximity entry",
+    "privileged": "raw or saliency, or the focus, goal-action, random-focus or oracle variant with its proximity entry",
 }
 #: Env steps of demonstrations (over all training envs), counted in the run's budget.
 DEMO_STEPS = 64_000
@@ -96,8 +97,12 @@ class Demonstrations:
     returns: np.ndarray
 
 
-def check_warm_start(name: str, observation_space: gym.Space, action_space: gym.Space) -> None:
-    """``ValueError`` unless teacher ``name`` is known and can act in these spaces."""
+def check_warm_start(
+    name: str, observation_space: gym.Space, action_space: gym.Space, goal_menu_size: int | None = None
+) -> None:
+    """``ValueError`` unless teacher ``name`` is known and can act in these spaces: a (linear,
+    angular) action, or ``goal-action``'s (``GoalActionWrapper``) with a menu of
+    ``goal_menu_size`` goals, whose goal and weights the teacher sets as ``goal_action_label``."""
     if name not in WARM_STARTS:
         raise ValueError(f"unknown warm_start {name!r}; allowed: None, {', '.join(map(repr, WARM_STARTS))}")
     spaces = dict(observation_space.spaces) if isinstance(observation_space, gym.spaces.Dict) else {}
@@ -106,7 +111,8 @@ def check_warm_start(name: str, observation_space: gym.Space, action_space: gym.
         all(entry in spaces and shape in (None, spaces[entry].shape) for entry, shape in needed.items())
         for needed in _NEEDS[name]
     )
-    if not readable or getattr(action_space, "shape", None) != (2,):
+    shapes = [(2,)] + ([] if goal_menu_size is None else [(2 + goal_menu_size + len(MAP_NAMES),)])
+    if not readable or getattr(action_space, "shape", None) not in shapes:
         needs = " or ".join(
             str([entry if shape is None else f"{entry} {shape}" for entry, shape in needed.items()])
             for needed in _NEEDS[name]
@@ -117,11 +123,31 @@ def check_warm_start(name: str, observation_space: gym.Space, action_space: gym.
         )
 
 
+def goal_action_label(motion: np.ndarray, goal_text: str, goal_menu: Sequence[Any], max_weight: float) -> np.ndarray:
+    """The teacher's ``motion`` (linear, angular) in ``GoalActionWrapper``'s action layout
+    ``(2 + K + 6,)``: a score of +1 for the menu entry of the episode's task goal (``goal_text``,
+    ``info["goal"]``; the entry without a goal when the menu lacks it) and −1 for the other
+    ``K − 1``, and every map weight at 1, the model's default (each as its action value
+    ``2 / max_weight − 1``, clipped to [−1, 1]). So the attention demonstrated is the task's,
+    what ``focus`` attends, and PPO may move away from it."""
+    texts = [None if goal is None else str(goal) for goal in goal_menu]
+    index = texts.index(goal_text) if goal_text in texts else (texts.index(None) if None in texts else 0)
+    scores = np.full(len(texts), -1.0)
+    scores[index] = 1.0
+    weights = np.full(len(MAP_NAMES), np.clip(2.0 / max_weight - 1.0, -1.0, 1.0))
+    return np.concatenate([np.asarray(motion, float), scores, weights]).astype(np.float32)
+
+
 def collect_demonstrations(vec_env, name: str, steps: int, seed: int) -> Demonstrations:
     """Drive the SB3 ``VecEnv`` ``vec_env`` (raw ``Dict`` observations) by teacher ``name``
     plus noise for ``steps`` env steps (rounded up to whole steps of all its envs); the
-    noise is drawn from ``seed``."""
+    noise is drawn from ``seed``. In ``goal-action``'s envs the teacher also sets the goal
+    and the weights (``goal_action_label``)."""
     teacher = WARM_STARTS[name]
+    layout = _goal_action_layout(vec_env)
+    if layout is not None:
+        motion_teacher = teacher
+        teacher = lambda obs, info: goal_action_label(motion_teacher(obs, info), info["goal"], *layout)  # noqa: E731
     rng = np.random.default_rng(seed)
     n = vec_env.num_envs
     obs = vec_env.reset()
@@ -149,6 +175,14 @@ def collect_demonstrations(vec_env, name: str, steps: int, seed: int) -> Demonst
         np.concatenate(labels).astype(np.float32),
         returns.reshape(-1).astype(np.float32),
     )
+
+
+def _goal_action_layout(vec_env) -> tuple[tuple[Any, ...], float] | None:
+    """``(goal menu, max weight)`` of ``goal-action``'s envs in ``vec_env``; None for others."""
+    try:
+        return tuple(vec_env.get_attr("goal_menu", [0])[0]), float(vec_env.get_attr("max_weight", [0])[0])
+    except AttributeError:
+        return None
 
 
 def clone(model, demonstrations: Demonstrations, vec_normalize, seed: int) -> dict[str, float]:

@@ -414,7 +414,7 @@ def test_rows_of_another_rollout_are_tagged_with_it_and_earlier_tags_stand():
     assert algo_tag(TODAY_RUN, "random-focus") == f"{today}, warm start privileged, task v1, model v1"
     assert algo_tag(TODAY_RUN, "oracle") == f"{today}, warm start privileged, task v1"
     assert algo_tag(TODAY_RUN, "raw-stack") == f"{today}, task v1"  # no teacher reads stacked readings
-    assert algo_tag(TODAY_RUN, "goal-action") == f"{today}, task v1, model v1"
+    assert algo_tag(TODAY_RUN, "goal-action") == f"{today}, warm start privileged, task v1, model v1"
     by_flags = {"algo": "ppo", "algo_defaults": 2, "n_envs": 32, "algo_kwargs": {"n_steps": 64, "batch_size": 512}}
     assert algo_tag(by_flags) == today
     assert algo_tag({"algo": "ppo", "algo_defaults": 2, "n_envs": 4}) == "ppo, lr lin_3e-4"

@@ -16,6 +16,7 @@ from attentive_gym.agents.training import _algo_class, _make_vec_env, _policy_na
 from attentive_gym.cli import main
 from attentive_gym.perception.controllers import clearance_controller, privileged_clearance_controller
 from attentive_gym.wrappers import make_env
+from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU
 
 PROXIMITY = {"time_limit_s": 2.0, "proximity": True}
 
@@ -85,6 +86,28 @@ def test_a_warm_started_run_counts_the_demonstrations_and_is_deterministic(tmp_p
     assert json.loads((tmp_path / "a" / "spec.json").read_text())["warm_start"] == "clearance"
 
 
+def test_in_goal_action_the_teacher_also_sets_the_tasks_goal_and_the_default_weights(tiny):
+    """The label's motion is the privileged teacher's; its goal scores pick the episode's task
+    goal (+1, the rest −1); its weights stand for 1 each; a goal off the menu picks no goal."""
+    menu = DEFAULT_GOAL_MENU
+    label = warm_start.goal_action_label(np.array([0.5, -0.2]), str(menu[2]), menu, 2.0)
+    assert label.shape == (2 + len(menu) + 6,) and label.dtype == np.float32
+    np.testing.assert_allclose(label[:2], [0.5, -0.2], rtol=1e-6)
+    assert int(np.argmax(label[2 : 2 + len(menu)])) == 2 and sorted(label[2 : 2 + len(menu)])[:-1] == [-1.0] * 5
+    np.testing.assert_array_equal(label[2 + len(menu) :], 0.0)  # (0 + 1) / 2 · 2 = weight 1
+    assert int(np.argmax(warm_start.goal_action_label(np.zeros(2), "none", menu, 2.0)[2:8])) == menu.index(None)
+    spec = tiny(variant="goal-action", env_kwargs={"time_limit_s": 2.0}, warm_start="privileged")
+    vec = _make_vec_env(spec)
+    try:
+        demos = warm_start.collect_demonstrations(vec, "privileged", 64, seed=3)
+    finally:
+        vec.close()
+    assert demos.actions.shape == (64, 14) and "proximity" in demos.observations
+    for action, encoded in zip(demos.actions, demos.observations["goal"]):  # each label names its episode's goal
+        np.testing.assert_array_equal(menu[int(np.argmax(action[2:8]))].encode(), encoded)
+    assert float(np.abs(demos.actions[:, :2]).sum()) > 0.0
+
+
 def test_a_warm_start_is_refused_where_the_teacher_cannot_act(tmp_path, tiny):
     with pytest.raises(ValueError, match=r"needs the observation entries \['memory', 'proximity'\]"):
         validate_spec(tiny(variant="raw", warm_start="clearance"))
@@ -114,9 +137,9 @@ def test_warm_started_rows_carry_their_teacher_in_the_tag():
 
 def test_ppo_warm_starts_from_the_privileged_teacher_by_default_where_it_can():
     long = {"total_steps": WARM_START_MIN_STEPS}
-    for variant in ("raw", "saliency", "focus", "random-focus", "oracle"):
+    for variant in ("raw", "saliency", "focus", "goal-action", "random-focus", "oracle"):
         assert RunSpec(variant=variant, **long).warm_start == "privileged", variant
-    for variant in ("raw-stack", "masked", "goal-action"):
+    for variant in ("raw-stack", "masked"):
         assert RunSpec(variant=variant, **long).warm_start is None, variant
     assert RunSpec(variant="focus", env_kwargs={"proximity": False}, **long).warm_start is None
     assert RunSpec(variant="focus", task_version=0, **long).warm_start is None  # no proximity entry there
