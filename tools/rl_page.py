@@ -48,6 +48,7 @@ from attentive_gym.agents.plots import (
 )
 from attentive_gym.agents.results import EVAL_COLUMNS, SAFE_COLUMNS, read_csv, run_finals, summarise, summary_markdown
 from attentive_gym.agents.sweep import sweep_tables
+from attentive_gym.agents.warm_start import DEMO_STEPS
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from page_text import FIGURES, RESULTS, banner, interval, number, summary_interval, table
 
@@ -88,6 +89,9 @@ probability that a seed of the variant beats a seed of raw trained the same way.
 is success with at most {SAFE_CONTACT_S:g} s in contact in the episode, contact time the seconds
 in contact per episode.
 A run trained further than a table's budget counts there with its curve cut at the budget.
+A warm-started run's first evaluation follows the cloning of its teacher's demonstrations
+({DEMO_STEPS:,} env steps): its curve starts where the cloned behaviour is, and what PPO adds is the
+rise after it.
 `oracle` (the target's true state in the focus layout) bounds attention from above;
 `random-focus` (a region drawn at random, the same bottleneck) is its control.
 """

@@ -89,8 +89,9 @@ _PRIVILEGED_READABLE = ("raw", "saliency", "focus", "goal-action", "random-focus
 #: ``compare --quick``: the raw sensors, the attended focus and its privileged bound (the
 #: oracle) × 3 seeds × 300 000 PPO steps, 10 eval episodes every 50 000 steps, in the main
 #: comparison's smaller arena (8 m, 2 distractors, 3 rubble per 100 m²). With today's PPO
-#: rollout 150 000 steps were too few to tell raw from focus (0.53 each on 3 seeds); 300 000
-#: take about 5 minutes on 2 cores.
+#: rollout 150 000 steps were too few to tell raw from focus (0.53 each on 3 seeds); 300 000,
+#: the first 64 000 cloning the privileged teacher (the default warm start), take about 9
+#: minutes on 2 cores.
 QUICK: dict[str, Any] = {
     "variants": ("raw", "focus", "oracle"),
     "seeds": (0, 1, 2),
