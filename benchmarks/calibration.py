@@ -9,7 +9,11 @@ structure: speed 0):
 - ``point``: the track's point speed in the band (what F4's table reads today), 0 or 1;
 - ``covariance``: P(|v| in band) for v ~ N(the track's velocity, its velocity covariance),
   by Monte Carlo (``DRAWS`` draws, a fixed seed);
-- ``mixed``: the track's ``moving_probability`` × ``covariance``: a static body has no speed.
+- ``mixed``: the track's ``moving_probability`` × ``covariance``: a static body has no speed;
+- ``closed``: ``mixed`` with a closed form in place of the Monte Carlo: the speed taken as
+  normal along the velocity, mean |v| and variance vᵀΣv / |v|² (the variance projected on the
+  velocity's direction; Σ's mean eigenvalue where |v| is near 0), its probability in the band
+  from ``math.erf``: what a compiled step could compute.
 
 A judgement is calibrated when, of the track-steps judged in band with probability p, about
 p are. The script prints, per robot mode, the reliability table of each probability (bins of
@@ -24,6 +28,7 @@ Seeds 8 onwards (the benchmark's phantom-motion seeds), each episode's goal the 
 from __future__ import annotations
 
 import argparse
+import math
 
 import numpy as np
 
@@ -45,7 +50,7 @@ def track_steps(robot: str, episodes: int, seconds: float) -> dict[str, np.ndarr
     (the track's own probabilities), ``in_band`` and ``truly_moving`` (the truth)."""
     env = make_attentive_env("tracker", NOISE, "saliency", sensor_noise=NOISE, **PERCEPTION_ARENA)
     draws = np.random.default_rng(0).standard_normal((DRAWS, 2))
-    out: dict[str, list] = {key: [] for key in ("point", "covariance", "moving", "in_band", "truly_moving")}
+    out: dict[str, list] = {key: [] for key in ("point", "covariance", "closed", "moving", "in_band", "truly_moving")}
     for seed in range(FIRST_SEED, FIRST_SEED + episodes):
         policy = stand_still if robot == "still" else Wander(seed)
         obs, info = env.reset(seed=seed, options={"goal": Goal.between("speed", *BAND)})
@@ -63,6 +68,7 @@ def track_steps(robot: str, episodes: int, seconds: float) -> dict[str, np.ndarr
                 drawn = np.linalg.norm(samples, axis=1)
                 out["point"].append(float(BAND[0] <= tracks.speed_mps[k] <= BAND[1]))
                 out["covariance"].append(float(np.mean((drawn >= BAND[0]) & (drawn <= BAND[1]))))
+                out["closed"].append(speed_in_band(tracks.velocity_mps[k], spread))
                 out["moving"].append(float(tracks.moving_probability[k]))
                 out["in_band"].append(float(BAND[0] <= true_speed <= BAND[1]))
                 out["truly_moving"].append(float(true_speed > MOVING_MPS))
@@ -71,7 +77,19 @@ def track_steps(robot: str, episodes: int, seconds: float) -> dict[str, np.ndarr
     env.close()
     steps = {key: np.array(values) for key, values in out.items()}
     steps["mixed"] = steps["moving"] * steps["covariance"]
+    steps["closed"] = steps["moving"] * steps["closed"]
     return steps
+
+
+def speed_in_band(velocity: np.ndarray, spread: np.ndarray) -> float:
+    """P(speed in ``BAND``) with the speed normal along ``velocity`` (m/s): mean its norm,
+    variance ``spread`` (the 2 × 2 velocity covariance, m²/s²) projected on its direction, or
+    the mean of its diagonal where the speed is under 1e-6 m/s."""
+    speed = float(np.hypot(*velocity))
+    variance = float(velocity @ spread @ velocity) / speed**2 if speed > 1e-6 else 0.5 * float(np.trace(spread))
+    sigma = math.sqrt(max(variance, 1e-12))
+    cdf = lambda x: 0.5 * (1.0 + math.erf((x - speed) / (sigma * math.sqrt(2.0))))  # noqa: E731
+    return cdf(BAND[1]) - cdf(BAND[0])
 
 
 def reliability(judged: np.ndarray, truth: np.ndarray) -> list[str]:
@@ -99,7 +117,7 @@ def main(argv: list[str] | None = None) -> None:
         steps = track_steps(robot, args.episodes, args.seconds)
         truth = steps["in_band"]
         print(f"\n## Robot {robot}: {truth.size} track-steps, {truth.mean():.3f} of them truly in band\n")
-        for name in ("covariance", "mixed"):
+        for name in ("covariance", "mixed", "closed"):
             print(f"P(speed in band), {name}:\n", *header, *reliability(steps[name], truth), "", sep="\n")
         print(
             "moving_probability against moving:\n",
@@ -112,7 +130,9 @@ def main(argv: list[str] | None = None) -> None:
             f"\npoint judgement: {point.sum()} in band, {truth[point].mean():.3f} of them truly; "
             f"{point[truth > 0.5].mean():.3f} of the truly in band judged so"
         )
-        brier = {name: float(np.mean((steps[name] - truth) ** 2)) for name in ("point", "covariance", "mixed")}
+        brier = {
+            name: float(np.mean((steps[name] - truth) ** 2)) for name in ("point", "covariance", "mixed", "closed")
+        }
         print("Brier score: " + ", ".join(f"{name} {value:.4f}" for name, value in brier.items()))
 
 
