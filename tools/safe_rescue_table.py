@@ -38,9 +38,9 @@ from attentive_gym.agents.training import eval_seed
 from attentive_gym.envs import RewardConfig
 from attentive_gym.envs.config_mappings import config_as_mapping
 from attentive_gym.envs.reward import SAFE_CONTACT_S
-from attentive_gym.envs.tasks import task_proximity, task_reward
+from attentive_gym.envs.tasks import task_reward
 from attentive_gym.perception.controllers import Policy, clearance_controller, true_bearing_controller
-from attentive_gym.wrappers.variants import FOCUS_LAYOUT, make_env
+from attentive_gym.wrappers.variants import make_env
 
 #: The repository's root (this file is in ``tools/``).
 ROOT = Path(__file__).resolve().parents[1]
@@ -65,8 +65,7 @@ def setting_label(spec: RunSpec) -> str:
     defaults = config_as_mapping(RewardConfig())
     reward = config_as_mapping(task_reward(spec.task_version, spec.env_kwargs.get("reward")))
     parts = [f"{key}={_text(reward[key])}" for key in defaults if reward[key] != defaults[key]]
-    proximity = spec.env_kwargs.get("proximity")
-    if spec.variant in FOCUS_LAYOUT and (task_proximity(spec.task_version) if proximity is None else proximity):
+    if spec.proximity:
         parts.append("proximity")
     return ", ".join(parts) or "v0 reward"
 

@@ -224,11 +224,17 @@ class RunSpec:
         ``WARM_START_MIN_STEPS``, which the demonstrations would take too much of."""
         if self.algo != "ppo" or self.variant not in _PRIVILEGED_READABLE or self.total_steps < WARM_START_MIN_STEPS:
             return None
-        if self.variant in FOCUS_LAYOUT:
-            proximity = self.env_kwargs.get("proximity")
-            if not (task_proximity(self.task_version) if proximity is None else proximity):
-                return None
+        if self.variant in FOCUS_LAYOUT and not self.proximity:
+            return None
         return "privileged"
+
+    @property
+    def proximity(self) -> bool:
+        """Whether the run's observation carries the ``proximity`` entry: a variant with the
+        focus layout, with ``env_kwargs``' ``proximity`` or, where it is not given, the task's
+        default (``envs.tasks.task_proximity``), as ``make_env`` resolves it."""
+        given = self.env_kwargs.get("proximity")
+        return self.variant in FOCUS_LAYOUT and (task_proximity(self.task_version) if given is None else bool(given))
 
     def default_algo_kwargs(self) -> dict[str, Any]:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.

@@ -326,6 +326,13 @@ def test_the_safe_rescue_table_names_a_runs_rollout_and_warm_start_beside_the_ea
     assert (
         table.controller_label(attended) == "ppo focus (32 envs × 64 steps, batch 512, warm start privileged, model v1)"
     )
+    # the task's setting: its fields that differ from the first task's, the same spelled out or by version
+    safe = "near_per_s=4, contact_limit_s=1"
+    assert table.setting_label(RunSpec(variant="oracle", task_version=1)) == f"{safe}, proximity"
+    assert table.setting_label(RunSpec(variant="raw", task_version=1)) == safe  # raw has no proximity entry
+    spelled = {"reward": {"contact_limit_s": 1.0, "near_per_s": 4.0}, "proximity": True}
+    assert table.setting_label(RunSpec(variant="oracle", task_version=0, env_kwargs=spelled)) == f"{safe}, proximity"
+    assert table.setting_label(RunSpec(variant="oracle", task_version=0)) == "v0 reward"
 
 
 def test_the_real_bags_page_groups_each_bag_and_leaves_the_focus_out_for_a_driving_robot(tmp_path):
