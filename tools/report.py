@@ -119,10 +119,11 @@ def _trained_with(csv: Path) -> dict[str, Any]:
     return next(iter(points.values()), {})
 
 
-def _tags(args) -> tuple[str, str]:
-    """``(algo tag, obs_scaling)`` of ``add``'s rows: the flags, checked against the
-    comparison's own settings where they are beside the file (``algo_tag``); ``ValueError``
-    for a tag that does not start with a known algorithm or contradicts them."""
+def _tags(args) -> tuple[str, str, dict[str, Any]]:
+    """``(algo tag, obs_scaling, run)`` of ``add``'s rows: the flags, checked against the
+    comparison's own settings ``run`` where they are beside the file (``_trained_with``,
+    ``algo_tag``); ``ValueError`` for a tag that does not start with a known algorithm or
+    contradicts them."""
     run = _trained_with(args.csv)
     trained_tag = algo_tag(run) if run else None
     if trained_tag is None and args.algo is None:
@@ -148,14 +149,14 @@ def _tags(args) -> tuple[str, str]:
                 f"{flag} {given!r} contradicts the comparison's settings beside {args.csv} "
                 f"({trained!r}); leave the flag out"
             )
-    return algo, scaling
+    return algo, scaling, run
 
 
 def _add(args) -> int:
     new = read_csv(args.csv)
     if not new:
         raise ValueError(f"{args.csv} holds no rows")
-    algo, scaling = _tags(args)
+    algo, scaling, run = _tags(args)
     if args.num_distractors is not None:
         if not args.clutter or args.num_distractors < 0 or "num_distractors" in new[0]:
             raise ValueError(
@@ -181,9 +182,8 @@ def _add(args) -> int:
             raise ValueError(f"{args.csv} holds the evaluation {dict(zip((*keys, 'env_steps'), evaluation))} twice")
         seen.add(evaluation)
     rows = read_csv(target) if target.is_file() else []
-    run = _trained_with(args.csv) if args.algo is None else {}
     for variant in dict.fromkeys(row["variant"] for row in new):  # each variant's own warm start (compare.json)
-        tag = algo_tag(run, variant) if run else algo
+        tag = algo_tag(run, variant) if run and args.algo is None else algo
         rows = merge_rows(rows, [row for row in new if row["variant"] == variant], tag, keys, scaling)
     write_csv_atomic(target, rows, columns)
     print(f"{target}: {len(rows)} rows ({len(new)} from {args.csv})")

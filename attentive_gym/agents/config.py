@@ -18,8 +18,8 @@ from typing import Any
 from attentive_gym._checks import check_int
 from attentive_gym.attention.config import MODEL_VERSIONS, check_model_version
 from attentive_gym.envs.config_mappings import config_as_mapping, env_kwargs_as_mappings
-from attentive_gym.envs.tasks import TASK_VERSIONS, check_task_version, task_proximity, task_reward
-from attentive_gym.wrappers.variants import FOCUS_LAYOUT, VARIANTS
+from attentive_gym.envs.tasks import TASK_VERSIONS, check_task_version, task_reward
+from attentive_gym.wrappers.variants import FOCUS_LAYOUT, VARIANTS, has_proximity
 
 __all__ = [
     "ALGOS",
@@ -232,9 +232,8 @@ class RunSpec:
     def proximity(self) -> bool:
         """Whether the run's observation carries the ``proximity`` entry: a variant with the
         focus layout, with ``env_kwargs``' ``proximity`` or, where it is not given, the task's
-        default (``envs.tasks.task_proximity``), as ``make_env`` resolves it."""
-        given = self.env_kwargs.get("proximity")
-        return self.variant in FOCUS_LAYOUT and (task_proximity(self.task_version) if given is None else bool(given))
+        default, as ``make_env`` resolves it (``wrappers.variants.has_proximity``)."""
+        return has_proximity(self.variant, self.task_version, self.env_kwargs.get("proximity"))
 
     def default_algo_kwargs(self) -> dict[str, Any]:
         """Hyper-parameters used unless ``algo_kwargs`` overrides them.

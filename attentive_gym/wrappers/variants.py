@@ -37,7 +37,7 @@ from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, GoalActionWrap
 from attentive_gym.wrappers.oracle import OracleFocus
 from attentive_gym.wrappers.stack import StackedReadings
 
-__all__ = ["FOCUS_LAYOUT", "VARIANTS", "VARIANT_IDS", "make_env"]
+__all__ = ["FOCUS_LAYOUT", "VARIANTS", "VARIANT_IDS", "has_proximity", "make_env"]
 
 VARIANTS = tuple(VARIANT_IDS)
 _ATTENTION_MODES = {
@@ -49,6 +49,15 @@ _ATTENTION_MODES = {
 }
 #: The variants whose observation has the focus layout (attended region, memory, optional proximity).
 FOCUS_LAYOUT = ("focus", "goal-action", "random-focus", "oracle")
+
+
+def has_proximity(variant: str, task: int, proximity: bool | None = None) -> bool:
+    """Whether ``variant``'s observation carries the ``"proximity"`` entry: for a variant with
+    the focus layout, ``proximity`` as given (the wrapper checks that it is a bool) or, where it
+    is None, task ``task``'s default (``envs.tasks.task_proximity``); False for the others."""
+    if variant not in FOCUS_LAYOUT:
+        return False
+    return task_proximity(task) if proximity is None else proximity
 
 
 def make_env(
@@ -111,8 +120,7 @@ def make_env(
         raise ValueError(f"memory_slots applies to the variants {list(FOCUS_LAYOUT)}, not {variant!r}")
     if proximity and variant not in FOCUS_LAYOUT:
         raise ValueError(f"proximity applies to the variants {list(FOCUS_LAYOUT)}, not {variant!r}")
-    if proximity is None:
-        proximity = variant in FOCUS_LAYOUT and task_proximity(task)
+    proximity = has_proximity(variant, task, proximity)
     env: gym.Env = AttentiveRescueEnv(**{**env_kwargs, "reward": task_reward(task, env_kwargs.get("reward"))})
     if isinstance(attention, Mapping):
         attention = dataclasses.replace(default_config(env, version), **attention)
