@@ -272,6 +272,14 @@ class AttentionConfig:
             field-of-view edge keeps its probability of moving (the filters still update):
             the visible part of what the edge cuts slides as the robot turns or drives,
             which the filters would take for motion.
+        track_speed_goal_probability: judge a speed goal at a region by the probability
+            that the region's track moves at a wanted speed (its probability of moving ×
+            P(speed in the goal's range), the speed normal along the velocity estimate with
+            its covariance; ``track_regions.speed_goal_probability``): the goal holds where
+            it is at least ½, and F4 is ``min(1, 2 p)``. Off: the goal is judged from the
+            track's speed weighted by its probability of moving, F4 by the table over it
+            (§5). Tracker only; a region whose speed comes from a sonar filter keeps the
+            table.
 
     Sensors (§1).
 
@@ -381,6 +389,7 @@ class AttentionConfig:
     track_standing_speed_sigma_mps: float = 0.3
     track_runaway_speed_mps: float = 1.5
     track_edge_keeps_motion: bool = True
+    track_speed_goal_probability: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
     laser_mount_y_m: float = 0.0
@@ -539,6 +548,7 @@ class AttentionConfig:
             "laser_upside_down",
             "free_space_evidence",
             "track_edge_keeps_motion",
+            "track_speed_goal_probability",
         ):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"AttentionConfig.{name} must be True or False, got {getattr(self, name)!r}")

@@ -735,6 +735,7 @@ class AttentionModel:
             L,
             speeds,
             moving,
+            speed_probability,
             results,
         ) = arrays
         F.fill(0.0)  # inactive maps stay 0
@@ -756,6 +757,7 @@ class AttentionModel:
         if self._tracker is None:
             window_kinematics(rates, valid, cfg.max_speed_mps, cfg.direction_epsilon_mps, speeds, moving)
             region_slot[:] = -1
+            speed_probability[:] = -1.0
         else:
             # §10: the tracker takes the new scans and fills the channels' kinematics
             n_tracks = track_step(
@@ -774,6 +776,7 @@ class AttentionModel:
                 speeds,
                 moving,
                 region_slot,
+                speed_probability,
             )
         active = self._active
         labels = np.sign(rates) * (np.abs(rates) > cfg.direction_epsilon_mps)
@@ -814,6 +817,7 @@ class AttentionModel:
             F,
             region_speed,
             speed_target,
+            grid.sonar_to_regions(speed_probability),
             region_labels,
             distances,
             echo,

@@ -48,6 +48,7 @@ from attentive_gym.attention.compiled.records import KEPT_OUTPUTS
 from attentive_gym.attention.compiled.step_kernels import select, sense, sonar_grid_maps
 from attentive_gym.attention.model import _N_CHANNELS, _output
 from attentive_gym.attention.tracking.track_regions import track_channels
+from attentive_gym.attention.tracking.tracker import GOAL_PROBABILITY_PARAM
 from attentive_gym.perception.motion import VIEW_BEAMS
 from attentive_gym.perception.settings import PERCEPTION_TASK
 from attentive_gym.wrappers import make_env
@@ -116,6 +117,7 @@ def true_kinematics(
     speeds: np.ndarray,
     moving: np.ndarray,
     region_track: np.ndarray,
+    speed_probability: np.ndarray,
 ) -> np.ndarray:
     """Write one step's true channel kinematics (see the module docstring).
 
@@ -130,6 +132,9 @@ def true_kinematics(
         rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output;
         region_track: ``(8,)`` int64 output, the row of ``scene``'s movers behind each front
             sonar's channel, −1 for none.
+        speed_probability: ``(8,)`` output, the probability that the speed goal holds at
+            that mover when the configuration judges so (``track_speed_goal_probability``;
+            with the truth's zero covariance, 1 or 0), else −1.
 
     Returns:
         ``(M,)`` bool: the movers seen on at least ``SEEN_BEAMS`` beams (those that count).
@@ -151,6 +156,7 @@ def true_kinematics(
         cv_x[:, :2], cv_x[:, 2:] = scene.mover_xy[owner], scene.mover_velocity[owner]
     bounds = np.array(bounds_list, np.int64).reshape(n, 2)
     slots = np.empty(_N_SONAR, np.int64)
+    params = tracker_constants[5]
     track_channels(
         float(t_s),
         scene.robot_pose,
@@ -165,9 +171,11 @@ def true_kinematics(
         match_sigmas,
         noise_rel,
         noise_floor,
+        params[GOAL_PROBABILITY_PARAM] != 0.0,
         readings,
         valid,
         cv_x,
+        np.zeros((n, 4, 4)),  # known exactly
         np.ones(n),  # surely moving: the velocity as it is, labelled moving above ε
         np.ones(n, np.bool_),
         np.full(n, max(confirm_hits, 1), np.int64),
@@ -180,6 +188,7 @@ def true_kinematics(
         speeds,
         moving,
         slots,
+        speed_probability,
     )
     region_track[:] = -1
     behind = slots >= 0
@@ -237,7 +246,7 @@ class PerfectPerceptionModel(AttentionModel):
         t, _, _, push, _, _, _, _ = self._advance(*inputs)
         _, arrays = self._records.take()
         (readings, valid, rates, region_slot, F, C_BU, C_TD, C, region_speed, distances, nearest) = arrays[:11]
-        (origins, directions, fulfilled, M, L, speeds, moving, results) = arrays[11:]
+        (origins, directions, fulfilled, M, L, speeds, moving, speed_probability, results) = arrays[11:]
         cfg = self.config
         F.fill(0.0)
         # §2: the readings into the memory (K = 0: the rates are not differenced)
@@ -266,6 +275,7 @@ class PerfectPerceptionModel(AttentionModel):
             speeds,
             moving,
             self.region_mover,
+            speed_probability,
         )
         region_slot[:] = -1  # no track table
         sonar_grid_maps(
@@ -274,6 +284,7 @@ class PerfectPerceptionModel(AttentionModel):
             rates,
             speeds,
             moving,
+            speed_probability,
             self._max_ranges,
             self._max_speed,
             self._epsilon,

@@ -44,9 +44,10 @@ def _scene(movers, pose=(0.0, 0.0, 0.0)) -> TrueScene:
     return TrueScene(np.array(pose, float), hits, ids, np.array(xy, float), np.array(velocity, float))
 
 
-def _kinematics(scene: TrueScene, goal: Goal | None = None):
-    """``true_kinematics`` of ``scene`` with a model's constants and ``goal``'s wanted speeds."""
-    model = PerfectPerceptionModel(AttentionConfig())
+def _kinematics(scene: TrueScene, goal: Goal | None = None, probability: np.ndarray | None = None, **fields):
+    """``true_kinematics`` of ``scene`` with the constants of a model of ``AttentionConfig(**fields)``
+    and ``goal``'s wanted speeds (the speed goal's judgements into ``probability`` ``(8,)``)."""
+    model = PerfectPerceptionModel(AttentionConfig(**fields))
     model.set_goals() if goal is None else model.set_goals(goal)
     rates, speeds = np.zeros(188), np.zeros(188)
     moving, region_mover = np.zeros(188, np.bool_), np.zeros(8, np.int64)
@@ -61,6 +62,7 @@ def _kinematics(scene: TrueScene, goal: Goal | None = None):
         speeds,
         moving,
         region_mover,
+        np.empty(8) if probability is None else probability,
     )
     return seen, rates, speeds, moving, region_mover
 
@@ -111,6 +113,19 @@ def test_a_region_takes_the_mover_the_goal_wants_else_the_fastest():
     _, _, speeds, moving, _ = _kinematics(_scene([(31, 10.0, 3.0, (0.0, 0.0), 3), (32, 50.0, 3.0, (5.0, 0.0), 3)]))
     assert speeds[ahead] == 0.0 and not moving[ahead]
     assert speeds[_region(50.0)] == AttentionConfig().max_speed_mps and moving[_region(50.0)]
+
+
+def test_the_truth_judges_a_speed_goal_surely_where_the_model_judges_by_probability():
+    scene = _scene([(21, 6.0, 3.0, (0.0, 0.8), 3), (22, 14.0, 3.5, (0.0, 0.3), 3)])
+    ahead = _region(10.0)
+    for goal, row in ((SLOW, 1), (FAST, 0), (Goal.between("speed", 0.4, 0.6), 0)):
+        probability = np.zeros(8)
+        _, _, _, _, region_mover = _kinematics(scene, goal, probability, track_speed_goal_probability=True)
+        wanted = goal.is_fulfilled(0.3) or goal.is_fulfilled(0.8)
+        assert probability[ahead] == (1.0 if wanted else 0.0) and region_mover[ahead] == row
+        assert np.all(probability[np.arange(8) != ahead] == -1.0)  # no mover, not judged
+        _kinematics(scene, goal, probability)  # the point rule: nothing judged by probability
+        assert np.all(probability == -1.0)
 
 
 def test_the_model_attends_the_true_mover_its_goal_wants():

@@ -264,7 +264,8 @@ def _read_only(array: np.ndarray) -> np.ndarray:
 #: ``AttentionOutput`` keeps: clipped readings, echo flags, range rates (188,); the
 #: tracker's slot behind each front sonar (8,); F (6, J); C_BU, C_TD, C, region speeds,
 #: distances, nearest readings (J,); origins, directions (J,) int8; goal flags (J,); M, L;
-#: then the channels' speeds and moving flags (188,).
+#: then the channels' speeds and moving flags (188,), and the tracker's probability that
+#: the speed goal holds at each front sonar's track (8,; −1 where not judged so).
 OUTPUT_ARRAYS = (
     ("readings", np.float64, "channels"),
     ("valid", np.bool_, "channels"),
@@ -284,6 +285,7 @@ OUTPUT_ARRAYS = (
     ("L", np.float64, "regions"),
     ("speeds", np.float64, "channels"),
     ("moving", np.bool_, "channels"),
+    ("speed_probability", np.float64, "sonars"),
 )
 #: How many of ``OUTPUT_ARRAYS`` an ``AttentionOutput`` keeps (the first ones).
 KEPT_OUTPUTS = 16

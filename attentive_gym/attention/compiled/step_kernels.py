@@ -166,6 +166,7 @@ def sonar_grid_maps(
     rates,
     speeds,
     moving,
+    speed_probability,
     max_ranges,
     max_speed,
     epsilon,
@@ -189,7 +190,9 @@ def sonar_grid_maps(
     fulfilled,
 ):
     """§4–§6 of a step on the sonar grid (J = 8): F1–F3 with the region quantities, then
-    ``goal_maps``. Every array after ``combine`` is an output."""
+    ``goal_maps`` (``speed_probability`` ``(8,)``: the tracker's judgement of the speed
+    goal per front sonar's channel, −1 where none). Every array after ``combine`` is an
+    output."""
     labels = _sonar_grid_features(
         rates,
         speeds,
@@ -217,6 +220,7 @@ def sonar_grid_maps(
         F,
         region_speed,
         moving[: labels.shape[0]],
+        speed_probability,
         labels,
         distances,
         echo,
@@ -370,6 +374,7 @@ def goal_maps(
     F,
     region_speed,
     speed_target,
+    speed_probability,
     labels,
     distances,
     echo,
@@ -387,7 +392,11 @@ def goal_maps(
     Args:
         F: ``(6, J)``; rows 3..5 of active maps are written (inactive ones stay 0).
         region_speed: ``(J,)`` m/s; speed_target: ``(J,)`` bool, regions a speed goal may
-            hold at; labels: ``(J,)`` direction labels as floats; distances: ``(J,)`` m;
+            hold at; speed_probability: ``(J,)`` the probability that the speed goal holds
+            at the region's track (``track_regions.speed_goal_probability``), −1 where it is
+            not judged so: where ≥ 0, the goal holds when it is at least ½ and F4 is
+            ``min(1, 2 p)``, in place of the table over the region's speed.
+        labels: ``(J,)`` direction labels as floats; distances: ``(J,)`` m;
             echo: ``(J,)`` bool, a valid reading in the region (the target of F5, F6).
         goal_plan: ``(3, PLAN_COLUMNS)``; goal_options: ``records.goal_options`` of the
             configuration (``td_require_target``, ``silent_goal_maps_out``).
@@ -417,10 +426,14 @@ def goal_maps(
                 x, target = labels[j], echo[j]
             else:
                 x, target = distances[j], echo[j]
-            ok = _goal_holds(kind, lo, hi, tolerance, x)
-            if kind == _DIRECTION:
+            if r == 0 and speed_probability[j] >= 0.0:  # judged by the track's probability
+                ok = speed_probability[j] >= 0.5
+                value = min(1.0, 2.0 * speed_probability[j])
+            elif kind == _DIRECTION:
+                ok = _goal_holds(kind, lo, hi, tolerance, x)
                 value = 1.0 if ok else 0.0
             else:  # the graded table; 1 where the goal holds
+                ok = _goal_holds(kind, lo, hi, tolerance, x)
                 value = max(interp(x, xp, fp), 1.0 if ok else 0.0)
             if require_target:
                 value *= 1.0 if target else 0.0
@@ -583,6 +596,7 @@ def attend_one(
     speeds,
     moving,
     region_slot,
+    speed_probability,
     F,
     C_BU,
     C_TD,
@@ -617,8 +631,8 @@ def attend_one(
     - the selection's: the gain, the threshold, the spread ``(J, J)`` and
       ``CourseBook.arrays`` (with room for one more course of each kind);
     - the outputs, each a fresh array: ``readings``, ``valid``, ``rates``, ``speeds``, ``moving``
-      ``(188,)``, ``region_slot`` ``(8,)``, ``F`` ``(6, J)``, then ``(J,)`` ``C_BU``, ``C_TD``,
-      ``C``, region speeds, distances, nearest readings, origins, directions, goal flags,
+      ``(188,)``, ``region_slot`` and ``speed_probability`` ``(8,)``, ``F`` ``(6, J)``, then
+      ``(J,)`` ``C_BU``, ``C_TD``, ``C``, region speeds, distances, nearest readings, origins, directions, goal flags,
       ``M`` and ``L``.
     """
     sense(
@@ -695,16 +709,19 @@ def attend_one(
             speeds,
             moving,
             region_slot,
+            speed_probability,
         )
     else:
         window_kinematics(rates, valid, max_speed, epsilon, speeds, moving)
         region_slot[:] = -1
+        speed_probability[:] = -1.0
     sonar_grid_maps(
         readings,
         valid,
         rates,
         speeds,
         moving,
+        speed_probability,
         max_ranges,
         max_speed,
         epsilon,
@@ -942,6 +959,7 @@ def attend_record(table, constant_floats, constant_ints, floats, ints, flags, st
         out.speeds,
         out.moving.view(np.bool_),
         out.region_slot,
+        out.speed_probability,
         F,
         out.C_BU,
         out.C_TD,

@@ -5,7 +5,8 @@
   takes the values of the confirmed track its segment was matched to; a front sonar's
   channel those of the region's fastest confirmed track, or, where the region's beams
   see nothing, its own range/rate filter. The F1–F6 stages read these as they read the
-  window's range rates.
+  window's range rates. With ``track_speed_goal_probability``, each region's track also
+  gets the probability that a speed goal holds at it (``speed_goal_probability``).
 - ``track_table``: the live tracks in the robot frame, the rows of a ``TrackTable``.
 
 A track's range rate is its own ground velocity along the line of sight (m/s, + away):
@@ -51,6 +52,28 @@ def _relative(k, t_s, pose, cv_x, filter_t):
     return cv_x[k, 0] + dt * cv_x[k, 2] - pose[0], cv_x[k, 1] + dt * cv_x[k, 3] - pose[1]
 
 
+@njit(cache=True, inline="always")
+def speed_goal_probability(vx, vy, var_xx, var_xy, var_yy, p_moving, lo, hi):
+    """The probability that a track moves at a speed in ``[lo, hi]`` (m/s; ``hi`` may be
+    inf, ``lo`` −inf): its probability of moving ``p_moving`` times P(lo ≤ |v| ≤ hi), the
+    speed taken as normal along the velocity ``(vx, vy)`` (m/s): mean ``|v|``, variance the
+    velocity covariance ``[[var_xx, var_xy], [var_xy, var_yy]]`` (m²/s²) along its direction
+    (its mean variance where ``|v|`` is under 1e-6 m/s). A static body has no speed.
+
+    Calibrated in the perception arena at 5 % noise (``benchmarks/calibration.py``): of the
+    tracks judged in the fast band with probability p, about p are.
+    """
+    speed = math.hypot(vx, vy)
+    if speed > 1e-6:
+        variance = (vx * vx * var_xx + 2.0 * vx * vy * var_xy + vy * vy * var_yy) / (speed * speed)
+    else:
+        variance = 0.5 * (var_xx + var_yy)
+    scale = _SQRT2 * math.sqrt(max(variance, 1e-12))
+    below_hi = 1.0 if hi == math.inf else 0.5 * (1.0 + math.erf((hi - speed) / scale))
+    below_lo = 0.0 if lo == -math.inf else 0.5 * (1.0 + math.erf((lo - speed) / scale))
+    return p_moving * max(below_hi - below_lo, 0.0)
+
+
 @njit(cache=True)
 def track_channels(
     t_s,
@@ -66,9 +89,11 @@ def track_channels(
     match_sigmas,
     noise_rel,
     noise_floor_m,
+    judge_probability,
     readings,
     valid,
     cv_x,
+    cv_P,
     p_moving,
     alive,
     hits,
@@ -81,6 +106,7 @@ def track_channels(
     speeds,
     moving,
     region_track,
+    speed_probability,
 ):
     """Per-channel kinematics from the tracks (see the module docstring).
 
@@ -96,17 +122,26 @@ def track_channels(
         match_m, match_sigmas, noise_rel, noise_floor_m: a laser echo in a sonar's cone
             within ``match_m + match_sigmas · √2 · σ(r)`` of its reading ``r`` (σ(r) =
             max(noise_rel · r, noise_floor_m)) is what the sonar sees (m).
+        judge_probability: judge the speed goal by ``speed_goal_probability``
+            (``AttentionConfig.track_speed_goal_probability``): a region's channel takes the
+            track at which the goal most probably holds, where that is at least ½, and the
+            probability is written; else the point rule above, and −1 is written.
         readings, valid: ``(188,)`` the clipped readings (m) and their echo flags.
-        cv_x … bounds: the ``Tracker``'s arrays; sonar_x, sonar_hits: its sonar filters.
+        cv_x … bounds: the ``Tracker``'s arrays (``cv_P`` ``(capacity, 4, 4)`` the
+            constant-velocity filters' covariances); sonar_x, sonar_hits: its sonar filters.
         rates, speeds: ``(188,)`` outputs (m/s); moving: ``(188,)`` bool output;
         region_track: ``(8,)`` int64 output, the track slot behind each front sonar's
-            channel, −1 for none.
+            channel, −1 for none; speed_probability: ``(8,)`` output, the probability
+            that the speed goal holds at that track, −1 where it is not judged so (no
+            track, no speed goal, or ``judge_probability`` off).
     """
     n_sonar = region_track.shape[0]
     rates[:] = 0.0
     speeds[:] = 0.0
     moving[:] = False
     region_track[:] = -1
+    speed_probability[:] = -1.0
+    judging = judge_probability and wanted_speed[0] != math.inf
     best = np.empty(n_sonar)
     c, s = math.cos(pose[2]), math.sin(pose[2])
     for k in range(alive.shape[0]):
@@ -123,14 +158,33 @@ def track_channels(
             for i in range(bounds[m, 0], bounds[m, 1]):
                 rates[n_sonar + i], speeds[n_sonar + i], moving[n_sonar + i] = rate, speed, is_moving
         j = _region_of(c * dx + s * dy, -s * dx + c * dy, beam_step_rad, beam_region)
-        # wanted moving tracks first (by motion probability), then the fastest
-        score = (
-            speed if not (is_moving and wanted_speed[0] <= speed <= wanted_speed[1]) else 2.0 * max_speed + p_moving[k]
-        )
-        if j >= 0 and (region_track[j] < 0 or score > best[j]):
+        if j < 0:
+            continue
+        # wanted moving tracks first (by the probability that the goal holds there, or by
+        # motion probability), then the fastest
+        probability = -1.0
+        if judging:
+            probability = speed_goal_probability(
+                cv_x[k, 2],
+                cv_x[k, 3],
+                cv_P[k, 2, 2],
+                cv_P[k, 2, 3],
+                cv_P[k, 3, 3],
+                p_moving[k],
+                wanted_speed[0],
+                wanted_speed[1],
+            )
+            wanted = probability >= 0.5
+            strength = probability
+        else:
+            wanted = is_moving and wanted_speed[0] <= speed <= wanted_speed[1]
+            strength = p_moving[k]
+        score = 2.0 * max_speed + strength if wanted else speed
+        if region_track[j] < 0 or score > best[j]:
             region_track[j] = k
             best[j] = score
             rates[j], speeds[j], moving[j] = rate, speed, is_moving
+            speed_probability[j] = probability
     for j in range(n_sonar):
         if region_track[j] >= 0 or not valid[j] or sonar_hits[j] < confirm_hits:
             continue

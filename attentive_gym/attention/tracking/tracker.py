@@ -67,6 +67,7 @@ from attentive_gym.attention.tracking.track_regions import MOVING_PROBABILITY, t
 
 __all__ = [
     "Tracker",
+    "GOAL_PROBABILITY_PARAM",
     "TrackTable",
     "EMPTY_TRACKS",
     "track_scan",
@@ -129,11 +130,14 @@ _CARVE_PROBABILITY = 0.5
     _READY_SIGMA,
     _RUNAWAY,
     _EDGE_KEEPS,
+    _GOAL_PROBABILITY,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(37)
+) = range(38)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
+#: The parameter vector's entry of ``AttentionConfig.track_speed_goal_probability`` (1.0 on).
+GOAL_PROBABILITY_PARAM = _GOAL_PROBABILITY
 _START, _STOP, _X, _Y, _EXTENT, _RXX, _RXY, _RYY, _CANDIDATE = (
     SEGMENT_FIELDS.index(f) for f in ("start", "stop", "x_m", "y_m", "extent_m", "r_xx", "r_xy", "r_yy", "candidate")
 )
@@ -329,6 +333,7 @@ class Tracker:
         params[_READY_SIGMA] = config.track_standing_speed_sigma_mps
         params[_RUNAWAY] = config.track_runaway_speed_mps
         params[_EDGE_KEEPS] = config.track_edge_keeps_motion
+        params[_GOAL_PROBABILITY] = config.track_speed_goal_probability
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -393,7 +398,7 @@ class Tracker:
         speeds: np.ndarray,
         moving: np.ndarray,
         wanted_speed: np.ndarray,
-    ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
         """One reading, in one compiled call (``track_step``): dead-reckon the pose over
         ``dt_s``, take the laser scan and the sonar reading where they are new, and write
         every reading channel's kinematics.
@@ -414,12 +419,15 @@ class Tracker:
 
         Returns:
             ``(8,)`` int64 the track slot behind each front sonar's channel (−1 for none),
-            and the live tracks in the robot frame: rows ``(n, 11)`` (columns
-            ``TRACK_TABLE_FIELDS``, slot order) and covariances ``(n, 4, 4)``, new arrays
-            (``table_from_rows`` makes them a ``TrackTable``).
+            ``(8,)`` the probability that the speed goal holds at that track (−1 where not
+            judged so: ``track_regions.track_channels``), and the live tracks in the robot
+            frame: rows ``(n, 11)`` (columns ``TRACK_TABLE_FIELDS``, slot order) and
+            covariances ``(n, 4, 4)``, new arrays (``table_from_rows`` makes them a
+            ``TrackTable``).
         """
         linear, angular = (0.0, 0.0) if odometry is None else odometry
         region_slot = np.empty(FRONT_SONARS, np.int64)
+        speed_probability = np.empty(FRONT_SONARS)
         n = track_step(
             t_s,
             dt_s,
@@ -436,8 +444,9 @@ class Tracker:
             speeds,
             moving,
             region_slot,
+            speed_probability,
         )
-        return region_slot, (self._rows[:n].copy(), self._covariance[:n].copy())
+        return region_slot, speed_probability, (self._rows[:n].copy(), self._covariance[:n].copy())
 
 
 @njit(cache=True)
@@ -525,6 +534,7 @@ def track_step(
     speeds,
     moving,
     region_slot,
+    speed_probability,
 ):
     """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``
     (then ``free_space_step``, unless the configuration turns it off), ``sonar_filters`` of
@@ -532,7 +542,8 @@ def track_step(
     ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows.
 
     The arguments are the step's inputs (``Tracker.step``'s), ``Tracker.constants``,
-    ``Tracker.state`` and the outputs ``rates``, ``speeds``, ``moving``, ``region_slot``."""
+    ``Tracker.state`` and the outputs ``rates``, ``speeds``, ``moving``, ``region_slot``,
+    ``speed_probability``."""
     advance_pose(dt_s, linear, angular, pose, odometry, params[_ODOMETRY_WEIGHT])
     n_sonar = region_slot.shape[0]
     if laser_new:
@@ -623,9 +634,11 @@ def track_step(
         match_sigmas,
         noise_rel,
         noise_floor_m,
+        params[_GOAL_PROBABILITY] != 0.0,
         readings,
         valid,
         cv_x,
+        cv_P,
         p_moving,
         alive,
         hits,
@@ -638,6 +651,7 @@ def track_step(
         speeds,
         moving,
         region_slot,
+        speed_probability,
     )
     return track_table(
         t_s,
