@@ -270,6 +270,9 @@ TRACK_COLUMNS = (
     ("transient median", "transient_track_median_mps"),
     ("transient RMSE", "transient_track_rmse_mps"),
     ("goal agreement", "goal_agreement_track"),
+    ("false moving labels", "false_label_steps"),
+    ("within 5 m", "false_label_near_steps"),
+    ("in the goal's range", "false_in_band_steps"),
 )
 
 

@@ -18,7 +18,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from attentive_gym.perception.geometry import SIGHT_BEAMS, SIGHT_BEARING_DEG
+from attentive_gym.perception.geometry import SIGHT_BEAMS, SIGHT_BEARING_DEG, VIEW_RANGE_M
+from attentive_gym.perception.records import FALSE_LABEL_M
 from page_text import RESULTS, banner, number, read_rows, table, values
 
 NAME = "perception.md"
@@ -155,6 +156,19 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         ],
         ["goal agreement, tracks, still / driving", *per_mode(lambda m: speed_pair(m, "goal_agreement_track"))],
         *[
+            [label, *per_mode(lambda m, key=key: speed_pair(m, key))]
+            for label, key in (
+                (
+                    f"phantom motion: steps with a confirmed track labelled moving > {FALSE_LABEL_M:g} m from every "
+                    "mover, still / driving",
+                    "false_label_steps",
+                ),
+                (f"the same, one within {VIEW_RANGE_M:g} m of the robot", "false_label_near_steps"),
+                ("the same, one at a speed the goal asks for", "false_in_band_steps"),
+            )
+            if any(key in figures for figures in speed.values())  # a CSV from before has none
+        ],
+        *[
             [
                 f"focus on target, goal {goal_text(goal)}, still / driving (chance 0.125)",
                 *per_mode(lambda m, g=goal: focus_pair(m, g, "focus_on_target")),
@@ -268,6 +282,7 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
                 f"{_pair(focus[0], focus[1])}; {_pair(focus[2], focus[3])}",
                 number(control.get("success_focus")),
                 number(control.get("success_memory")),
+                _pair(still.get("false_label_steps"), driving.get("false_label_steps")),
             ]
         )
     return table(
@@ -278,6 +293,7 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
             "focus on target, goal [0.5, 0.9]; goal [0.15, 0.45] (still / driving)",
             "focus-steered controller",
             "memory controller",
+            "phantom motion (steps), still / driving",
         ],
         lines,
     )

@@ -167,7 +167,10 @@ def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     ``track_unmatched_frac`` (steady pairs without a matched track) when tracks exist,
     ``static_regions``, ``static_median_mps``, ``static_p90_mps`` (speed of the regions
     that see static structure only), ``goal_agreement_region`` / ``goal_agreement_track``
-    (fraction of steady pairs, speed goals only; NaN otherwise).
+    (fraction of steady pairs, speed goals only; NaN otherwise); with tracks,
+    ``false_label_steps``, ``false_label_near_steps`` and ``false_in_band_steps``: the share of
+    the steps with phantom motion (``records.false_moving_tracks``) anywhere, within
+    ``VIEW_RANGE_M`` of the robot, and at a speed inside the goal's range.
     """
     records = list(records)
     steady, transient = Pairs(), Pairs()
@@ -189,6 +192,11 @@ def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     metrics["static_regions"] = int(static.size)
     metrics["static_median_mps"] = float(np.median(static)) if static.size else math.nan
     metrics["static_p90_mps"] = float(np.percentile(static, 90)) if static.size else math.nan
+    tracked = any(record.track_speed is not None for record in records)
+    if tracked and all(record.false_label is not None for record in records):
+        phantoms = np.concatenate([record.false_label for record in records])
+        for column, name in enumerate(("false_label_steps", "false_label_near_steps", "false_in_band_steps")):
+            metrics[name] = float(phantoms[:, column].mean())
     goal_true = steady.array("goal_true")
     metrics["goal_agreement_region"] = _agreement(steady.array("goal_region"), goal_true)
     metrics["goal_agreement_track"] = _agreement(steady.array("goal_track"), goal_true)

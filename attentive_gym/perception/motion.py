@@ -28,7 +28,7 @@ import numpy as np
 from attentive_gym.attention import Goal
 from attentive_gym.perception.controllers import Policy
 from attentive_gym.perception.geometry import region_of, to_robot_frame
-from attentive_gym.perception.records import TRACK_MATCH_M
+from attentive_gym.perception.records import FALSE_LABEL_M, MOVING_PROBABILITY, TRACK_MATCH_M, false_moving_tracks
 from attentive_gym.world.scenario import (
     BoxRubble,
     CircleRubble,
@@ -55,16 +55,12 @@ __all__ = [
 
 #: The goal of the scenes' task: the walker's speed band.
 GOAL = Goal.between("speed", 0.5, 0.9)
-#: A confirmed track this far (m) from every mover and labelled moving is a false label.
-FALSE_LABEL_M = 1.5
 #: The target moves when its speed exceeds this (m/s); it stands below ``STANDING_MPS``.
 MOVING_MPS, STANDING_MPS = 0.3, 0.05
 #: A start counts after the target stood this long (s).
 STOOD_S = 1.0
 #: The view: range (m), half-angle (degrees), fewest laser beams on the body.
 VIEW_RANGE_M, VIEW_BEARING_DEG, VIEW_BEAMS = 5.0, 80.0, 2
-#: A track labelled moving: its moving probability above this.
-MOVING_PROBABILITY = 0.5
 #: The near-structure recall counts the moving target within this range (m).
 NEAR_RANGE_M = 3.5
 _WALKER, _STANDING = "walker", "standing"
@@ -223,7 +219,7 @@ def record_motion(env, seed: int, policy: Policy, seconds: float) -> MotionRecor
         tracks = output.tracks
         moving = tracks.confirmed & (tracks.moving_probability > MOVING_PROBABILITY)
         gaps = np.linalg.norm(tracks.position_m[:, None, :] - xy[None, :, :], axis=2)  # (n tracks, M)
-        false = moving & (gaps.min(axis=1, initial=np.inf) > FALSE_LABEL_M)
+        false = false_moving_tracks(tracks, xy)
         speed = float(np.linalg.norm(info["mover_velocities"][target]))
         rows.append(
             (

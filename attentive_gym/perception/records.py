@@ -8,6 +8,8 @@
 - ``nearest_tracks`` / ``nearest_track`` / ``matched_track_speeds``: the model's confirmed
   tracks matched to the movers (within ``TRACK_MATCH_M``).
 - ``target_case``: one step's entry of ``TARGET_CASES``.
+- ``false_moving_tracks``: the confirmed tracks labelled moving that lie on no mover
+  (phantom motion).
 
 Positions in metres (robot frame: x forward, y left), speeds in m/s, times in seconds.
 """
@@ -21,7 +23,7 @@ import numpy as np
 
 from attentive_gym.attention import Goal
 from attentive_gym.perception.controllers import Policy
-from attentive_gym.perception.geometry import GRID, region_of, to_robot_frame
+from attentive_gym.perception.geometry import GRID, VIEW_RANGE_M, region_of, to_robot_frame
 
 __all__ = [
     "EpisodeRecord",
@@ -34,10 +36,16 @@ __all__ = [
     "TARGET_CASES",
     "TRACK_MATCH_M",
     "SETTLE_S",
+    "false_moving_tracks",
+    "FALSE_LABEL_M",
+    "MOVING_PROBABILITY",
 ]
 
 #: The nearest confirmed track within this (m) of a mover is its track.
 TRACK_MATCH_M = 0.75
+#: A confirmed track labelled moving (its probability of moving above ``MOVING_PROBABILITY``)
+#: farther than ``FALSE_LABEL_M`` (m) from every mover is a false label: phantom motion.
+FALSE_LABEL_M, MOVING_PROBABILITY = 1.5, 0.5
 #: A mover counts once it has been in view continuously this long (s); a track younger
 #: than this has not been judged yet (``target_case``).
 SETTLE_S = 1.0
@@ -65,6 +73,10 @@ class EpisodeRecord:
             where it has none; None when not recorded.
         target_beams: ``(T,)`` int, how many laser beams of the step's scan hit the target;
             None when not recorded.
+        false_label: ``(T, 3)`` bool, per step whether a track of ``false_moving_tracks``
+            lies anywhere, one lies within ``VIEW_RANGE_M`` (in front or behind), and one's
+            speed lies in the goal's range (all False without tracks); None when not
+            recorded.
     """
 
     goal: Goal
@@ -79,6 +91,7 @@ class EpisodeRecord:
     target_case: np.ndarray | None = None
     target_track_age: np.ndarray | None = None
     target_beams: np.ndarray | None = None
+    false_label: np.ndarray | None = None
 
 
 #: ``(J, 180)`` which laser beams each region holds.
@@ -93,6 +106,16 @@ def static_regions(laser_hits: np.ndarray, sonar_hits: np.ndarray, mover_ids: np
     mover_echo = (_REGION_BEAMS & np.isin(laser_hits, mover_ids)).any(axis=1) | np.isin(sonar, mover_ids)
     echo = (_REGION_BEAMS & (laser_hits >= 0)).any(axis=1) | (sonar >= 0)
     return echo & ~mover_echo
+
+
+def false_moving_tracks(tracks, mover_xy: np.ndarray) -> np.ndarray:
+    """``(n,)`` bool over ``tracks``' rows: confirmed, labelled moving (probability of moving
+    above ``MOVING_PROBABILITY``) and farther than ``FALSE_LABEL_M`` from every mover's
+    robot-frame position ``mover_xy`` ``(M, 2)`` (m)."""
+    moving = np.asarray(tracks.confirmed, bool) & (np.asarray(tracks.moving_probability) > MOVING_PROBABILITY)
+    positions = np.asarray(tracks.position_m, float).reshape(-1, 2)
+    gaps = np.linalg.norm(positions[:, None, :] - np.asarray(mover_xy, float).reshape(1, -1, 2), axis=2)
+    return moving & (gaps.min(axis=1, initial=np.inf) > FALSE_LABEL_M)
 
 
 def nearest_tracks(tracks, xy: np.ndarray) -> np.ndarray:
@@ -180,6 +203,13 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
         tracked = tracked or (tracks is not None and len(tracks.id) > 0)
         target_track = None if tracks is None else nearest_track(tracks, xy[info["target_index"]])
         target_beams = int(np.sum(info["laser_hits"] == target_id))
+        phantoms = (False, False, False)
+        if tracks is not None:
+            false = false_moving_tracks(tracks, xy)
+            if false.any():
+                near = np.hypot(*np.asarray(tracks.position_m, float).reshape(-1, 2).T) < VIEW_RANGE_M
+                in_band = any(goal.is_fulfilled(float(v)) for v in tracks.speed_mps[false])
+                phantoms = (True, bool(np.any(false & near)), in_band)
         steps.append(
             (
                 info["time_s"],
@@ -192,11 +222,12 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
                 target_case(output, xy[info["target_index"]], target_beams),
                 math.nan if target_track is None else tracks.age_s[target_track],
                 target_beams,
+                phantoms,
             )
         )
         if terminated or truncated:
             break
-    t_s, xy, velocity, region_speed, track_speed, focus, static, case, age, beams = zip(*steps)
+    t_s, xy, velocity, region_speed, track_speed, focus, static, case, age, beams, false = zip(*steps)
     return EpisodeRecord(
         goal=goal,
         target=int(info["target_index"]),
@@ -210,4 +241,5 @@ def record_episode(env, seed: int, goal: Goal, policy: Policy, seconds: float) -
         target_case=np.array(case) if tracked else None,
         target_track_age=np.array(age) if tracked else None,
         target_beams=np.array(beams, np.int64),
+        false_label=np.array(false, bool).reshape(-1, 3),
     )

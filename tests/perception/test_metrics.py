@@ -25,7 +25,7 @@ def test_metrics_are_finite_and_in_range(records):
         assert math.isfinite(figures[name]) and figures[name] >= 0.0, name
     assert figures["region_median_mps"] <= figures["region_p90_mps"]
     assert 0.0 <= figures["goal_agreement_region"] <= 1.0
-    assert "track_pairs" not in figures  # the window mode has no tracks
+    assert "track_pairs" not in figures and "false_label_steps" not in figures  # the window mode has no tracks
     for rate, steps in metrics.focus_on_target([driving]).values():
         assert steps > 0 and 0.0 <= rate <= 1.0
 
@@ -208,3 +208,12 @@ def test_focus_by_track_age_groups_the_steps_by_the_target_track_s_age():
     assert by_age["steps_no_track"] == pytest.approx(2 / 9)
     assert sum(v for k, v in by_age.items() if k.startswith("steps_")) == pytest.approx(1.0)
     assert metrics.focus_by_track_age([dataclasses.replace(record, target_track_age=None)]) == {}
+
+
+def test_phantom_shares_count_the_steps_of_every_tracker_episode(tracked_record):
+    figures = metrics.speed_metrics([tracked_record, tracked_record])
+    anywhere, near, in_band = tracked_record.false_label.mean(axis=0)
+    assert figures["false_label_steps"] == pytest.approx(anywhere)
+    assert figures["false_label_near_steps"] == pytest.approx(near)
+    assert figures["false_in_band_steps"] == pytest.approx(in_band)
+    assert 0.0 <= figures["false_label_near_steps"] <= figures["false_label_steps"] <= 1.0

@@ -61,7 +61,7 @@ def test_static_regions_see_echoes_from_structure_only():
     assert static.tolist() == [True, False, True, False, False, False, False, False]
 
 
-def _tracks(xy, confirmed=None, speed=None, age=None):
+def _tracks(xy, confirmed=None, speed=None, age=None, moving=None):
     xy = np.array(xy, float).reshape(-1, 2)
     n = len(xy)
     return SimpleNamespace(
@@ -69,7 +69,29 @@ def _tracks(xy, confirmed=None, speed=None, age=None):
         confirmed=np.ones(n, bool) if confirmed is None else np.array(confirmed),
         speed_mps=np.arange(n, dtype=float) if speed is None else np.array(speed),
         age_s=np.full(n, 2.0) if age is None else np.array(age),
+        moving_probability=np.full(n, 0.9) if moving is None else np.array(moving, float),
     )
+
+
+def test_phantom_motion_is_a_confirmed_moving_track_on_no_mover():
+    far = 1.0 + records.FALSE_LABEL_M + 0.01
+    tracks = _tracks(
+        [[1.0, 0.0], [1.0, far], [1.0, -far], [6.0, 0.0], [1.0, 1.2]],
+        confirmed=[True, True, False, True, True],
+        moving=[0.9, 0.9, 0.9, 0.4, 0.9],
+    )
+    movers = np.array([[1.0, 0.0], [1.0, 6.0]])
+    # on a mover; moving, far from both; unconfirmed; standing; within FALSE_LABEL_M of the first mover
+    assert records.false_moving_tracks(tracks, movers).tolist() == [False, True, False, False, False]
+    assert records.false_moving_tracks(tracks, np.zeros((0, 2))).tolist() == [True, True, False, False, True]
+
+
+def test_a_tracker_episode_records_its_phantoms_and_a_window_episode_none(tracked_record, records):
+    assert tracked_record.false_label.shape == (len(tracked_record.t_s), 3)
+    anywhere, near, in_band = tracked_record.false_label.T
+    assert not np.any(near & ~anywhere) and not np.any(in_band & ~anywhere)
+    for record in records:  # window mode: no tracks, no phantoms
+        assert record.false_label.shape == (len(record.t_s), 3) and not record.false_label.any()
 
 
 def test_movers_match_the_nearest_confirmed_track_within_reach():
