@@ -9,7 +9,8 @@ or, for the variants that run the attentional model, the model's defaults
 |---|---|---|
 | task 0, model 0 | ``-v0`` | ``-v0`` |
 | task 0, model 1 | ``-v0`` | ``-v1`` |
-| task 1, model 1 (current) | ``-v1`` | ``-v2`` |
+| task 1, model 1 | ``-v1`` | ``-v2`` |
+| task 1, model 2 (current) | ``-v1`` | ``-v3`` |
 
 Every id is built by ``attentive_gym.wrappers.variants:make_env`` and has a vector entry
 point (``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``:
@@ -20,7 +21,7 @@ point (``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``
 
 from gymnasium.envs.registration import register, registry
 
-__all__ = ["VARIANT_IDS", "EARLIER_IDS", "ID_VERSIONS", "MODEL_VARIANTS", "register_environments"]
+__all__ = ["VARIANT_IDS", "EARLIER_IDS", "ID_VERSIONS", "MODEL_VARIANTS", "register_environments", "registered_id"]
 
 #: The variants whose observation the attentional model makes (the others run no model).
 MODEL_VARIANTS = frozenset({"focus", "saliency", "masked", "goal-action", "random-focus"})
@@ -36,20 +37,23 @@ _BASES = {
 }
 
 
-def _id(variant: str, task: int, model: int) -> str:
-    """The id of ``variant`` on task version ``task`` and model version ``model``."""
+def registered_id(variant: str, task: int, model: int) -> str:
+    """The id of ``variant`` on task version ``task`` and model version ``model`` (a pair of
+    the table above; the variants that run no model ignore ``model``)."""
     if variant not in MODEL_VARIANTS:
         return f"{_BASES[variant]}-v{task}"
     return f"{_BASES[variant]}-v{task + model}"
 
 
+#: The ``(task, model)`` versions that have ids, the current one last (the table above).
+_VERSIONS = ((0, 0), (0, 1), (1, 1), (1, 2))
 #: Variant name → its registered id on the current task and model.
-VARIANT_IDS: dict[str, str] = {variant: _id(variant, 1, 1) for variant in _BASES}
+VARIANT_IDS: dict[str, str] = {variant: registered_id(variant, *_VERSIONS[-1]) for variant in _BASES}
 #: Every registered id → ``(variant, task version, model version)``; the model version is
-#: that of the ``make_env`` call, which the variants that run no model ignore.
+#: that of the ``make_env`` call, which the variants that run no model ignore (an id they
+#: share between model versions builds the latest of them).
 ID_VERSIONS: dict[str, tuple[str, int, int]] = {
-    **{_id(variant, 0, model): (variant, 0, model) for variant in _BASES for model in (0, 1)},
-    **{env_id: (variant, 1, 1) for variant, env_id in VARIANT_IDS.items()},
+    registered_id(variant, task, model): (variant, task, model) for task, model in _VERSIONS for variant in _BASES
 }
 #: The ids of earlier task or model versions, each → ``(variant, task, model)``.
 EARLIER_IDS: dict[str, tuple[str, int, int]] = {

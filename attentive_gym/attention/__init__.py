@@ -50,10 +50,12 @@ from attentive_gym.attention.config import (
     MAP_NAMES,
     MODEL_VERSIONS,
     VERSION_0_FIELDS,
+    VERSION_1_FIELDS,
     AttentionConfig,
     check_model_version,
     parse_state,
     profile_config,
+    version_fields,
 )
 from attentive_gym.attention.goals import Direction, Feature, Goal, Relation
 from attentive_gym.attention.io.replay import load_log, parse_goal, parse_maps, replay_log
@@ -78,6 +80,8 @@ __all__ = [
     "MAP_NAMES",
     "MODEL_VERSIONS",
     "VERSION_0_FIELDS",
+    "VERSION_1_FIELDS",
+    "version_fields",
     "AttentionConfig",
     "check_model_version",
     "AttentionModel",

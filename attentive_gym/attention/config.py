@@ -8,9 +8,9 @@
 - ``LASER_PROFILES`` / ``profile_config``: named sets of tracker values for a kind of laser
   and target (``indoor-people``: a Hokuyo/SICK indoor laser and walking people);
   ``configured``: a profile and a JSON object of fields over the defaults.
-- ``MODEL_VERSIONS`` / ``check_model_version`` / ``VERSION_0_FIELDS``: the versions of the
-  defaults, a version checked against them, and what the
-  first one had.
+- ``MODEL_VERSIONS`` / ``check_model_version`` / ``version_fields``: the versions of the
+  defaults, a version checked against them, and the fields that rebuild an earlier one
+  (``VERSION_0_FIELDS``, ``VERSION_1_FIELDS``).
 
 Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
 name says otherwise (``_deg``).
@@ -47,6 +47,8 @@ __all__ = [
     "MODEL_VERSIONS",
     "check_model_version",
     "VERSION_0_FIELDS",
+    "VERSION_1_FIELDS",
+    "version_fields",
     "profile_config",
     "configured",
 ]
@@ -65,10 +67,12 @@ MAX_FREE_SPACE_LAGS = 8
 #: change of defaults never silently changes what a trained policy sees.
 #:
 #: - 0 (until 2026-12-06): the tracker without the motion stages, ``VERSION_0_FIELDS``.
-#: - 1: free-space evidence, the tracker's start rules and its field-of-view edge rule on,
-#:   and, in the simulator, the dead reckoning of its physics sub-steps
-#:   (docs/notes/2026-12-06-motion-by-default.md).
-MODEL_VERSIONS = (0, 1)
+#: - 1 (until 2026-12-07): free-space evidence, the tracker's start rules and its
+#:   field-of-view edge rule on, and, in the simulator, the dead reckoning of its physics
+#:   sub-steps (docs/notes/2026-12-06-motion-by-default.md); ``VERSION_1_FIELDS``.
+#: - 2: the occlusion rule on (``track_occlusion_keeps_motion``;
+#:   docs/notes/2026-12-07-a-calibrated-goal-judgement.md).
+MODEL_VERSIONS = (0, 1, 2)
 
 
 def check_model_version(version: Any, name: str = "model version") -> int:
@@ -79,7 +83,11 @@ def check_model_version(version: Any, name: str = "model version") -> int:
     return version
 
 
-#: The fields whose defaults version 1 changed, with their version 0 values.
+#: The fields whose defaults version 2 changed, with their version 1 values: as an
+#: ``AttentionConfig`` override, they rebuild version 1's defaults.
+VERSION_1_FIELDS: Mapping[str, Any] = MappingProxyType({"track_occlusion_keeps_motion": False})
+#: The fields whose defaults versions 1 and 2 changed, with their version 0 values: as an
+#: ``AttentionConfig`` override, they rebuild version 0's defaults.
 VERSION_0_FIELDS: Mapping[str, Any] = MappingProxyType(
     {
         "free_space_evidence": False,
@@ -87,8 +95,21 @@ VERSION_0_FIELDS: Mapping[str, Any] = MappingProxyType(
         "track_standing_speed_sigma_mps": 0.0,
         "track_runaway_speed_mps": 0.0,
         "track_edge_keeps_motion": False,
+        **VERSION_1_FIELDS,
     }
 )
+#: Each earlier version → the overrides that rebuild its defaults from the current ones.
+_EARLIER_FIELDS = {0: VERSION_0_FIELDS, 1: VERSION_1_FIELDS}
+
+
+def version_fields(version: int) -> dict[str, Any]:
+    """The ``AttentionConfig`` fields that rebuild model ``version``'s defaults from the
+    current ones (none for the current version).
+
+    Raises:
+        ValueError: for an unknown version (listing the known ones).
+    """
+    return dict(_EARLIER_FIELDS.get(check_model_version(version), {}))
 
 
 def is_map_weight(value: Any) -> bool:
@@ -272,6 +293,11 @@ class AttentionConfig:
             field-of-view edge keeps its probability of moving (the filters still update):
             the visible part of what the edge cuts slides as the robot turns or drives,
             which the filters would take for motion.
+        track_occlusion_keeps_motion: a track matched to a segment with an end hidden behind
+            a nearer echo (the beam beyond that end reads nearer) keeps its probability of
+            moving (the filters still update; free-space evidence still weighs it): the
+            visible part of a body partly hidden by another slides as that one moves, which
+            the filters would take for motion. On since model version 2.
         track_speed_goal_probability: judge a speed goal at a region by the probability
             that the region's track moves at a wanted speed (its probability of moving ×
             P(speed in the goal's range), the speed normal along the velocity estimate with
@@ -389,6 +415,7 @@ class AttentionConfig:
     track_standing_speed_sigma_mps: float = 0.3
     track_runaway_speed_mps: float = 1.5
     track_edge_keeps_motion: bool = True
+    track_occlusion_keeps_motion: bool = True
     track_speed_goal_probability: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
@@ -548,6 +575,7 @@ class AttentionConfig:
             "laser_upside_down",
             "free_space_evidence",
             "track_edge_keeps_motion",
+            "track_occlusion_keeps_motion",
             "track_speed_goal_probability",
         ):
             if not isinstance(getattr(self, name), bool):

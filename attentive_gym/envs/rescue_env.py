@@ -179,6 +179,9 @@ class AttentiveRescueEnv(gym.Env):
     **Version History** (the registered ids' version; any change of a default that can
     change learning results bumps it, as Gymnasium does, and adds a line here):
 
+    - v3 of the five attended ids (2026-12-07): the model's version 2, whose tracker keeps a
+      partly occluded body's probability of moving (``track_occlusion_keeps_motion``). The
+      raw, raw-stack and oracle ids stay v1.
     - The safe task (2026-12-07): ``AttentiveRescue-v1``, ``AttentiveRescueStack-v1``,
       ``AttentiveRescueOracle-v1`` and v2 of the five attended ids build version 1 of the task
       (``envs.tasks``): the episode ends after 1 s of contact, a clearance under 0.3 m costs

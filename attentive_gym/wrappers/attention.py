@@ -20,12 +20,12 @@ import numpy as np
 from attentive_gym.attention import (
     ATTENTIVE_STATES,
     MODEL_VERSIONS,
-    VERSION_0_FIELDS,
     AttentionConfig,
     AttentionModel,
     AttentionOutput,
     Goal,
     check_model_version,
+    version_fields,
 )
 from attentive_gym.attention.tracking.tracker import TRACK_TABLE_FIELDS
 from attentive_gym.attention.working_memory import WorkingMemory
@@ -321,7 +321,7 @@ def default_config(env: gym.Env, version: int = MODEL_VERSIONS[-1]) -> Attention
     """
     check_model_version(version)
     base = env.unwrapped
-    settings: dict[str, Any] = dict(VERSION_0_FIELDS) if version == 0 else {}
+    settings: dict[str, Any] = version_fields(version)
     dt = getattr(base, "dt", None)
     if version >= 1 and isinstance(dt, float):
         substeps = physics_substeps(dt)

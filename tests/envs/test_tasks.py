@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import attentive_gym  # noqa: F401  (registers the ids)
+from attentive_gym.attention import MODEL_VERSIONS
 from attentive_gym.envs.reward import RewardConfig
 from attentive_gym.envs.tasks import TASK_VERSIONS, check_task_version, task_proximity, task_reward
 from attentive_gym.registration import EARLIER_IDS, ID_VERSIONS, MODEL_VARIANTS, VARIANT_IDS
@@ -86,13 +87,15 @@ def test_an_episode_of_version_1_ends_after_a_second_of_contact_and_one_of_versi
             assert not terminated and info["contact_s"] > 1.5
 
 
-def test_the_current_ids_build_version_1_and_the_earlier_ids_their_own_versions():
+def test_the_current_ids_build_the_latest_versions_and_the_earlier_ids_their_own():
     assert set(ID_VERSIONS) == set(VARIANT_IDS.values()) | set(EARLIER_IDS)
     for env_id, (variant, task, model) in ID_VERSIONS.items():
         assert gym.spec(env_id).kwargs == {"variant": variant, "task": task, "version": model}
-        assert (env_id in VARIANT_IDS.values()) == (task == TASK_VERSIONS[-1])
+        current = task == TASK_VERSIONS[-1] and (model == MODEL_VERSIONS[-1] or variant not in MODEL_VARIANTS)
+        assert (env_id in VARIANT_IDS.values()) == current, env_id
     assert ID_VERSIONS["AttentiveRescue-v0"][1] == 0 and ID_VERSIONS["AttentiveRescueFocus-v1"][1:] == (0, 1)
-    assert VARIANT_IDS["raw"] == "AttentiveRescue-v1" and VARIANT_IDS["focus"] == "AttentiveRescueFocus-v2"
+    assert ID_VERSIONS["AttentiveRescueFocus-v2"][1:] == (1, 1) and ID_VERSIONS["AttentiveRescueFocus-v3"][1:] == (1, 2)
+    assert VARIANT_IDS["raw"] == "AttentiveRescue-v1" and VARIANT_IDS["focus"] == "AttentiveRescueFocus-v3"
     current = gym.make(VARIANT_IDS["focus"])
     assert current.unwrapped.reward_config == SAFE and "proximity" in current.observation_space.spaces
     earlier = gym.make("AttentiveRescueFocus-v1")
@@ -103,3 +106,20 @@ def test_every_model_variant_has_an_id_per_model_version_on_the_first_task():
     for variant in MODEL_VARIANTS:
         versions = {model for v, task, model in ID_VERSIONS.values() if v == variant and task == 0}
         assert versions == {0, 1}, variant
+
+
+def test_the_attended_ids_of_the_current_task_build_their_own_model_version():
+    configs = {}
+    for env_id in ("AttentiveRescueFocus-v2", "AttentiveRescueFocus-v3"):
+        env = gym.make(env_id)
+        configs[env_id] = env.get_wrapper_attr("model").config
+        env.close()
+    assert configs["AttentiveRescueFocus-v2"].track_occlusion_keeps_motion is False
+    assert configs["AttentiveRescueFocus-v3"].track_occlusion_keeps_motion is True
+    fields = {name for name in vars(configs["AttentiveRescueFocus-v2"])}
+    differ = {
+        f
+        for f in fields
+        if getattr(configs["AttentiveRescueFocus-v2"], f) != getattr(configs["AttentiveRescueFocus-v3"], f)
+    }
+    assert differ == {"track_occlusion_keeps_motion"}

@@ -131,10 +131,11 @@ _CARVE_PROBABILITY = 0.5
     _RUNAWAY,
     _EDGE_KEEPS,
     _GOAL_PROBABILITY,
+    _OCCLUSION_KEEPS,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(38)
+) = range(39)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
 #: The parameter vector's entry of ``AttentionConfig.track_speed_goal_probability`` (1.0 on).
 GOAL_PROBABILITY_PARAM = _GOAL_PROBABILITY
@@ -334,6 +335,7 @@ class Tracker:
         params[_RUNAWAY] = config.track_runaway_speed_mps
         params[_EDGE_KEEPS] = config.track_edge_keeps_motion
         params[_GOAL_PROBABILITY] = config.track_speed_goal_probability
+        params[_OCCLUSION_KEEPS] = config.track_occlusion_keeps_motion
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -1012,6 +1014,8 @@ def track_scan(
             m = candidate[b]
             if params[_EDGE_KEEPS] != 0.0 and (segments[m, _START] == 0 or segments[m, _STOP] == ranges_m.shape[0]):
                 p_moving[k] = p_before  # cut by the field of view's edge: where the body is, only in part
+            elif params[_OCCLUSION_KEEPS] != 0.0 and _occluded(ranges_m, segments[m, _START], segments[m, _STOP]):
+                p_moving[k] = p_before  # partly hidden behind a nearer body: its visible part slides as that moves
             seen_s[k] = t_s
             segment_of[k] = m
             taken[b] = True
@@ -1133,6 +1137,16 @@ def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_mov
     hits[k] += 1
     misses[k] = 0
     extent_m[k] += _EXTENT_SMOOTHING * (extent - extent_m[k])
+
+
+@njit(cache=True, inline="always")
+def _occluded(ranges_m, start, stop):
+    """Whether the segment of the beams ``start <= i < stop`` has an end hidden behind a nearer
+    echo: the beam beyond that end reads nearer than the end's own beam."""
+    first, last = int(start), int(stop) - 1
+    return (first > 0 and ranges_m[first - 1] < ranges_m[first]) or (
+        last < ranges_m.shape[0] - 1 and ranges_m[last + 1] < ranges_m[last]
+    )
 
 
 @njit(cache=True, inline="always")
