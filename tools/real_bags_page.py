@@ -114,8 +114,10 @@ def page(root: Path, write_figures: bool = True) -> str:
             "does: on a drive through a static corridor every one is false (the target for a driving robot in a "
             "static room is 0.5 or fewer).",
             "",
-            "Settings: `defaults` is `AttentionConfig()`, the model's version 1 (free-space evidence, the "
-            "tracker's start rules and the field-of-view edge rule; [The model](../model.md) §10); "
+            "Settings: `defaults` is the model's version 1 (free-space evidence, the tracker's start rules and "
+            "the field-of-view edge rule; [The model](../model.md) §10), `AttentionConfig()` when these bags "
+            "were last run; version 2's occlusion rule (`track_occlusion_keeps_motion`) has not been run on them "
+            "(`attention.VERSION_1_FIELDS` as `--config` rebuilds version 1); "
             "`indoor-people` the laser profile of that name (`attend --profile indoor-people`); `version 0` the "
             "defaults before those rules (`attention.VERSION_0_FIELDS` as `--config`). `laser A,B` merges those "
             "LaserScan topics.",
@@ -140,11 +142,13 @@ def page(root: Path, write_figures: bool = True) -> str:
             "FRONT='--laser-topic /front_scan --laser-mount 0.23565,-0.0005,0'",
             "BOTH='--laser-topic /front_scan,/rear_scan --laser-mount 0.23565,-0.0005,0 "
             "--laser-mount=-0.23832,0.00542,180'",
+            "V1='{\"track_occlusion_keeps_motion\": false}'  # the model's version 1, the page's `defaults`",
             'V0=\'{"free_space_evidence": false, "track_onset_speed_sigma_mps": 0.0, '
             '"track_standing_speed_sigma_mps": 0.0, "track_runaway_speed_mps": 0.0, '
-            '"track_edge_keeps_motion": false}\'',
+            '"track_edge_keeps_motion": false, "track_occlusion_keeps_motion": false}\'',
             "# each of these with and without --profile indoor-people (with it, label version 0's runs "
-            '"indoor-people, version 0"), and with and without --goal speed:between:0.3:2.0:',
+            '"indoor-people, version 0"), and with and without --goal speed:between:0.3:2.0;',
+            '# the runs without V0 also take --config "$V1" --label defaults (or indoor-people):',
             "python benchmarks/bench_real_bags.py $P --csv part1.csv",
             'python benchmarks/bench_real_bags.py $P --config "$V0" --label "version 0" --csv part1v0.csv',
             "python benchmarks/bench_real_bags.py B/obstacle_detector_scans_demo.bag $FRONT --csv part2.csv",

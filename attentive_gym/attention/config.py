@@ -71,7 +71,7 @@ MAX_FREE_SPACE_LAGS = 8
 #:   field-of-view edge rule on, and, in the simulator, the dead reckoning of its physics
 #:   sub-steps (docs/notes/2026-12-06-motion-by-default.md); ``VERSION_1_FIELDS``.
 #: - 2: the occlusion rule on (``track_occlusion_keeps_motion``;
-#:   docs/notes/2026-12-07-a-calibrated-goal-judgement.md).
+#:   docs/notes/2026-12-07-phantoms-behind-passing-bodies.md).
 MODEL_VERSIONS = (0, 1, 2)
 
 
