@@ -88,7 +88,8 @@ def page(root: Path, write_figures: bool = True) -> str:
         "```bash",
         "# 5 runs, about 25 minutes with 2 workers on 2 cores",
         "attentive-gym compare --variants goal-action --seeds 41,42,43,44,45 --steps 1000000 --eval-every 250000 "
-        '--eval-episodes 40 --env-kwargs \'{"arena_size_m": 8, "num_distractors": 2, "rubble_per_100m2": 3}\' '
+        "--eval-episodes 40 --model 1 "
+        '--env-kwargs \'{"arena_size_m": 8, "num_distractors": 2, "rubble_per_100m2": 3}\' '
         "--workers 2 --out runs/goal-action-1m",
         "python tools/report.py add runs/goal-action-1m/results.csv",
         "cp runs/goal-action-1m/goal_choice.csv docs/results/ && python tools/report.py render",

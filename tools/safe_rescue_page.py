@@ -98,7 +98,8 @@ def page(root: Path, write_figures: bool = True) -> str:
             "",
             "# today's rollout, with and without the warm start: 5 seeds × 1M each, about 30 minutes per line",
             'TASK="{$ARENA, \\"proximity\\": true, \\"reward\\": {\\"contact_limit_s\\": 1.0, \\"near_per_s\\": 4.0}}"',
-            "COMMON='--variants oracle --seeds 41,42,43,44,45 --steps 1000000 --eval-every 250000 --eval-episodes 40'",
+            "COMMON='--variants oracle --seeds 41,42,43,44,45 --steps 1000000 --eval-every 250000 --eval-episodes 40 "
+            "--model 1'  # the model's version of the time",
             'attentive-gym compare $COMMON --env-kwargs "$TASK" --out runs/safe-plain',
             'attentive-gym compare $COMMON --env-kwargs "$TASK" --warm-start clearance --out runs/safe-warm',
             "# focus: the same with --variants focus, into runs/safe-focus-plain and runs/safe-focus-warm",
@@ -106,7 +107,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "# random-focus and the oracle, and raw without it (5 seeds); raw's task has no proximity entry",
             'RAW_TASK="{$ARENA, \\"reward\\": {\\"contact_limit_s\\": 1.0, \\"near_per_s\\": 4.0}}"',
             "COMMON='--seeds 41,42,43,44,45,46,47,48,49,50 --steps 1000000 --eval-every 250000 --eval-episodes 40 "
-            "--workers 2'",
+            "--workers 2 --model 1'",
             'attentive-gym compare --variants raw $COMMON --env-kwargs "$RAW_TASK" --warm-start privileged '
             "--out runs/safe-raw-privileged",
             'attentive-gym compare --variants raw $COMMON --seeds 41,42,43,44,45 --env-kwargs "$RAW_TASK" '

@@ -169,6 +169,14 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
         f"{TASK_VERSIONS[-1]}; a trained folder keeps its own)",
     )
     parser.add_argument(
+        "--model",
+        type=int,
+        choices=MODEL_VERSIONS,
+        help="the version of the attentional model's defaults (attention.MODEL_VERSIONS) that the attended "
+        "variants run: 2, with the occlusion rule; 1, with free-space evidence and the start and edge rules; 0, "
+        f"the first tracker (default: the latest, {MODEL_VERSIONS[-1]}; a trained folder keeps its own)",
+    )
+    parser.add_argument(
         "--eval-every",
         type=_positive_int,
         help=f"env steps between evaluations {_with_quick('steps/10', 'eval_every', quick)}",
@@ -217,10 +225,10 @@ def _spec_from_args(
     ``--steps`` asks for at least what it has, their evaluation and checkpoint settings stand
     in for the defaults that depend on ``--steps``: resuming a run needs none of those flags,
     and extending it only ``--extend`` and the new ``--steps``. Their
-    ``algo_defaults`` (1 where they have none) and ``env_version`` (0 where they have none)
-    always stand, and ``task_version`` (0 where they have none) and ``warm_start`` unless
-    ``--task`` or ``--warm-start`` is given: a folder keeps the default hyper-parameters, model,
-    task and start it was trained with (a flag that differs is refused as a change of settings).
+    ``algo_defaults`` (1 where they have none) always stand, and ``env_version`` and
+    ``task_version`` (0 where they have none) and ``warm_start`` unless ``--model``, ``--task``
+    or ``--warm-start`` is given: a folder keeps the default hyper-parameters, model, task and
+    start it was trained with (a flag that differs is refused as a change of settings).
     """
     defaults = dict(defaults or {})
     steps = args.steps if args.steps is not None else defaults.get("total_steps", RunSpec.total_steps)
@@ -248,9 +256,17 @@ def _spec_from_args(
         obs_scaling=args.obs_scaling,
         warm_start=_warm_start(getattr(args, "warm_start", None), stored),
         algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
-        env_version=MODEL_VERSIONS[-1] if stored is None else stored.get("env_version", 0),
+        env_version=_model_version(getattr(args, "model", None), stored),
         task_version=_task_version(getattr(args, "task", None), stored),
     )
+
+
+def _model_version(option: int | None, stored: dict[str, Any] | None) -> int:
+    """``RunSpec.env_version`` from ``--model``: the version given; when not given, the trained
+    folder's own (0 where it has none), else the latest."""
+    if option is not None:
+        return option
+    return MODEL_VERSIONS[-1] if stored is None else stored.get("env_version", 0)
 
 
 def _task_version(option: int | None, stored: dict[str, Any] | None) -> int:

@@ -13,6 +13,7 @@ from attentive_gym.agents.config import WARM_START_MIN_STEPS, RunSpec
 from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION, algo_tag
 from attentive_gym.agents.results import read_csv
 from attentive_gym.agents.training import _algo_class, _make_vec_env, _policy_name, train, validate_spec
+from attentive_gym.attention import MODEL_VERSIONS
 from attentive_gym.cli import main
 from attentive_gym.perception.controllers import clearance_controller, privileged_clearance_controller
 from attentive_gym.wrappers import make_env
@@ -161,6 +162,11 @@ def test_the_command_line_warm_starts_by_default_and_none_turns_it_off():
     stored = RunSpec(variant="raw", total_steps=300_000, warm_start=None).to_dict()
     assert _spec_from_args(parse(), "raw", 0, stored=stored).warm_start is None  # a trained folder keeps its own
     assert _spec_from_args(parse("--task", "0"), "raw", 0).task_version == 0
+    assert _spec_from_args(parse(), "raw", 0).env_version == MODEL_VERSIONS[-1]
+    assert _spec_from_args(parse("--model", "1"), "raw", 0).env_version == 1
+    assert _spec_from_args(parse(), "raw", 0, stored={**stored, "env_version": 1}).env_version == 1
+    with pytest.raises(SystemExit):
+        parse("--model", "3")
     assert (
         _spec_from_args(parse(), "raw", 0, stored={k: v for k, v in stored.items() if k != "task_version"}).task_version
         == 0
