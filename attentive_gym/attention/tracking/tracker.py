@@ -897,7 +897,9 @@ def track_scan(
     4. Update matched tracks (both filters, then the motion probability; with
        ``track_edge_keeps_motion``, a segment cut by the field of view's edge leaves the
        probability as it was: the visible part of a body or wall slides as the edge sweeps
-       it, which the filters would take for motion). Delete an
+       it, which the filters would take for motion; with ``track_occlusion_keeps_motion``, so
+       does a segment with an end hidden behind a nearer echo, whose visible part slides
+       as the body in front moves). Delete an
        unmatched tentative track at once. An unmatched confirmed track where the laser
        should have seen it (in the field of view, not behind a nearer echo) looks for
        its body where it expects it if it moves (``segmentation.carve_body``: it may
