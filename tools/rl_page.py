@@ -116,7 +116,7 @@ python tools/report.py render                                  # this page, the 
 ```
 
 The rows tagged `model v2` are `focus` on the model's version 2, the same command with
-`--variants focus --seeds 41,42,43,44,45` and without `--model` (about 26 minutes).
+`--variants focus` and without `--model` (about 55 minutes).
 
 The rows of the other settings came from the same command with their flags: `--task 0
 --warm-start none` for the rows without a task note (the first task, without a warm start),
