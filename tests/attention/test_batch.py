@@ -58,7 +58,13 @@ def _solo_step(model: AttentionModel, reading: tuple):
 
 
 @pytest.mark.parametrize(
-    ("kinematics", "options"), [("tracker", {}), ("window", {}), ("tracker", {"silent_goal_maps_out": True})]
+    ("kinematics", "options"),
+    [
+        ("tracker", {}),
+        ("window", {}),
+        ("tracker", {"silent_goal_maps_out": True}),
+        ("tracker", {"track_speed_goal_probability": True}),
+    ],
 )
 def test_a_batch_gives_each_models_own_numbers(readings, kinematics, options):
     config = AttentionConfig(range_noise_rel=0.05, kinematics=kinematics, **options)

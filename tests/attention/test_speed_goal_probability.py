@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 from attentive_gym.attention import AttentionConfig, AttentionModel, Goal
-from attentive_gym.attention.compiled.batch import ModelBatch
 from attentive_gym.attention.tracking.track_regions import speed_goal_probability
 from attentive_gym.wrappers.variants import make_env
 
@@ -114,18 +113,3 @@ def test_off_the_goal_is_judged_from_the_weighted_speed(drive):
         np.testing.assert_array_equal(out.goal_fulfilled, held & (out.F[3] == 1.0))
         differs += int(np.any(out.F[3] != out_on.F[3]))
     assert differs > 0
-
-
-def test_a_batch_judges_as_its_models_do(drive):
-    config = AttentionConfig(range_noise_rel=0.05, track_speed_goal_probability=True)
-    solo, team = [AttentionModel(config) for _ in range(2)], [AttentionModel(config) for _ in range(2)]
-    for model in (*solo, *team):
-        model.set_goals(Goal.between("speed", *BAND))
-    batch = ModelBatch(team)
-    for t, sonar, laser, odometry in drive:
-        outs = batch.step([(t, sonar, laser, odometry, None, None)] * 2)
-        for model, batched in zip(solo, outs):
-            single = model.step(t, sonar, laser, odometry)
-            np.testing.assert_array_equal(single.F, batched.F)
-            np.testing.assert_array_equal(single.goal_fulfilled, batched.goal_fulfilled)
-            assert single.focus == batched.focus
