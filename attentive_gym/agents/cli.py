@@ -256,25 +256,18 @@ def _spec_from_args(
         obs_scaling=args.obs_scaling,
         warm_start=_warm_start(getattr(args, "warm_start", None), stored),
         algo_defaults=ALGO_DEFAULTS[-1] if stored is None else stored.get("algo_defaults", 1),
-        env_version=_model_version(getattr(args, "model", None), stored),
-        task_version=_task_version(getattr(args, "task", None), stored),
+        env_version=_version(getattr(args, "model", None), stored, "env_version", MODEL_VERSIONS),
+        task_version=_version(getattr(args, "task", None), stored, "task_version", TASK_VERSIONS),
     )
 
 
-def _model_version(option: int | None, stored: dict[str, Any] | None) -> int:
-    """``RunSpec.env_version`` from ``--model``: the version given; when not given, the trained
-    folder's own (0 where it has none), else the latest."""
+def _version(option: int | None, stored: dict[str, Any] | None, key: str, versions: tuple[int, ...]) -> int:
+    """A ``RunSpec`` version field ``key`` (``env_version`` from ``--model``, ``task_version``
+    from ``--task``): the version given; when not given, the trained folder's own (0 where it
+    has none), else the latest of ``versions``."""
     if option is not None:
         return option
-    return MODEL_VERSIONS[-1] if stored is None else stored.get("env_version", 0)
-
-
-def _task_version(option: int | None, stored: dict[str, Any] | None) -> int:
-    """``RunSpec.task_version`` from ``--task``: the version given; when not given, the trained
-    folder's own (0 where it has none), else the latest."""
-    if option is not None:
-        return option
-    return TASK_VERSIONS[-1] if stored is None else stored.get("task_version", 0)
+    return versions[-1] if stored is None else stored.get(key, 0)
 
 
 def _warm_start(option: str | None, stored: dict[str, Any] | None) -> str | None:

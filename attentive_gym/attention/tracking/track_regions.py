@@ -60,8 +60,9 @@ def speed_goal_probability(vx, vy, var_xx, var_xy, var_yy, p_moving, lo, hi):
     velocity covariance ``[[var_xx, var_xy], [var_xy, var_yy]]`` (m²/s²) along its direction
     (its mean variance where ``|v|`` is under 1e-6 m/s). A static body has no speed.
 
-    Calibrated in the perception arena at 5 % noise (``benchmarks/calibration.py``): of the
-    tracks judged in the fast band with probability p, about p are.
+    Measured in the perception arena at 5 % noise (``benchmarks/calibration.py``): of the
+    tracks judged in the fast band with probability p, at least about p are (close to p on
+    model version 1, more in the middle bins on version 2).
     """
     speed = math.hypot(vx, vy)
     if speed > 1e-6:
