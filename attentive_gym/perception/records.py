@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from attentive_gym.attention import Goal
+from attentive_gym.attention.tracking.track_regions import MOVING_PROBABILITY
 from attentive_gym.perception.controllers import Policy
 from attentive_gym.perception.geometry import GRID, VIEW_RANGE_M, region_of, to_robot_frame
 
@@ -43,9 +44,10 @@ __all__ = [
 
 #: The nearest confirmed track within this (m) of a mover is its track.
 TRACK_MATCH_M = 0.75
-#: A confirmed track labelled moving (its probability of moving above ``MOVING_PROBABILITY``)
-#: farther than ``FALSE_LABEL_M`` (m) from every mover is a false label: phantom motion.
-FALSE_LABEL_M, MOVING_PROBABILITY = 1.5, 0.5
+#: A confirmed track labelled moving (its probability of moving above the tracker's
+#: ``MOVING_PROBABILITY``) farther than ``FALSE_LABEL_M`` (m) from every mover is a false
+#: label: phantom motion.
+FALSE_LABEL_M = 1.5
 #: A mover counts once it has been in view continuously this long (s); a track younger
 #: than this has not been judged yet (``target_case``).
 SETTLE_S = 1.0
