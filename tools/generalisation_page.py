@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from attentive_gym.agents.generalisation import SHIFTS, summarise_shifts
+from attentive_gym.agents.merged import HEADLINE_MODEL_VERSION
 from attentive_gym.agents.plots import plot_generalisation
 from attentive_gym.envs.reward import SAFE_CONTACT_S
 from page_text import FIGURES, RESULTS, banner, read_rows, summary_interval, table
@@ -88,7 +89,8 @@ def page(root: Path, write_figures: bool = True) -> str:
         "The policies of the main comparison ([RL results](rl.md): PPO with today's defaults, "
         f"{' or '.join(f'{s:,}' for s in steps)} env steps, {' or '.join(map(str, seeds))} seeds per variant, "
         "trained on the safe task (task version 1: an episode ends once the robot has been in contact for more "
-        f"than {SAFE_CONTACT_S:g} s, so that every success is a safe one) in an 8 m arena with 2 distractors, "
+        f"than {SAFE_CONTACT_S:g} s, so that every success is a safe one) with the attentional model's version "
+        f"{HEADLINE_MODEL_VERSION} (raw and the oracle run none) in an 8 m arena with 2 distractors, "
         "3 rubble pieces per 100 m² and 5 % Gaussian noise) are "
         f"evaluated, without further training, on {' or '.join(map(str, episodes))} episodes of each run's own "
         "evaluation seeds under one change of the environment at a time. `as trained` is the training setting "

@@ -85,7 +85,7 @@ EARLIER_ROLLOUT = (4, 256, 256, 5)
 #: every row trained before version 1 existed was trained on it.
 UNNOTED_MODEL_VERSION = 0
 #: The model version of the headline's attended variants (raw and the oracle run no model).
-HEADLINE_MODEL_VERSION = 1
+HEADLINE_MODEL_VERSION = 2
 #: The budget (env steps) of the headline's runs, whose default settings ``default_tag`` names.
 HEADLINE_STEPS = 1_000_000
 #: The task version (``RunSpec.task_version``) whose rows carry no task note in their tag:

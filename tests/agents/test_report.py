@@ -42,7 +42,7 @@ TODAY, TODAY_UNNOTED = default_tag("focus"), default_tag("raw")
 TODAY_RUN = {
     "algo": "ppo",
     "algo_defaults": 3,
-    "env_version": 1,
+    "env_version": 2,
     "task_version": 1,
     "warm_start": "default",
     "total_steps": 1_000_000,
@@ -407,14 +407,14 @@ def test_rows_of_another_rollout_are_tagged_with_it_and_earlier_tags_stand():
 
     today = "ppo, lr lin_3e-4, 32 envs × 64 steps, batch 512"
     assert algo_tag({"algo": "ppo", "algo_defaults": 3}) == today
-    # the warm start, the task from version 1 and the model from version 1 are noted, the model
+    # the warm start, the task and the model from version 1 are noted, the model
     # on the variants that run it only; each variant of a comparison has its own default start
     assert default_tag("raw") == f"{today}, warm start privileged, task v1"
-    assert default_tag() == default_tag("focus") == f"{today}, warm start privileged, task v1, model v1"
-    assert algo_tag(TODAY_RUN, "random-focus") == f"{today}, warm start privileged, task v1, model v1"
+    assert default_tag() == default_tag("focus") == f"{today}, warm start privileged, task v1, model v2"
+    assert algo_tag(TODAY_RUN, "random-focus") == f"{today}, warm start privileged, task v1, model v2"
     assert algo_tag(TODAY_RUN, "oracle") == f"{today}, warm start privileged, task v1"
     assert algo_tag(TODAY_RUN, "raw-stack") == f"{today}, task v1"  # no teacher reads stacked readings
-    assert algo_tag(TODAY_RUN, "goal-action") == f"{today}, warm start privileged, task v1, model v1"
+    assert algo_tag(TODAY_RUN, "goal-action") == f"{today}, warm start privileged, task v1, model v2"
     by_flags = {"algo": "ppo", "algo_defaults": 2, "n_envs": 32, "algo_kwargs": {"n_steps": 64, "batch_size": 512}}
     assert algo_tag(by_flags) == today
     assert algo_tag({"algo": "ppo", "algo_defaults": 2, "n_envs": 4}) == "ppo, lr lin_3e-4"
