@@ -153,7 +153,7 @@ CLUTTER_NOISE = "gauss 0.05"
 
 COST_RECORD_S = 30.0  # length of the driving episode whose readings the cost section replays
 
-MOTION_NOISE = ("gauss 0", "gauss 0.05")
+MOTION_NOISE = ("gauss 0", "gauss 0.05", "usarsim")
 #: More ``AttentionConfig`` fields for every attended env of the run (``--config``: a candidate setting).
 ATTENTION_FIELDS: dict[str, Any] = {}
 
@@ -597,6 +597,7 @@ def print_motion(results: Results, modes, episodes: int, seconds: float) -> None
 _MOTION_COLUMNS = {
     "latency_median_s": "latency median s",
     "latency_p90_s": "latency p90 s",
+    "latency_median_scans": "latency median scans",
     "starts_judged": "starts judged",
     "false_label_steps": "false label steps",
     "false_in_band_steps": "false in band steps",

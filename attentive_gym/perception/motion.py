@@ -9,7 +9,8 @@ model makes of them (issue 34's measures).
   the target's truth and the model's tracks, goal judgement and focus (``MotionRecord``).
 - ``onset_latencies``: the time from each start of the target (after standing at least 1 s)
   to the first step at which the model judges the goal met in its region.
-- ``motion_metrics``: latency percentiles, the share of steps with a false moving label (a
+- ``motion_metrics``: latency percentiles (in seconds, and the median in the laser's scan
+  intervals, so that 20 Hz and the ``usarsim`` profile's 5 Hz compare), the share of steps with a false moving label (a
   confirmed track labelled moving more than ``FALSE_LABEL_M`` from every mover, and one of
   them inside the goal's speed band), the recall of the moving target as a moving track, and
   the focus on the target while it is in view.
@@ -177,6 +178,8 @@ class MotionRecord:
         false_label: ``(T,)`` a confirmed track labelled moving lies more than
             ``FALSE_LABEL_M`` from every mover.
         false_in_band: ``(T,)`` one such track's speed lies in the goal's band.
+        scan_interval_s: the laser's time between scans (s): the env's step where it scans
+            every step.
     """
 
     t_s: np.ndarray
@@ -188,6 +191,7 @@ class MotionRecord:
     target_tracked_moving: np.ndarray
     false_label: np.ndarray
     false_in_band: np.ndarray
+    scan_interval_s: float
 
 
 def record_motion(env, seed: int, policy: Policy, seconds: float) -> MotionRecord:
@@ -236,7 +240,8 @@ def record_motion(env, seed: int, policy: Policy, seconds: float) -> MotionRecor
         )
         if terminated or truncated:
             break
-    return MotionRecord(*(np.array(column) for column in zip(*rows)))
+    scan_interval_s = env.unwrapped.laser_scan_interval_s or env.unwrapped.dt
+    return MotionRecord(*(np.array(column) for column in zip(*rows)), scan_interval_s=scan_interval_s)
 
 
 def onset_latencies(record: MotionRecord) -> np.ndarray:
@@ -274,11 +279,14 @@ def onset_latencies(record: MotionRecord) -> np.ndarray:
 
 def motion_metrics(records: list[MotionRecord]) -> dict[str, float]:
     """The figures of ``records``: starts, the latencies' median and 90th percentile (s; inf
-    when more than that share was never judged), the share of starts judged, the shares of
+    when more than that share was never judged), their median in scan intervals (each latency
+    over its record's ``scan_interval_s``), the share of starts judged, the shares of
     steps with a false moving label and with one in the goal's band, the recall of the moving
     target as a moving track (in view and within ``NEAR_RANGE_M``), and the focus on the
     target while it is in view."""
-    latencies = np.concatenate([onset_latencies(record) for record in records])
+    per_record = [onset_latencies(record) for record in records]
+    latencies = np.concatenate(per_record)
+    in_scans = np.concatenate([lat / record.scan_interval_s for lat, record in zip(per_record, records)])
     steps = np.concatenate
     moving = steps([r.target_near & (r.target_speed > MOVING_MPS) for r in records])
     in_view = steps([r.target_in_view for r in records])
@@ -286,6 +294,7 @@ def motion_metrics(records: list[MotionRecord]) -> dict[str, float]:
         "starts": float(len(latencies)),
         "latency_median_s": float(np.median(latencies)) if len(latencies) else math.nan,
         "latency_p90_s": float(np.quantile(latencies, 0.9, method="inverted_cdf")) if len(latencies) else math.nan,
+        "latency_median_scans": float(np.median(in_scans)) if len(in_scans) else math.nan,
         "starts_judged": float(np.mean(np.isfinite(latencies))) if len(latencies) else math.nan,
         "false_label_steps": float(np.mean(steps([r.false_label for r in records]))),
         "false_in_band_steps": float(np.mean(steps([r.false_in_band for r in records]))),

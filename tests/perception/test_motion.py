@@ -33,7 +33,7 @@ def test_the_scenes_put_a_walker_in_view_that_moves_at_a_goal_speed(name):
             assert speeds[45:60].min() > motion.MOVING_MPS
 
 
-def _record(t_s, speed, judged, in_view=None) -> motion.MotionRecord:
+def _record(t_s, speed, judged, in_view=None, scan_interval_s=0.05) -> motion.MotionRecord:
     n = len(t_s)
     view = np.ones(n, bool) if in_view is None else np.asarray(in_view)
     false = np.zeros(n, bool)
@@ -47,6 +47,7 @@ def _record(t_s, speed, judged, in_view=None) -> motion.MotionRecord:
         np.zeros(n, bool),
         false,
         false,
+        scan_interval_s,
     )
 
 
@@ -72,12 +73,24 @@ def test_metrics_give_latency_percentiles_with_unjudged_starts_as_infinite():
     assert metrics["starts_judged"] == pytest.approx(2 / 3)
     assert metrics["latency_median_s"] == pytest.approx(0.4)
     assert metrics["latency_p90_s"] == math.inf
+    assert metrics["latency_median_scans"] == pytest.approx(8.0)  # 0.4 s at a scan every 0.05 s
+
+
+def test_the_median_latency_in_scans_divides_each_record_by_its_own_scan_interval():
+    t = np.arange(60) * 0.05
+    speed = np.where((t >= 1.5) & (t < 2.5), 0.6, 0.0)
+    judged = t >= 1.9 - 1e-9  # 0.4 s after the start
+    fast, slow = _record(t, speed, judged), _record(t, speed, judged, scan_interval_s=0.2)
+    assert motion.motion_metrics([slow])["latency_median_scans"] == pytest.approx(2.0)
+    assert motion.motion_metrics([fast, slow, slow])["latency_median_scans"] == pytest.approx(2.0)
+    assert motion.motion_metrics([fast, fast, slow])["latency_median_scans"] == pytest.approx(8.0)
 
 
 def test_a_recorded_episode_holds_the_model_judging_the_walker():
     env = make_attentive_env("tracker", 0.0, sensor_noise=0.0, scenario=motion.along_structure_scene(0))
     record = motion.record_motion(env, 0, stand_still, 6.0)
     assert record.t_s.shape == (120,)
+    assert record.scan_interval_s == pytest.approx(0.05)  # scans every step at the default profile
     assert record.target_in_view.mean() > 0.8
     assert record.target_tracked_moving[record.target_speed > motion.MOVING_MPS].mean() > 0.5
     metrics = motion.motion_metrics([record])
