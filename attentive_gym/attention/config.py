@@ -298,6 +298,11 @@ class AttentionConfig:
             moving (the filters still update; free-space evidence still weighs it): the
             visible part of a body partly hidden by another slides as that one moves, which
             the filters would take for motion. On since model version 2.
+        track_onset_log_ratio: a track judged standing whose last centroids fit a start
+            (standing, then moving at a constant velocity; ``tracking.onset``) better than
+            standing by this log-likelihood ratio (nats; 0 turns the test off) has started:
+            its velocity, position and their covariance come from the fit, and its odds of
+            moving grow by the ratio.
         track_speed_goal_probability: judge a speed goal at a region by the probability
             that the region's track moves at a wanted speed (its probability of moving ×
             P(speed in the goal's range), the speed normal along the velocity estimate with
@@ -416,6 +421,7 @@ class AttentionConfig:
     track_runaway_speed_mps: float = 1.5
     track_edge_keeps_motion: bool = True
     track_occlusion_keeps_motion: bool = True
+    track_onset_log_ratio: float = 0.0
     track_speed_goal_probability: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
@@ -566,6 +572,9 @@ class AttentionConfig:
                 f"AttentionConfig.sonar_ego_model must be one of {SONAR_EGO_MODELS}, got {self.sonar_ego_model!r}"
             )
         self._check_free_space()
+        _check_number(
+            "track_onset_log_ratio", self.track_onset_log_ratio, "nats", low=0.0, low_inclusive=True, high=100.0
+        )
         for name in (
             "laser_only",
             "td_require_target",

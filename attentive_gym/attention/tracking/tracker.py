@@ -7,7 +7,8 @@
 - ``TrackTable``: the tracks of one step, as the model outputs them (robot frame).
 - ``track_scan``: the compiled kernel of one scan: segment, split bodies off the structure
   they stand in front of (``segmentation``), predict, gate and assign (``association``),
-  update (``kalman``), confirm, delete, give birth.
+  update (``kalman``), confirm, delete, give birth; then free-space evidence
+  (``free_space``) and the start rules (``onset_velocity``, ``onset``) weigh the tracks.
 
 Each track runs two filters on the same measurements: a constant-velocity Kalman filter
 and a static one (the body does not move; its measured centre may wander slowly as the
@@ -54,6 +55,7 @@ from attentive_gym.attention.tracking.kalman import (
     static_predict,
     static_update,
 )
+from attentive_gym.attention.tracking.onset import ONSET_WINDOW, ramp_onset, remember_centroid
 from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
@@ -132,10 +134,11 @@ _CARVE_PROBABILITY = 0.5
     _EDGE_KEEPS,
     _GOAL_PROBABILITY,
     _OCCLUSION_KEEPS,
+    _ONSET_LOG_RATIO,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(39)
+) = range(40)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
 #: The parameter vector's entry of ``AttentionConfig.track_speed_goal_probability`` (1.0 on).
 GOAL_PROBABILITY_PARAM = _GOAL_PROBABILITY
@@ -251,6 +254,8 @@ STATE_FIELDS = (
     "segment_of",
     "counters",
     "scan_history",
+    "centroid_history",
+    "centroid_count",
     "sonar_x",
     "sonar_P",
     "sonar_hits",
@@ -296,6 +301,9 @@ class Tracker:
         spacing = 0.45 * min(config.free_space_lags_s)  # every scan at 20 Hz while the shortest lag is 0.1 s
         rows = math.ceil(max(config.free_space_lags_s) / spacing) + 2 if config.free_space_evidence else 0
         self.scan_history = np.zeros((rows, 4 + LASER_BEAMS))
+        # each track's last matched centroids for the start test (onset.ramp_onset)
+        self.centroid_history = np.zeros((capacity, ONSET_WINDOW, 7))
+        self.centroid_count = np.zeros(capacity, np.int64)
         self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
         self.segments = np.zeros((LASER_BEAMS, len(SEGMENT_FIELDS)))
         self.sonar_x = np.zeros((FRONT_SONARS, 2))
@@ -336,6 +344,7 @@ class Tracker:
         params[_EDGE_KEEPS] = config.track_edge_keeps_motion
         params[_GOAL_PROBABILITY] = config.track_speed_goal_probability
         params[_OCCLUSION_KEEPS] = config.track_occlusion_keeps_motion
+        params[_ONSET_LOG_RATIO] = config.track_onset_log_ratio
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -526,6 +535,8 @@ def track_step(
     segment_of,
     counters,
     scan_history,
+    centroid_history,
+    centroid_count,
     sonar_x,
     sonar_P,
     sonar_hits,
@@ -539,7 +550,8 @@ def track_step(
     speed_probability,
 ):
     """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``
-    (then ``free_space_step``, unless the configuration turns it off), ``sonar_filters`` of
+    (then ``free_space_step``, ``onset_velocity`` and ``onset.ramp_onset``, each unless the
+    configuration turns it off), ``sonar_filters`` of
     ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
     ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows.
 
@@ -576,6 +588,8 @@ def track_step(
             extent_m,
             segment_of,
             counters,
+            centroid_history,
+            centroid_count,
         )
         if params[_FS_ON] != 0.0:
             free_space_step(
@@ -606,6 +620,18 @@ def track_step(
                 p_moving,
                 alive,
                 born_s,
+            )
+        if params[_ONSET_LOG_RATIO] > 0.0:
+            ramp_onset(
+                t_s,
+                params[_ONSET_LOG_RATIO],
+                params[_RUNAWAY],
+                centroid_history,
+                centroid_count,
+                cv_x,
+                cv_P,
+                p_moving,
+                alive,
             )
     if sonar_new:
         sonar_filters(
@@ -881,6 +907,8 @@ def track_scan(
     extent_m,
     segment_of,
     counters,
+    centroid_history,
+    centroid_count,
 ):
     """One laser scan into the tracks, in place (the arrays of ``Tracker``).
 
@@ -906,9 +934,11 @@ def track_scan(
        have merged with a wall) and updates from it inside the gate; else it counts a
        miss. It is deleted after ``params[_DELETE]`` misses in a row, or once it has had
        no segment of its own for ``params[_COAST]`` seconds (hidden bodies coast, merged
-       ones follow their carved measurements, meanwhile).
+       ones follow their carved measurements, meanwhile). A matched track's centroid goes
+       into its buffer for the start test (``onset.remember_centroid``; a segment cut by the
+       edge or hidden at an end clears it instead).
     5. Give each unmatched candidate with enough beams a new track in a free slot (none
-       when full).
+       when full); its buffer starts with its centroid.
     """
     no_echo = params[_NO_ECHO]
     n_segments = segment_scan(
@@ -1014,10 +1044,18 @@ def track_scan(
                 extent_m,
             )
             m = candidate[b]
-            if params[_EDGE_KEEPS] != 0.0 and (segments[m, _START] == 0 or segments[m, _STOP] == ranges_m.shape[0]):
+            cut = segments[m, _START] == 0 or segments[m, _STOP] == ranges_m.shape[0]
+            occluded = _occluded(ranges_m, segments[m, _START], segments[m, _STOP])
+            if params[_EDGE_KEEPS] != 0.0 and cut:
                 p_moving[k] = p_before  # cut by the field of view's edge: where the body is, only in part
-            elif params[_OCCLUSION_KEEPS] != 0.0 and _occluded(ranges_m, segments[m, _START], segments[m, _STOP]):
+            elif params[_OCCLUSION_KEEPS] != 0.0 and occluded:
                 p_moving[k] = p_before  # partly hidden behind a nearer body: its visible part slides as that moves
+            if cut or occluded:
+                centroid_count[k] = 0  # a part of the body: its centroid slides with the view, not with the body
+            else:
+                remember_centroid(
+                    k, t_s, z[b], r[b], segments[m, _EXTENT], params[_SURFACE], centroid_history, centroid_count
+                )
             seen_s[k] = t_s
             segment_of[k] = m
             taken[b] = True
@@ -1101,6 +1139,17 @@ def track_scan(
         seen_s[slot] = t_s
         extent_m[slot] = segments[candidate[b], _EXTENT]
         segment_of[slot] = candidate[b]
+        centroid_count[slot] = 0
+        remember_centroid(
+            slot,
+            t_s,
+            z[b],
+            r[b],
+            segments[candidate[b], _EXTENT],
+            params[_SURFACE],
+            centroid_history,
+            centroid_count,
+        )
 
 
 @njit(cache=True, inline="always")

@@ -1,0 +1,219 @@
+"""Starts told by a change test on a track's recent centroids (docs/model.md §10).
+
+A body standing still that starts to move shifts its centroid along a ramp. The filters
+see the start one innovation at a time; a generalised likelihood ratio (GLR) test over
+the last scans' centroids sees the whole ramp at once. For each start time ``τ`` among the
+buffered scans it fits by weighted least squares the ramp model
+
+    z_i = a + v · max(0, t_i − τ)          (a, v ∈ R²)
+
+against the standing model ``z_i = a``, each centroid ``z_i`` weighed by its measurement
+covariance ``R_i``. The log-likelihood ratio of the best start,
+``½ (χ²_standing − χ²_ramp)``, above a threshold says the body started; the fit gives its
+velocity, its position now and their covariance at once, instead of the 0.3–0.5 s the
+constant-velocity filter needs to absorb a start (Willsky & Jones, IEEE TAC 1976).
+
+- ``remember_centroid``: push a matched centroid into a track's ring buffer.
+- ``ramp_onset``: the test of every standing track just matched; a start sets its
+  constant-velocity state from the fit and its probability of moving from the ratio.
+
+Units: seconds, metres, m/s. Arrays: ``history`` ``(K, ONSET_WINDOW, 7)``, a row per
+centroid: time (s), position x, y (m, odometry frame), covariance xx, xy, yy (m²), the
+segment's extent (m);
+``counts`` ``(K,)`` int64, centroids pushed since the track's buffer was cleared.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from attentive_gym.attention.tracking.track_regions import MOVING_PROBABILITY
+
+__all__ = ["ONSET_WINDOW", "MIN_CENTROIDS", "remember_centroid", "ramp_onset", "ramp_fit"]
+
+#: Centroids kept per track (scans): 0.4 s at 20 Hz, 1.6 s at 5 Hz.
+ONSET_WINDOW = 8
+#: The fewest centroids the test runs on: two standing, two moving.
+MIN_CENTROIDS = 4
+#: The fewest centroids after a start: one would let a single outlier pass for a ramp.
+_MIN_MOVING = 2
+#: A fitted start slower than this (m/s) is not taken: slow wander of a static segment's
+#: centre as the view changes, not a body's motion.
+MIN_START_SPEED_MPS = 0.1
+#: σ of a centroid's scan-to-scan wander beyond the range noise (m). The measurement
+#: covariance's surface term (``track_surface_sigma_m``: where on its surface a body's
+#: centre is measured) is an offset that stays while the view does, which the fit's ``a``
+#: absorbs; what changes from scan to scan is smaller.
+WANDER_SIGMA_M = 0.02
+#: How much a segment's extent may differ from its window's mean by range noise alone (m).
+EXTENT_NOISE_M = 0.1
+#: The highest probability of moving a start sets.
+_MAX_PROBABILITY = 1.0 - 1e-3
+
+
+@njit(cache=True, inline="always")
+def remember_centroid(k, t_s, z, r, extent_m, surface_sigma_m, history, counts):
+    """Push track ``k``'s centroid ``z`` ``(2,)`` (m) of a segment ``extent_m`` (m) across, measured
+    at ``t_s`` (s), into its ring buffer ``history[k]``, overwriting the oldest when full. Its
+    covariance is the measurement's ``r`` ``(2, 2)`` (m²) with the surface term
+    ``surface_sigma_m²`` (isotropic) replaced by ``WANDER_SIGMA_M²``."""
+    row = history[k, counts[k] % history.shape[1]]
+    row[0], row[1], row[2] = t_s, z[0], z[1]
+    shift = WANDER_SIGMA_M * WANDER_SIGMA_M - surface_sigma_m * surface_sigma_m
+    row[3], row[4], row[5] = r[0, 0] + shift, r[0, 1], r[1, 1] + shift
+    row[6] = extent_m
+    counts[k] += 1
+
+
+@njit(cache=True)
+def ramp_fit(times, z, weights, start_s, theta, covariance):
+    """Weighted least-squares fit of ``z_i = a + v · max(0, t_i − start_s)``.
+
+    Args:
+        times: ``(n,)`` the centroids' times (s); z: ``(n, 2)`` positions (m);
+            weights: ``(n, 2, 2)`` their inverse covariances (1/m²).
+        start_s: the start time τ (s).
+        theta: ``(4,)`` output ``(a_x, a_y, v_x, v_y)`` (m, m/s).
+        covariance: ``(4, 4)`` output, the fit's covariance.
+
+    Returns:
+        χ² of the fit (the weighted sum of squared residuals), or ``inf`` when the
+        normal equations are singular.
+    """
+    normal = np.zeros((4, 4))
+    rhs = np.zeros(4)
+    for i in range(times.shape[0]):
+        s = max(0.0, times[i] - start_s)
+        for p in range(2):
+            wz = weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1]
+            rhs[p] += wz
+            rhs[p + 2] += s * wz
+            for q in range(2):
+                w = weights[i, p, q]
+                normal[p, q] += w
+                normal[p, q + 2] += s * w
+                normal[p + 2, q] += s * w
+                normal[p + 2, q + 2] += s * s * w
+    if abs(np.linalg.det(normal)) < 1e-300:
+        return math.inf
+    covariance[:] = np.linalg.inv(normal)
+    theta[:] = covariance @ rhs
+    chi2 = 0.0
+    for i in range(times.shape[0]):
+        s = max(0.0, times[i] - start_s)
+        e0 = z[i, 0] - theta[0] - s * theta[2]
+        e1 = z[i, 1] - theta[1] - s * theta[3]
+        chi2 += weights[i, 0, 0] * e0 * e0 + 2.0 * weights[i, 0, 1] * e0 * e1 + weights[i, 1, 1] * e1 * e1
+    return chi2
+
+
+@njit(cache=True)
+def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_P, p_moving, alive):
+    """The start test of every live track judged standing (``p_moving ≤ MOVING_PROBABILITY``)
+    whose newest centroid is this scan's (``t_s``, s), in place.
+
+    A track judged moving clears its buffer (``counts[k] = 0``): the test looks for a start
+    in a standing phase only. With at least ``MIN_CENTROIDS`` centroids, each buffered time
+    with at least ``_MIN_MOVING`` centroids after it, and the midpoint after it (a start falls
+    between scans: at 5 Hz, taking the scan before would halve the fitted speed), is tried
+    as the start τ (the oldest: the body moved all along). Each ratio is divided by the
+    ramp's own scatter, ``max(1, χ²_ramp / (2n − 4))``: a segment whose centroid jumps more
+    than its covariance allows (its shape changing as the view does) needs a larger shift
+    to count, and the fit's covariance grows by the same factor. Where the best start's
+    ratio exceeds ``log_ratio_threshold`` (nats) and its fitted speed lies in
+    ``[MIN_START_SPEED_MPS, runaway_mps]`` (m/s), the track has started:
+
+    - ``cv_x[k]`` ``(4,)`` becomes the fit's position now and velocity, ``cv_P[k]``
+      ``(4, 4)`` their covariance;
+    - ``p_moving[k]``'s odds grow by the ratio (at most ``1 − 10⁻³``), and its buffer clears.
+    """
+    window = history.shape[1]
+    times = np.empty(window)
+    z = np.empty((window, 2))
+    weights = np.empty((window, 2, 2))
+    theta = np.empty(4)
+    fit_covariance = np.empty((4, 4))
+    best_theta = np.empty(4)
+    best_covariance = np.empty((4, 4))
+    for k in range(alive.shape[0]):
+        if not alive[k]:
+            continue
+        if p_moving[k] > MOVING_PROBABILITY:
+            counts[k] = 0
+            continue
+        n = min(counts[k], window)
+        if n < MIN_CENTROIDS or history[k, (counts[k] - 1) % window, 0] != t_s:
+            continue
+        standing = _gather(history[k], counts[k], n, times, z, weights)
+        best, best_start = 0.0, 0.0
+        for j in range(n - _MIN_MOVING):
+            for half in range(2):
+                start = times[j] + 0.5 * half * (times[j + 1] - times[j])
+                chi2 = ramp_fit(times[:n], z[:n], weights[:n], start, theta, fit_covariance)
+                # scattered more than the covariances say: the segment's shape moves, not only the body
+                scale = max(1.0, chi2 / (2 * n - 4))
+                ratio = 0.5 * (standing - chi2) / scale
+                if ratio > best:
+                    best, best_start = ratio, start
+                    best_theta[:] = theta
+                    best_covariance[:] = scale * fit_covariance
+        if best <= log_ratio_threshold:
+            continue
+        speed = math.hypot(best_theta[2], best_theta[3])
+        if speed < MIN_START_SPEED_MPS or (runaway_mps > 0.0 and speed > runaway_mps):
+            continue
+        _set_from_fit(k, t_s - best_start, best_theta, best_covariance, cv_x, cv_P)
+        odds = p_moving[k] / (1.0 - p_moving[k]) * math.exp(min(best, 50.0))
+        p_moving[k] = min(odds / (1.0 + odds), _MAX_PROBABILITY)
+        counts[k] = 0
+
+
+@njit(cache=True, inline="always")
+def _gather(rows, count, n, times, z, weights):
+    """The newest ``n`` of ``count`` buffered centroids ``rows`` into ``times``, ``z`` and
+    ``weights`` (inverse covariances), oldest first; returns χ² of the standing model (the
+    weighted mean's residuals). A centroid whose segment's extent differs from the window's
+    mean by ``Δ`` gets ``(Δ/2)²`` more variance on each axis: the visible part of a body
+    that grows or shrinks (a face coming into view, an end hidden) moves its centre as
+    much as a start would."""
+    window = rows.shape[0]
+    mean_extent = 0.0
+    for i in range(n):
+        mean_extent += rows[(count - n + i) % window, 6] / n
+    total = np.zeros((2, 2))
+    total_z = np.zeros(2)
+    for i in range(n):
+        row = rows[(count - n + i) % window]
+        times[i], z[i, 0], z[i, 1] = row[0], row[1], row[2]
+        reshaped = 0.25 * max(0.0, abs(row[6] - mean_extent) - EXTENT_NOISE_M) ** 2  # grew or shrank: its centre slid
+        xx, yy = row[3] + reshaped, row[5] + reshaped
+        det = xx * yy - row[4] * row[4]
+        weights[i, 0, 0], weights[i, 0, 1] = yy / det, -row[4] / det
+        weights[i, 1, 0], weights[i, 1, 1] = -row[4] / det, xx / det
+        for p in range(2):
+            total_z[p] += weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1]
+            for q in range(2):
+                total[p, q] += weights[i, p, q]
+    mean = np.linalg.solve(total, total_z)
+    chi2 = 0.0
+    for i in range(n):
+        e0, e1 = z[i, 0] - mean[0], z[i, 1] - mean[1]
+        chi2 += weights[i, 0, 0] * e0 * e0 + 2.0 * weights[i, 0, 1] * e0 * e1 + weights[i, 1, 1] * e1 * e1
+    return chi2
+
+
+@njit(cache=True, inline="always")
+def _set_from_fit(k, elapsed_s, theta, covariance, cv_x, cv_P):
+    """Track ``k``'s constant-velocity state from a ramp fit ``theta`` ``(4,)`` (covariance
+    ``(4, 4)``) whose start lies ``elapsed_s`` (s) back: position ``a + v·elapsed_s``, velocity
+    ``v``, covariance ``J Σ Jᵀ`` with ``J = [[I, elapsed_s I], [0, I]]``."""
+    jacobian = np.eye(4)
+    jacobian[0, 2] = elapsed_s
+    jacobian[1, 3] = elapsed_s
+    cv_x[k, 0] = theta[0] + elapsed_s * theta[2]
+    cv_x[k, 1] = theta[1] + elapsed_s * theta[3]
+    cv_x[k, 2], cv_x[k, 3] = theta[2], theta[3]
+    cv_P[k] = jacobian @ covariance @ jacobian.T
