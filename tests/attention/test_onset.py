@@ -19,16 +19,17 @@ SIGMA_M = 0.02  # σ of each centroid, per axis
 SURFACE_M = 0.05  # the measurements' surface term, which the buffer swaps for the wander's
 
 
-def _track_with(centroids, extents=None, p_moving=0.05):
+def _track_with(centroids, extents=None, p_moving=0.05, laser_speed_mps=0.0):
     """One live track whose buffer holds ``centroids`` ``(n, 2)`` (m), one per 0.05 s scan ending
     at the returned time, with the covariance that leaves σ² I in the buffer once the surface
-    term is swapped for the wander's."""
-    history = np.zeros((1, ONSET_WINDOW, 7))
+    term is swapped for the wander's; the laser drives along x at ``laser_speed_mps``."""
+    history = np.zeros((1, ONSET_WINDOW, 9))
     counts = np.zeros(1, np.int64)
     r = (SIGMA_M**2 + SURFACE_M**2 - WANDER_SIGMA_M**2) * np.eye(2)
     for i, z in enumerate(centroids):
         extent = 0.4 if extents is None else extents[i]
-        remember_centroid(0, i * DT_S, np.asarray(z, float), r, extent, SURFACE_M, history, counts)
+        laser = np.array([laser_speed_mps * i * DT_S, 0.0, 0.0])
+        remember_centroid(0, i * DT_S, np.asarray(z, float), r, extent, SURFACE_M, laser, history, counts)
     state = dict(
         history=history,
         counts=counts,
@@ -113,6 +114,15 @@ def test_a_segment_whose_shape_changes_does_not_start():
     _test(t_s, state)
     assert state["p_moving"][0] == 0.05 and state["counts"][0] == ONSET_WINDOW
     t_s, state = _track_with(np.array([[3.0, 0.5]] * 6 + [[3.0, 0.75]] * 2))
+    _test(t_s, state)
+    assert state["p_moving"][0] == 0.05
+
+
+def test_a_slide_while_the_laser_drives_does_not_start():
+    """The same 4 cm a scan slide (0.8 m/s) is a start seen from a standing laser, and a view
+    that changes as the laser drives at 0.8 m/s, whose centroids may slide as far."""
+    slide = np.array([3.0, 0.5]) + np.maximum(0, np.arange(8) - 4)[:, None] * np.array([0.0, 0.04])
+    t_s, state = _track_with(slide, laser_speed_mps=0.8)
     _test(t_s, state)
     assert state["p_moving"][0] == 0.05
 

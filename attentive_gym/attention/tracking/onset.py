@@ -17,9 +17,9 @@ constant-velocity filter needs to absorb a start (Willsky & Jones, IEEE TAC 1976
 - ``ramp_onset``: the test of every standing track just matched; a start sets its
   constant-velocity state from the fit and its probability of moving from the ratio.
 
-Units: seconds, metres, m/s. Arrays: ``history`` ``(K, ONSET_WINDOW, 7)``, a row per
+Units: seconds, metres, m/s. Arrays: ``history`` ``(K, ONSET_WINDOW, 9)``, a row per
 centroid: time (s), position x, y (m, odometry frame), covariance xx, xy, yy (m²), the
-segment's extent (m);
+segment's extent (m), the laser's position x, y (m);
 ``counts`` ``(K,)`` int64, centroids pushed since the track's buffer was cleared.
 """
 
@@ -50,14 +50,19 @@ MIN_START_SPEED_MPS = 0.1
 WANDER_SIGMA_M = 0.02
 #: How much a segment's extent may differ from its window's mean by range noise alone (m).
 EXTENT_NOISE_M = 0.1
+#: How far a centroid may slide per metre the laser travelled since the previous one (m/m):
+#: as the robot drives, segments of rubble and walls merge, split and show new faces, and
+#: their centres jump by as much as the robot moved.
+VIEW_SLIDE = 1.0
 #: The highest probability of moving a start sets.
 _MAX_PROBABILITY = 1.0 - 1e-3
 
 
 @njit(cache=True, inline="always")
-def remember_centroid(k, t_s, z, r, extent_m, surface_sigma_m, history, counts):
+def remember_centroid(k, t_s, z, r, extent_m, surface_sigma_m, laser_pose, history, counts):
     """Push track ``k``'s centroid ``z`` ``(2,)`` (m) of a segment ``extent_m`` (m) across, measured
-    at ``t_s`` (s), into its ring buffer ``history[k]``, overwriting the oldest when full. Its
+    at ``t_s`` (s) from the laser at ``laser_pose`` ``(3,)`` (odometry frame), into its ring buffer
+    ``history[k]``, overwriting the oldest when full. Its
     covariance is the measurement's ``r`` ``(2, 2)`` (m²) with the surface term
     ``surface_sigma_m²`` (isotropic) replaced by ``WANDER_SIGMA_M²``."""
     row = history[k, counts[k] % history.shape[1]]
@@ -65,6 +70,7 @@ def remember_centroid(k, t_s, z, r, extent_m, surface_sigma_m, history, counts):
     shift = WANDER_SIGMA_M * WANDER_SIGMA_M - surface_sigma_m * surface_sigma_m
     row[3], row[4], row[5] = r[0, 0] + shift, r[0, 1], r[1, 1] + shift
     row[6] = extent_m
+    row[7], row[8] = laser_pose[0], laser_pose[1]
     counts[k] += 1
 
 
@@ -175,10 +181,11 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
 def _gather(rows, count, n, times, z, weights):
     """The newest ``n`` of ``count`` buffered centroids ``rows`` into ``times``, ``z`` and
     ``weights`` (inverse covariances), oldest first; returns χ² of the standing model (the
-    weighted mean's residuals). A centroid whose segment's extent differs from the window's
-    mean by ``Δ`` gets ``(Δ/2)²`` more variance on each axis: the visible part of a body
-    that grows or shrinks (a face coming into view, an end hidden) moves its centre as
-    much as a start would."""
+    weighted mean's residuals). Each centroid gets more variance on each axis for two causes
+    of a centre sliding with the view, not with the body: ``(max(0, |Δ| − EXTENT_NOISE_M) / 2)²``
+    for a segment whose extent differs from the window's mean by ``Δ`` (a face coming into
+    view, an end hidden), and ``(VIEW_SLIDE · d)²`` for the laser's travel ``d`` (m) since the
+    previous centroid."""
     window = rows.shape[0]
     mean_extent = 0.0
     for i in range(n):
@@ -189,6 +196,9 @@ def _gather(rows, count, n, times, z, weights):
         row = rows[(count - n + i) % window]
         times[i], z[i, 0], z[i, 1] = row[0], row[1], row[2]
         reshaped = 0.25 * max(0.0, abs(row[6] - mean_extent) - EXTENT_NOISE_M) ** 2  # grew or shrank: its centre slid
+        if i > 0:
+            before = rows[(count - n + i - 1) % window]
+            reshaped += (VIEW_SLIDE * math.hypot(row[7] - before[7], row[8] - before[8])) ** 2
         xx, yy = row[3] + reshaped, row[5] + reshaped
         det = xx * yy - row[4] * row[4]
         weights[i, 0, 0], weights[i, 0, 1] = yy / det, -row[4] / det

@@ -302,7 +302,7 @@ class Tracker:
         rows = math.ceil(max(config.free_space_lags_s) / spacing) + 2 if config.free_space_evidence else 0
         self.scan_history = np.zeros((rows, 4 + LASER_BEAMS))
         # each track's last matched centroids for the start test (onset.ramp_onset)
-        self.centroid_history = np.zeros((capacity, ONSET_WINDOW, 7))
+        self.centroid_history = np.zeros((capacity, ONSET_WINDOW, 9))
         self.centroid_count = np.zeros(capacity, np.int64)
         self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
         self.segments = np.zeros((LASER_BEAMS, len(SEGMENT_FIELDS)))
@@ -1054,7 +1054,7 @@ def track_scan(
                 centroid_count[k] = 0  # a part of the body: its centroid slides with the view, not with the body
             else:
                 remember_centroid(
-                    k, t_s, z[b], r[b], segments[m, _EXTENT], params[_SURFACE], centroid_history, centroid_count
+                    k, t_s, z[b], r[b], segments[m, _EXTENT], params[_SURFACE], pose, centroid_history, centroid_count
                 )
             seen_s[k] = t_s
             segment_of[k] = m
@@ -1147,6 +1147,7 @@ def track_scan(
             r[b],
             segments[candidate[b], _EXTENT],
             params[_SURFACE],
+            pose,
             centroid_history,
             centroid_count,
         )
