@@ -148,3 +148,22 @@ def test_a_start_must_be_faster_than_wander_and_slower_than_a_runaway(speed, sta
     t_s, state = _track_with(centroids)
     _test(t_s, state, threshold=0.5)
     assert bool(state["p_moving"][0] > 0.5) is started
+
+
+def test_the_closed_form_scan_matches_the_full_fit():
+    """The test scans each start with the 2×2 Schur complement (``onset._ramp_chi2``); its χ² is
+    the full least-squares fit's, and the standing χ² that of the weighted mean."""
+    from attentive_gym.attention.tracking.onset import _gather, _ramp_chi2
+
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        centroids = np.array([3.0, 0.5]) + 0.05 * rng.standard_normal((ONSET_WINDOW, 2))
+        t_s, state = _track_with(centroids, extents=0.4 + 0.2 * rng.random(ONSET_WINDOW), laser_speed_mps=0.5)
+        n = ONSET_WINDOW
+        times, z, weights, sums = np.empty(n), np.empty((n, 2)), np.empty((n, 2, 2)), np.empty(6)
+        standing = _gather(state["history"][0], state["counts"][0], n, times, z, weights, sums)
+        mean = np.linalg.solve(weights.sum(0), np.einsum("nij,nj->i", weights, z))
+        assert standing == pytest.approx(np.einsum("ni,nij,nj->", z - mean, weights, z - mean), rel=1e-9)
+        for start in (times[0], times[2] + 0.01, times[5]):
+            full = ramp_fit(times, z, weights, start, np.empty(4), np.empty((4, 4)))
+            assert _ramp_chi2(times, z, weights, n, start, sums) == pytest.approx(full, rel=1e-7, abs=1e-9)

@@ -140,9 +140,8 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
     times = np.empty(window)
     z = np.empty((window, 2))
     weights = np.empty((window, 2, 2))
+    sums = np.empty(6)
     theta = np.empty(4)
-    fit_covariance = np.empty((4, 4))
-    best_theta = np.empty(4)
     best_covariance = np.empty((4, 4))
     for k in range(alive.shape[0]):
         if not alive[k]:
@@ -153,35 +152,73 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
         n = min(counts[k], window)
         if n < MIN_CENTROIDS or history[k, (counts[k] - 1) % window, 0] != t_s:
             continue
-        standing = _gather(history[k], counts[k], n, times, z, weights)
-        best, best_start = 0.0, 0.0
+        standing = _gather(history[k], counts[k], n, times, z, weights, sums)
+        if 0.5 * standing <= log_ratio_threshold:
+            continue  # no start can explain more than the standing fit leaves
+        best, best_start, best_scale = 0.0, 0.0, 1.0
         for j in range(n - _MIN_MOVING):
             for half in range(2):
                 start = times[j] + 0.5 * half * (times[j + 1] - times[j])
-                chi2 = ramp_fit(times[:n], z[:n], weights[:n], start, theta, fit_covariance)
+                chi2 = _ramp_chi2(times, z, weights, n, start, sums)
                 # scattered more than the covariances say: the segment's shape moves, not only the body
                 scale = max(1.0, chi2 / (2 * n - 4))
                 ratio = 0.5 * (standing - chi2) / scale
                 if ratio > best:
-                    best, best_start = ratio, start
-                    best_theta[:] = theta
-                    best_covariance[:] = scale * fit_covariance
+                    best, best_start, best_scale = ratio, start, scale
         if best <= log_ratio_threshold:
             continue
-        speed = math.hypot(best_theta[2], best_theta[3])
+        ramp_fit(times[:n], z[:n], weights[:n], best_start, theta, best_covariance)
+        speed = math.hypot(theta[2], theta[3])
         if speed < MIN_START_SPEED_MPS or (runaway_mps > 0.0 and speed > runaway_mps):
             continue
-        _set_from_fit(k, t_s - best_start, best_theta, best_covariance, cv_x, cv_P)
+        _set_from_fit(k, t_s - best_start, theta, best_scale * best_covariance, cv_x, cv_P)
         odds = p_moving[k] / (1.0 - p_moving[k]) * math.exp(min(best, 50.0))
         p_moving[k] = min(odds / (1.0 + odds), _MAX_PROBABILITY)
         counts[k] = 0
 
 
 @njit(cache=True, inline="always")
-def _gather(rows, count, n, times, z, weights):
+def _ramp_chi2(times, z, weights, n, start_s, sums):
+    """χ² of ``ramp_fit``'s fit over the first ``n`` centroids, in closed form: the normal
+    equations ``[[A, B], [B, C]] θ = (r_a, r_v)`` solved by the 2×2 Schur complement of ``A``.
+    ``sums`` ``(6,)`` holds what no start changes (``_gather``'s): ``A`` (xx, xy, yy), ``r_a``
+    and ``Σ zᵀ W z``."""
+    b00 = b01 = b11 = c00 = c01 = c11 = v0 = v1 = 0.0
+    for i in range(n):
+        s = max(0.0, times[i] - start_s)
+        if s == 0.0:
+            continue
+        w00, w01, w11 = weights[i, 0, 0], weights[i, 0, 1], weights[i, 1, 1]
+        b00 += s * w00
+        b01 += s * w01
+        b11 += s * w11
+        c00 += s * s * w00
+        c01 += s * s * w01
+        c11 += s * s * w11
+        v0 += s * (w00 * z[i, 0] + w01 * z[i, 1])
+        v1 += s * (w01 * z[i, 0] + w11 * z[i, 1])
+    a00, a01, a11, r0, r1, quadratic = sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]
+    det_a = a00 * a11 - a01 * a01
+    i00, i01, i11 = a11 / det_a, -a01 / det_a, a00 / det_a  # A⁻¹
+    m00, m01 = i00 * b00 + i01 * b01, i00 * b01 + i01 * b11  # M = A⁻¹ B
+    m10, m11 = i01 * b00 + i11 * b01, i01 * b01 + i11 * b11
+    s00, s01, s11 = c00 - (b00 * m00 + b01 * m10), c01 - (b00 * m01 + b01 * m11), c11 - (b01 * m01 + b11 * m11)
+    y0, y1 = v0 - (m00 * r0 + m10 * r1), v1 - (m01 * r0 + m11 * r1)  # r_v − Mᵀ r_a
+    det_s = s00 * s11 - s01 * s01
+    if det_s <= 0.0:
+        return math.inf
+    tv0, tv1 = (s11 * y0 - s01 * y1) / det_s, (s00 * y1 - s01 * y0) / det_s
+    ta0 = i00 * r0 + i01 * r1 - (m00 * tv0 + m01 * tv1)
+    ta1 = i01 * r0 + i11 * r1 - (m10 * tv0 + m11 * tv1)
+    return quadratic - (r0 * ta0 + r1 * ta1 + v0 * tv0 + v1 * tv1)
+
+
+@njit(cache=True, inline="always")
+def _gather(rows, count, n, times, z, weights, sums):
     """The newest ``n`` of ``count`` buffered centroids ``rows`` into ``times``, ``z`` and
     ``weights`` (inverse covariances), oldest first; returns χ² of the standing model (the
-    weighted mean's residuals). Each centroid gets more variance on each axis for two causes
+    weighted mean's residuals), with the start-free sums of the normal equations in ``sums``
+    (``_ramp_chi2``'s). Each centroid gets more variance on each axis for two causes
     of a centre sliding with the view, not with the body: ``(max(0, |Δ| − EXTENT_NOISE_M) / 2)²``
     for a segment whose extent differs from the window's mean by ``Δ`` (a face coming into
     view, an end hidden), and ``(VIEW_SLIDE · d)²`` for the laser's travel ``d`` (m) since the
@@ -190,8 +227,7 @@ def _gather(rows, count, n, times, z, weights):
     mean_extent = 0.0
     for i in range(n):
         mean_extent += rows[(count - n + i) % window, 6] / n
-    total = np.zeros((2, 2))
-    total_z = np.zeros(2)
+    sums[:] = 0.0
     for i in range(n):
         row = rows[(count - n + i) % window]
         times[i], z[i, 0], z[i, 1] = row[0], row[1], row[2]
@@ -203,16 +239,18 @@ def _gather(rows, count, n, times, z, weights):
         det = xx * yy - row[4] * row[4]
         weights[i, 0, 0], weights[i, 0, 1] = yy / det, -row[4] / det
         weights[i, 1, 0], weights[i, 1, 1] = -row[4] / det, xx / det
-        for p in range(2):
-            total_z[p] += weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1]
-            for q in range(2):
-                total[p, q] += weights[i, p, q]
-    mean = np.linalg.solve(total, total_z)
-    chi2 = 0.0
-    for i in range(n):
-        e0, e1 = z[i, 0] - mean[0], z[i, 1] - mean[1]
-        chi2 += weights[i, 0, 0] * e0 * e0 + 2.0 * weights[i, 0, 1] * e0 * e1 + weights[i, 1, 1] * e1 * e1
-    return chi2
+        wz0 = weights[i, 0, 0] * z[i, 0] + weights[i, 0, 1] * z[i, 1]
+        wz1 = weights[i, 1, 0] * z[i, 0] + weights[i, 1, 1] * z[i, 1]
+        sums[0] += weights[i, 0, 0]
+        sums[1] += weights[i, 0, 1]
+        sums[2] += weights[i, 1, 1]
+        sums[3] += wz0
+        sums[4] += wz1
+        sums[5] += z[i, 0] * wz0 + z[i, 1] * wz1
+    det = sums[0] * sums[2] - sums[1] * sums[1]
+    mean0 = (sums[2] * sums[3] - sums[1] * sums[4]) / det
+    mean1 = (sums[0] * sums[4] - sums[1] * sums[3]) / det
+    return sums[5] - (sums[3] * mean0 + sums[4] * mean1)
 
 
 @njit(cache=True, inline="always")
