@@ -935,7 +935,7 @@ def track_scan(
        miss. It is deleted after ``params[_DELETE]`` misses in a row, or once it has had
        no segment of its own for ``params[_COAST]`` seconds (hidden bodies coast, merged
        ones follow their carved measurements, meanwhile). A matched track's centroid goes
-       into its buffer for the start test (``onset.remember_centroid``; a segment cut by the
+       into its buffer for the start test, when it is on (``onset.remember_centroid``; a segment cut by the
        edge or hidden at an end clears it instead).
     5. Give each unmatched candidate with enough beams a new track in a free slot (none
        when full); its buffer starts with its centroid.
@@ -1050,9 +1050,9 @@ def track_scan(
                 p_moving[k] = p_before  # cut by the field of view's edge: where the body is, only in part
             elif params[_OCCLUSION_KEEPS] != 0.0 and occluded:
                 p_moving[k] = p_before  # partly hidden behind a nearer body: its visible part slides as that moves
-            if cut or occluded:
+            if params[_ONSET_LOG_RATIO] != 0.0 and (cut or occluded):
                 centroid_count[k] = 0  # a part of the body: its centroid slides with the view, not with the body
-            else:
+            elif params[_ONSET_LOG_RATIO] != 0.0:
                 remember_centroid(
                     k, t_s, z[b], r[b], segments[m, _EXTENT], params[_SURFACE], pose, centroid_history, centroid_count
                 )
@@ -1140,17 +1140,18 @@ def track_scan(
         extent_m[slot] = segments[candidate[b], _EXTENT]
         segment_of[slot] = candidate[b]
         centroid_count[slot] = 0
-        remember_centroid(
-            slot,
-            t_s,
-            z[b],
-            r[b],
-            segments[candidate[b], _EXTENT],
-            params[_SURFACE],
-            pose,
-            centroid_history,
-            centroid_count,
-        )
+        if params[_ONSET_LOG_RATIO] != 0.0:
+            remember_centroid(
+                slot,
+                t_s,
+                z[b],
+                r[b],
+                segments[candidate[b], _EXTENT],
+                params[_SURFACE],
+                pose,
+                centroid_history,
+                centroid_count,
+            )
 
 
 @njit(cache=True, inline="always")
