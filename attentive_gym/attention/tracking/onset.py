@@ -15,7 +15,9 @@ constant-velocity filter needs to absorb a start (Willsky & Jones, IEEE TAC 1976
 
 - ``remember_centroid``: push a matched centroid into a track's ring buffer.
 - ``ramp_onset``: the test of every standing track just matched; a start sets its
-  constant-velocity state from the fit and its probability of moving from the ratio.
+  constant-velocity state from the fit and its probability of moving from the ratio. While
+  the laser drives, a start must also beat a centre that slides with the segment's extent
+  (static structure whose faces turn away shrinks and slides).
 
 Units: seconds, metres, m/s. Arrays: ``history`` ``(K, ONSET_WINDOW, 9)``, a row per
 centroid: time (s), position x, y (m, odometry frame), covariance xx, xy, yy (m²), the
@@ -54,6 +56,10 @@ EXTENT_NOISE_M = 0.1
 #: as the robot drives, segments of rubble and walls merge, split and show new faces, and
 #: their centres jump by as much as the robot moved.
 VIEW_SLIDE = 1.0
+#: The laser's travel over a track's buffered centroids (m) beyond which a start must also beat
+#: a centre that slides with the segment's extent (``_reshaping_ratio``): the view of static
+#: structure changes only as the laser moves.
+VIEW_TRAVEL_M = 0.05
 #: The highest probability of moving a start sets.
 _MAX_PROBABILITY = 1.0 - 1e-3
 
@@ -128,8 +134,10 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
     as the start τ (the oldest: the body moved all along). Each ratio is divided by the
     ramp's own scatter, ``max(1, χ²_ramp / (2n − 4))``: a segment whose centroid jumps more
     than its covariance allows (its shape changing as the view does) needs a larger shift
-    to count, and the fit's covariance grows by the same factor. Where the best start's
-    ratio exceeds ``log_ratio_threshold`` (nats) and its fitted speed lies in
+    to count, and the fit's covariance grows by the same factor. Where the laser travelled
+    more than ``VIEW_TRAVEL_M`` over the buffer, the best start must also pass the threshold
+    once the centre may slide with the segment's extent (``_reshaping_ratio``). Where the
+    best start's ratio exceeds ``log_ratio_threshold`` (nats) and its fitted speed lies in
     ``[MIN_START_SPEED_MPS, runaway_mps]`` (m/s), the track has started:
 
     - ``cv_x[k]`` ``(4,)`` becomes the fit's position now and velocity, ``cv_P[k]``
@@ -167,6 +175,10 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
                     best, best_start, best_scale = ratio, start, scale
         if best <= log_ratio_threshold:
             continue
+        if _laser_travel(history[k], counts[k], n) > VIEW_TRAVEL_M and (
+            _reshaping_ratio(history[k], counts[k], n, times, z, weights, best_start) <= log_ratio_threshold
+        ):
+            continue  # the centre moved with the segment's extent as the laser drove: a view that changed
         ramp_fit(times[:n], z[:n], weights[:n], best_start, theta, best_covariance)
         speed = math.hypot(theta[2], theta[3])
         if speed < MIN_START_SPEED_MPS or (runaway_mps > 0.0 and speed > runaway_mps):
@@ -175,6 +187,52 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
         odds = p_moving[k] / (1.0 - p_moving[k]) * math.exp(min(best, 50.0))
         p_moving[k] = min(odds / (1.0 + odds), _MAX_PROBABILITY)
         counts[k] = 0
+
+
+@njit(cache=True, inline="always")
+def _laser_travel(rows, count, n):
+    """How far the laser moved (m) between the oldest and the newest of ``n`` buffered centroids."""
+    window = rows.shape[0]
+    first, last = rows[(count - n) % window], rows[(count - 1) % window]
+    return math.hypot(last[7] - first[7], last[8] - first[8])
+
+
+@njit(cache=True)
+def _reshaping_ratio(rows, count, n, times, z, weights, start_s):
+    """The start's log-likelihood ratio once both models may also move the centre in proportion
+    to the segment's extent (``z_i = a + g (e_i − ē) [+ v · max(0, t_i − τ)]``, ``g ∈ R²``): a
+    segment that shrinks as its faces turn away from a driving laser slides its centre with
+    its extent, which a body that starts does not. Weighted least squares over the first ``n``
+    centroids (each whitened by its weight), divided by the ramp's excess scatter as in
+    ``ramp_onset``."""
+    window = rows.shape[0]
+    extent = np.empty(n)
+    for i in range(n):
+        extent[i] = rows[(count - n + i) % window, 6]
+    extent -= extent.mean()
+    design = np.zeros((2 * n, 6))
+    target = np.empty(2 * n)
+    for i in range(n):
+        l00 = math.sqrt(weights[i, 0, 0])  # Lᵀ with L Lᵀ = W_i, the Cholesky factor of the weight
+        l10 = weights[i, 1, 0] / l00
+        l11 = math.sqrt(max(weights[i, 1, 1] - l10 * l10, 1e-300))
+        s = max(0.0, times[i] - start_s)
+        for column, factor in ((0, 1.0), (2, extent[i]), (4, s)):
+            design[2 * i, column], design[2 * i, column + 1] = l00 * factor, l10 * factor
+            design[2 * i + 1, column + 1] = l11 * factor
+        target[2 * i] = l00 * z[i, 0] + l10 * z[i, 1]
+        target[2 * i + 1] = l11 * z[i, 1]
+    standing = _residual2(np.ascontiguousarray(design[:, :4]), target)
+    ramp = _residual2(design, target)
+    return 0.5 * (standing - ramp) / max(1.0, ramp / (2 * n - 6))
+
+
+@njit(cache=True, inline="always")
+def _residual2(design, target):
+    """The squared norm of the least-squares residual of ``design @ x ≈ target``."""
+    x = np.linalg.lstsq(design, target)[0]
+    residual = target - design @ x
+    return residual @ residual
 
 
 @njit(cache=True, inline="always")

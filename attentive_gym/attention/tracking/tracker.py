@@ -936,7 +936,7 @@ def track_scan(
        no segment of its own for ``params[_COAST]`` seconds (hidden bodies coast, merged
        ones follow their carved measurements, meanwhile). A matched track's centroid goes
        into its buffer for the start test, when it is on (``onset.remember_centroid``; a segment cut by the
-       edge or hidden at an end clears it instead).
+       edge or hidden at an end clears it instead, and so does a miss).
     5. Give each unmatched candidate with enough beams a new track in a free slot (none
        when full); its buffer starts with its centroid.
     """
@@ -1107,6 +1107,7 @@ def track_scan(
                 )
         if not (hidden or found):
             misses[k] += 1
+            centroid_count[k] = 0  # in view but not matched: its segment is unstable, its centroids with it
         if misses[k] >= params[_DELETE] or t_s - seen_s[k] > params[_COAST]:
             alive[k] = False
     slot = 0
