@@ -10,7 +10,8 @@ or, for the variants that run the attentional model, the model's defaults
 | task 0, model 0 | ``-v0`` | ``-v0`` |
 | task 0, model 1 | ``-v0`` | ``-v1`` |
 | task 1, model 1 | ``-v1`` | ``-v2`` |
-| task 1, model 2 (current) | ``-v1`` | ``-v3`` |
+| task 1, model 2 | ``-v1`` | ``-v3`` |
+| task 1, model 3 (current) | ``-v1`` | ``-v4`` |
 
 Every id is built by ``attentive_gym.wrappers.variants:make_env`` and has a vector entry
 point (``gym.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``:
@@ -46,7 +47,7 @@ def registered_id(variant: str, task: int, model: int) -> str:
 
 
 #: The ``(task, model)`` versions that have ids, the current one last (the table above).
-_VERSIONS = ((0, 0), (0, 1), (1, 1), (1, 2))
+_VERSIONS = ((0, 0), (0, 1), (1, 1), (1, 2), (1, 3))
 #: Variant name → its registered id on the current task and model.
 VARIANT_IDS: dict[str, str] = {variant: registered_id(variant, *_VERSIONS[-1]) for variant in _BASES}
 #: Every registered id → ``(variant, task version, model version)``; the model version is

@@ -116,7 +116,8 @@ def page(root: Path, write_figures: bool = True) -> str:
             "",
             "Settings: `defaults` is the model's version 1 (free-space evidence, the tracker's start rules and "
             "the field-of-view edge rule; [The model](../model.md) §10), `AttentionConfig()` when these bags "
-            "were last run; version 2's occlusion rule (`track_occlusion_keeps_motion`) has not been run on them "
+            "were last run; version 2's occlusion rule (`track_occlusion_keeps_motion`) and version 3's start test "
+            "(`track_onset_log_ratio`) have not been run on them "
             "(`attention.VERSION_1_FIELDS` as `--config` rebuilds version 1); "
             "`indoor-people` the laser profile of that name (`attend --profile indoor-people`); `version 0` the "
             "defaults before those rules (`attention.VERSION_0_FIELDS` as `--config`). `laser A,B` merges those "
@@ -142,10 +143,11 @@ def page(root: Path, write_figures: bool = True) -> str:
             "FRONT='--laser-topic /front_scan --laser-mount 0.23565,-0.0005,0'",
             "BOTH='--laser-topic /front_scan,/rear_scan --laser-mount 0.23565,-0.0005,0 "
             "--laser-mount=-0.23832,0.00542,180'",
-            "V1='{\"track_occlusion_keeps_motion\": false}'  # the model's version 1, the page's `defaults`",
+            'V1=\'{"track_occlusion_keeps_motion": false, "track_onset_log_ratio": 0.0}\'  # the model\'s version 1, '
+            "the page's `defaults`",
             'V0=\'{"free_space_evidence": false, "track_onset_speed_sigma_mps": 0.0, '
             '"track_standing_speed_sigma_mps": 0.0, "track_runaway_speed_mps": 0.0, '
-            '"track_edge_keeps_motion": false, "track_occlusion_keeps_motion": false}\'',
+            '"track_edge_keeps_motion": false, "track_occlusion_keeps_motion": false, "track_onset_log_ratio": 0.0}\'',
             "# each of these with and without --profile indoor-people (with it, label version 0's runs "
             '"indoor-people, version 0"), and with and without --goal speed:between:0.3:2.0;',
             '# the runs without V0 also take --config "$V1" --label defaults (or indoor-people):',

@@ -103,19 +103,21 @@ _REPRODUCE = """\
 Train a comparison, merge its rows into the CSVs, and render this page. A run records the
 task and model versions it trains on, the latest by default, and PPO clones the privileged
 teacher first by default. The headline's rows (`warm start privileged, task v1, model v2`)
-ran on the model's version 2, the latest. At 1M steps a run takes about 4 to 6 minutes, two at a
-time on 2 cores, so the 40 runs about 100 minutes:
+ran on the model's version 2, hence `--model 2` (the latest is 3). At 1M steps a run takes
+about 4 to 6 minutes, two at a time on 2 cores, so the 40 runs about 100 minutes:
 
 ```bash
 attentive-gym compare --variants raw,random-focus,focus,oracle --seeds 41,42,43,44,45,46,47,48,49,50 \\
-    --steps 1000000 --eval-every 250000 --eval-episodes 40 \\
+    --steps 1000000 --eval-every 250000 --eval-episodes 40 --model 2 \\
     --env-kwargs '{"arena_size_m": 8, "num_distractors": 2, "rubble_per_100m2": 3}' --workers 2 --out runs/main
 python tools/report.py add runs/main/results.csv              # into docs/results/rl_comparison.csv
 python tools/report.py render                                  # this page, the figures and the README's headline
 ```
 
 The rows tagged `model v1` are `focus` and `random-focus` on the model's version 1, the same
-command with `--variants random-focus,focus --model 1` (about 100 minutes).
+command with `--variants random-focus,focus --model 1` (about 100 minutes). The rows tagged
+`model v3` are `focus` on version 3, the latest: the same command with `--variants focus
+--seeds 41,42,43,44,45 --model 3` (about 30 minutes).
 
 The rows of the other settings came from the same command with their flags: `--task 0
 --warm-start none` for the rows without a task note (the first task, without a warm start),

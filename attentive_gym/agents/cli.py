@@ -173,7 +173,8 @@ def _add_run_options(parser: argparse.ArgumentParser, quick: bool) -> None:
         type=int,
         choices=MODEL_VERSIONS,
         help="the version of the attentional model's defaults (attention.MODEL_VERSIONS) that the attended "
-        "variants run: 2, with the occlusion rule; 1, with free-space evidence and the start and edge rules; 0, "
+        "variants run: 3, with the start test; 2, with the occlusion rule; 1, with free-space evidence and the start "
+        "and edge rules; 0, "
         f"the first tracker (default: the latest, {MODEL_VERSIONS[-1]}; a trained folder keeps its own)",
     )
     parser.add_argument(

@@ -10,7 +10,7 @@
   ``configured``: a profile and a JSON object of fields over the defaults.
 - ``MODEL_VERSIONS`` / ``check_model_version`` / ``version_fields``: the versions of the
   defaults, a version checked against them, and the fields that rebuild an earlier one
-  (``VERSION_0_FIELDS``, ``VERSION_1_FIELDS``).
+  (``VERSION_0_FIELDS``, ``VERSION_1_FIELDS``, ``VERSION_2_FIELDS``).
 
 Units: seconds (s), metres (m), metres per second (m/s), radians (rad) unless a field
 name says otherwise (``_deg``).
@@ -48,6 +48,7 @@ __all__ = [
     "check_model_version",
     "VERSION_0_FIELDS",
     "VERSION_1_FIELDS",
+    "VERSION_2_FIELDS",
     "version_fields",
     "profile_config",
     "configured",
@@ -70,9 +71,11 @@ MAX_FREE_SPACE_LAGS = 8
 #: - 1 (until 2026-12-07): free-space evidence, the tracker's start rules and its
 #:   field-of-view edge rule on, and, in the simulator, the dead reckoning of its physics
 #:   sub-steps (docs/notes/2026-12-06-motion-by-default.md); ``VERSION_1_FIELDS``.
-#: - 2: the occlusion rule on (``track_occlusion_keeps_motion``;
-#:   docs/notes/2026-12-07-phantoms-behind-passing-bodies.md).
-MODEL_VERSIONS = (0, 1, 2)
+#: - 2 (until 2026-12-07): the occlusion rule on (``track_occlusion_keeps_motion``;
+#:   docs/notes/2026-12-07-phantoms-behind-passing-bodies.md); ``VERSION_2_FIELDS``.
+#: - 3: the start test on, at 6 nats (``track_onset_log_ratio``;
+#:   docs/notes/2026-12-07-a-start-test.md).
+MODEL_VERSIONS = (0, 1, 2, 3)
 
 
 def check_model_version(version: Any, name: str = "model version") -> int:
@@ -83,10 +86,13 @@ def check_model_version(version: Any, name: str = "model version") -> int:
     return version
 
 
-#: The fields whose defaults version 2 changed, with their version 1 values: as an
+#: The fields whose defaults version 3 changed, with their version 2 values: as an
+#: ``AttentionConfig`` override, they rebuild version 2's defaults.
+VERSION_2_FIELDS: Mapping[str, Any] = MappingProxyType({"track_onset_log_ratio": 0.0})
+#: The fields whose defaults versions 2 and 3 changed, with their version 1 values: as an
 #: ``AttentionConfig`` override, they rebuild version 1's defaults.
-VERSION_1_FIELDS: Mapping[str, Any] = MappingProxyType({"track_occlusion_keeps_motion": False})
-#: The fields whose defaults versions 1 and 2 changed, with their version 0 values: as an
+VERSION_1_FIELDS: Mapping[str, Any] = MappingProxyType({"track_occlusion_keeps_motion": False, **VERSION_2_FIELDS})
+#: The fields whose defaults versions 1 to 3 changed, with their version 0 values: as an
 #: ``AttentionConfig`` override, they rebuild version 0's defaults.
 VERSION_0_FIELDS: Mapping[str, Any] = MappingProxyType(
     {
@@ -99,7 +105,7 @@ VERSION_0_FIELDS: Mapping[str, Any] = MappingProxyType(
     }
 )
 #: Each earlier version → the overrides that rebuild its defaults from the current ones.
-_EARLIER_FIELDS = {0: VERSION_0_FIELDS, 1: VERSION_1_FIELDS}
+_EARLIER_FIELDS = {0: VERSION_0_FIELDS, 1: VERSION_1_FIELDS, 2: VERSION_2_FIELDS}
 
 
 def version_fields(version: int) -> dict[str, Any]:
@@ -302,7 +308,7 @@ class AttentionConfig:
             (standing, then moving at a constant velocity; ``tracking.onset``) better than
             standing by this log-likelihood ratio (nats; 0 turns the test off) has started:
             its velocity, position and their covariance come from the fit, and its odds of
-            moving grow by the ratio.
+            moving grow by the ratio. 6 since model version 3.
         track_speed_goal_probability: judge a speed goal at a region by the probability
             that the region's track moves at a wanted speed (its probability of moving ×
             P(speed in the goal's range), the speed normal along the velocity estimate with
@@ -421,7 +427,7 @@ class AttentionConfig:
     track_runaway_speed_mps: float = 1.5
     track_edge_keeps_motion: bool = True
     track_occlusion_keeps_motion: bool = True
-    track_onset_log_ratio: float = 0.0
+    track_onset_log_ratio: float = 6.0
     track_speed_goal_probability: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16

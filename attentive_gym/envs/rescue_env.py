@@ -179,6 +179,9 @@ class AttentiveRescueEnv(gym.Env):
     **Version History** (the registered ids' version; any change of a default that can
     change learning results bumps it, as Gymnasium does, and adds a line here):
 
+    - v4 of the five attended ids (2026-12-07): the model's version 3, whose tracker tests each
+      standing track's last centroids for a start (``track_onset_log_ratio``, 6 nats). The
+      raw, raw-stack and oracle ids stay v1.
     - v3 of the five attended ids (2026-12-07): the model's version 2, whose tracker keeps a
       partly occluded body's probability of moving (``track_occlusion_keeps_motion``). The
       raw, raw-stack and oracle ids stay v1.

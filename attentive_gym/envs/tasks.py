@@ -7,7 +7,7 @@ defaults of ``RewardConfig`` and whether the variants with the focus layout (``"
 | version | reward over ``RewardConfig()`` | ``proximity`` | registered ids |
 |---|---|---|---|
 | 0 | none (contact costs 2/s, never ends an episode) | no | ``AttentiveRescue-v0``; attended ``-v0``, ``-v1`` |
-| 1 | ``contact_limit_s=1.0``, ``near_per_s=4.0``: safe rescue | yes | ``AttentiveRescue-v1``; ``-v2``, ``-v3`` |
+| 1 | ``contact_limit_s=1.0``, ``near_per_s=4.0``: safe rescue | yes | ``AttentiveRescue-v1``; ``-v2`` to ``-v4`` |
 
 Version 1 is the default since the agents of version 0 won by ramming: in contact for a third
 to a half of their steps (docs/results/safe_rescue.md). An episode of version 1 ends, without

@@ -4,12 +4,12 @@
 |---|---|---|
 | ``"raw"`` | ``AttentiveRescue-v1`` | sonar, laser, odometry, goal |
 | ``"raw-stack"`` | ``AttentiveRescueStack-v1`` | the same, sensors stacked over 4 steps |
-| ``"focus"`` | ``AttentiveRescueFocus-v3`` | the attended region, 3 remembered bodies, each region's nearest reading |
-| ``"saliency"`` | ``AttentiveRescueSaliency-v3`` | raw readings + maps L and M |
-| ``"masked"`` | ``AttentiveRescueMasked-v3`` | raw readings outside the focus masked + masks |
-| ``"goal-action"`` | ``AttentiveRescueGoalAction-v3`` | ``"focus"``, the action also picks goal and weights |
+| ``"focus"`` | ``AttentiveRescueFocus-v4`` | the attended region, 3 remembered bodies, each region's nearest reading |
+| ``"saliency"`` | ``AttentiveRescueSaliency-v4`` | raw readings + maps L and M |
+| ``"masked"`` | ``AttentiveRescueMasked-v4`` | raw readings outside the focus masked + masks |
+| ``"goal-action"`` | ``AttentiveRescueGoalAction-v4`` | ``"focus"``, the action also picks goal and weights |
 | ``"oracle"`` | ``AttentiveRescueOracle-v1`` | ``"focus"``'s layout filled from the privileged state |
-| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v3`` | ``"focus"`` of a random region each step (a control) |
+| ``"random-focus"`` | ``AttentiveRescueRandomFocus-v4`` | ``"focus"`` of a random region each step (a control) |
 
 These ids build the current task (``envs.tasks.TASK_VERSIONS``: safe rescue) and the model's
 current defaults (``attention.MODEL_VERSIONS``); the earlier ids

@@ -166,7 +166,7 @@ def test_the_command_line_warm_starts_by_default_and_none_turns_it_off():
     assert _spec_from_args(parse("--model", "1"), "raw", 0).env_version == 1
     assert _spec_from_args(parse(), "raw", 0, stored={**stored, "env_version": 1}).env_version == 1
     with pytest.raises(SystemExit):
-        parse("--model", "3")
+        parse("--model", "4")
     assert (
         _spec_from_args(parse(), "raw", 0, stored={k: v for k, v in stored.items() if k != "task_version"}).task_version
         == 0

@@ -386,6 +386,7 @@ def test_the_onset_rules_are_on_by_default_and_off_in_version_0():
     assert config.track_runaway_speed_mps == 1.5 and config.track_edge_keeps_motion is True
     assert (first.track_onset_speed_sigma_mps, first.track_standing_speed_sigma_mps) == (0.0, 0.0)
     assert first.track_runaway_speed_mps == 0.0 and first.track_edge_keeps_motion is False
+    assert config.track_onset_log_ratio == 6.0 and first.track_onset_log_ratio == 0.0
 
 
 def test_a_start_restarts_the_velocity_and_a_standing_track_keeps_it_open():
@@ -508,7 +509,7 @@ def test_the_start_test_sees_an_approach_sooner_and_keeps_a_corridor_static(scen
     start test at 5 nats than without (median scans). Driving down a corridor with the test
     on, no track of the walls ends up labelled moving."""
     on = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0, track_onset_log_ratio=5.0)
-    off = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0)
+    off = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0, track_onset_log_ratio=0.0)
 
     def victim(t):
         return (3.0 - 0.5 * max(t - 1.0, 0.0), 0.5)

@@ -95,7 +95,8 @@ def test_the_current_ids_build_the_latest_versions_and_the_earlier_ids_their_own
         assert (env_id in VARIANT_IDS.values()) == current, env_id
     assert ID_VERSIONS["AttentiveRescue-v0"][1] == 0 and ID_VERSIONS["AttentiveRescueFocus-v1"][1:] == (0, 1)
     assert ID_VERSIONS["AttentiveRescueFocus-v2"][1:] == (1, 1) and ID_VERSIONS["AttentiveRescueFocus-v3"][1:] == (1, 2)
-    assert VARIANT_IDS["raw"] == "AttentiveRescue-v1" and VARIANT_IDS["focus"] == "AttentiveRescueFocus-v3"
+    assert ID_VERSIONS["AttentiveRescueFocus-v4"][1:] == (1, 3)
+    assert VARIANT_IDS["raw"] == "AttentiveRescue-v1" and VARIANT_IDS["focus"] == "AttentiveRescueFocus-v4"
     current = gym.make(VARIANT_IDS["focus"])
     assert current.unwrapped.reward_config == SAFE and "proximity" in current.observation_space.spaces
     earlier = gym.make("AttentiveRescueFocus-v1")
@@ -110,16 +111,16 @@ def test_every_model_variant_has_an_id_per_model_version_on_the_first_task():
 
 def test_the_attended_ids_of_the_current_task_build_their_own_model_version():
     configs = {}
-    for env_id in ("AttentiveRescueFocus-v2", "AttentiveRescueFocus-v3"):
+    for env_id in ("AttentiveRescueFocus-v2", "AttentiveRescueFocus-v3", "AttentiveRescueFocus-v4"):
         env = gym.make(env_id)
-        configs[env_id] = env.get_wrapper_attr("model").config
+        configs[env_id[-2:]] = env.get_wrapper_attr("model").config
         env.close()
-    assert configs["AttentiveRescueFocus-v2"].track_occlusion_keeps_motion is False
-    assert configs["AttentiveRescueFocus-v3"].track_occlusion_keeps_motion is True
-    fields = {name for name in vars(configs["AttentiveRescueFocus-v2"])}
-    differ = {
-        f
-        for f in fields
-        if getattr(configs["AttentiveRescueFocus-v2"], f) != getattr(configs["AttentiveRescueFocus-v3"], f)
-    }
-    assert differ == {"track_occlusion_keeps_motion"}
+    assert configs["v2"].track_occlusion_keeps_motion is False
+    assert configs["v3"].track_occlusion_keeps_motion is True and configs["v3"].track_onset_log_ratio == 0.0
+    assert configs["v4"].track_onset_log_ratio == 6.0
+
+    def differ(a, b):
+        return {f for f in vars(configs[a]) if getattr(configs[a], f) != getattr(configs[b], f)}
+
+    assert differ("v2", "v3") == {"track_occlusion_keeps_motion"}
+    assert differ("v3", "v4") == {"track_onset_log_ratio"}

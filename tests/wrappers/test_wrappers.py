@@ -178,10 +178,10 @@ def test_stacked_readings_shift_oldest_first():
         (lambda: make_env("raw-stack", n_frames=1), "n_frames must be"),
         (lambda: make_env("goal-action", goal_menu=()), "goal_menu"),
         (lambda: make_env("focus", weights={"F9": 1.0}), "F9"),
-        (lambda: make_env("focus", version=3), r"unknown model version 3; allowed: \[0, 1, 2\]"),
-        (lambda: make_env("focus", version=True), r"unknown model version True; allowed: \[0, 1, 2\]"),
+        (lambda: make_env("focus", version=4), r"unknown model version 4; allowed: \[0, 1, 2, 3\]"),
+        (lambda: make_env("focus", version=True), r"unknown model version True; allowed: \[0, 1, 2, 3\]"),
         (lambda: AttentionWrapper(make_env("raw"), version=1.0), r"unknown model version 1.0; allowed"),
-        (lambda: RunSpec(variant="focus", env_version=-1), r"unknown env_version -1; allowed: \[0, 1, 2\]"),
+        (lambda: RunSpec(variant="focus", env_version=-1), r"unknown env_version -1; allowed: \[0, 1, 2, 3\]"),
     ],
 )
 def test_bad_configuration_is_refused_with_a_clear_error(call, message):

@@ -10,7 +10,7 @@
 checkout) or the modules ``attentive_gym.agents.rl_zoo.ppo`` and
 ``attentive_gym.agents.rl_zoo.ppo_lstm``, whose ``hyperparams`` are the files' contents::
 
-    python -m rl_zoo3.train --algo ppo --env AttentiveRescueFocus-v3 \\
+    python -m rl_zoo3.train --algo ppo --env AttentiveRescueFocus-v4 \\
         --gym-packages attentive_gym --conf-file attentive_gym.agents.rl_zoo.ppo --device cpu
 """
 

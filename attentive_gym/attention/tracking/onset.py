@@ -32,7 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
-from attentive_gym.attention.tracking.track_regions import MOVING_PROBABILITY
+from attentive_gym.attention.tracking.track_regions import MOTION_FLOOR, MOVING_PROBABILITY
 
 __all__ = ["ONSET_WINDOW", "MIN_CENTROIDS", "remember_centroid", "ramp_onset", "ramp_fit"]
 
@@ -60,8 +60,6 @@ VIEW_SLIDE = 1.0
 #: a centre that slides with the segment's extent (``_reshaping_ratio``): the view of static
 #: structure changes only as the laser moves.
 VIEW_TRAVEL_M = 0.05
-#: The highest probability of moving a start sets.
-_MAX_PROBABILITY = 1.0 - 1e-3
 
 
 @njit(cache=True, inline="always")
@@ -185,7 +183,7 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
             continue
         _set_from_fit(k, t_s - best_start, theta, best_scale * best_covariance, cv_x, cv_P)
         odds = p_moving[k] / (1.0 - p_moving[k]) * math.exp(min(best, 50.0))
-        p_moving[k] = min(odds / (1.0 + odds), _MAX_PROBABILITY)
+        p_moving[k] = min(odds / (1.0 + odds), 1.0 - MOTION_FLOOR)
         counts[k] = 0
 
 

@@ -32,6 +32,9 @@ _HALF_PI = 0.5 * math.pi
 _SQRT2 = math.sqrt(2.0)
 #: A track whose motion probability exceeds this is labelled moving.
 MOVING_PROBABILITY = 0.5
+#: A track's probability of moving stays within [MOTION_FLOOR, 1 − MOTION_FLOOR], so that
+#: either hypothesis can always win back (the filters' update and the start test both bound it).
+MOTION_FLOOR = 1e-3
 
 
 @njit(cache=True, inline="always")

@@ -65,7 +65,7 @@ from attentive_gym.attention.tracking.segmentation import (
     segment_scan,
     split_foreground,
 )
-from attentive_gym.attention.tracking.track_regions import MOVING_PROBABILITY, track_channels, track_table
+from attentive_gym.attention.tracking.track_regions import MOTION_FLOOR, MOVING_PROBABILITY, track_channels, track_table
 
 __all__ = [
     "Tracker",
@@ -83,8 +83,6 @@ __all__ = [
 
 #: The probability that a new track moves, before any evidence.
 _MOTION_PRIOR = 0.5
-#: Bounds of that probability, so that either hypothesis can always win back.
-_MOTION_FLOOR = 1e-3
 #: A track starts when its probability of moving rises past 0.5 from at most this: a body
 #: known to stand. One hovering about 0.5 (a slow body, or one the filters cannot yet tell)
 #: keeps its velocity, which a restart at every crossing would throw away.
@@ -828,7 +826,7 @@ def free_space_step(
             params[_FS_BORN_MOVING],
             params[_FS_EVIDENCE],
             params[_FS_NONE],
-            _MOTION_FLOOR,
+            MOTION_FLOOR,
         ]
     )
     free_space.weigh_motion(
@@ -1187,7 +1185,7 @@ def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_mov
     moving = cv_update(cv_x[k], cv_P[k], z[0], z[1], r)
     static = static_update(static_x[k], static_P[k], z[0], z[1], r)
     switch = 1.0 - math.exp(-params[_SWITCH_RATE] * dt_s)
-    p_moving[k] = motion_probability(p_moving[k], moving, static, switch, _MOTION_FLOOR)
+    p_moving[k] = motion_probability(p_moving[k], moving, static, switch, MOTION_FLOOR)
     hits[k] += 1
     misses[k] = 0
     extent_m[k] += _EXTENT_SMOOTHING * (extent - extent_m[k])
