@@ -309,6 +309,10 @@ class AttentionConfig:
             standing by this log-likelihood ratio (nats; 0 turns the test off) has started:
             its velocity, position and their covariance come from the fit, and its odds of
             moving grow by the ratio. 6 since model version 3.
+        track_change_log_ratio: a track judged moving whose last centroids fit a change of
+            velocity (a line with a kink: a stop, a turn, a reversal; ``tracking.onset``)
+            better than the line by this log-likelihood ratio (nats; 0 turns the test off) has
+            changed: its position and velocity come from the part after the kink.
         track_speed_goal_probability: judge a speed goal at a region by the probability
             that the region's track moves at a wanted speed (its probability of moving ×
             P(speed in the goal's range), the speed normal along the velocity estimate with
@@ -428,6 +432,7 @@ class AttentionConfig:
     track_edge_keeps_motion: bool = True
     track_occlusion_keeps_motion: bool = True
     track_onset_log_ratio: float = 6.0
+    track_change_log_ratio: float = 0.0
     track_speed_goal_probability: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
@@ -578,9 +583,8 @@ class AttentionConfig:
                 f"AttentionConfig.sonar_ego_model must be one of {SONAR_EGO_MODELS}, got {self.sonar_ego_model!r}"
             )
         self._check_free_space()
-        _check_number(
-            "track_onset_log_ratio", self.track_onset_log_ratio, "nats", low=0.0, low_inclusive=True, high=100.0
-        )
+        for name in ("track_onset_log_ratio", "track_change_log_ratio"):
+            _check_number(name, getattr(self, name), "nats", low=0.0, low_inclusive=True, high=100.0)
         for name in (
             "laser_only",
             "td_require_target",

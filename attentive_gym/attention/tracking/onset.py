@@ -17,9 +17,14 @@ constant-velocity filter needs to absorb a start (Willsky & Jones, IEEE TAC 1976
 - ``ramp_onset``: the test of every standing track just matched; a start sets its
   constant-velocity state from the fit and its probability of moving from the ratio. While
   the laser drives, a start must also beat a centre that slides with the segment's extent
-  (static structure whose faces turn away shrinks and slides).
+  (static structure whose faces turn away shrinks and slides). With a second threshold it
+  also runs the change test on every moving track (``velocity_change``).
+- ``velocity_change``: a moving body that stops, turns or reverses bends its centroids'
+  line. The test fits ``z_i = a + v (t_i − t) + w · max(0, τ − t_i)`` (a line through now, with
+  a kink at τ) against the line ``z_i = a + v (t_i − t)``; a change sets the track's
+  position and velocity from the part after τ.
 
-Units: seconds, metres, m/s. Arrays: ``history`` ``(K, ONSET_WINDOW, 9)``, a row per
+Units: seconds, metres, m/s. Arrays: ``history`` ``(K, CENTROID_BUFFER, 9)``, a row per
 centroid: time (s), position x, y (m, odometry frame), covariance xx, xy, yy (m²), the
 segment's extent (m), the laser's position x, y (m);
 ``counts`` ``(K,)`` int64, centroids pushed since the track's buffer was cleared.
@@ -34,14 +39,29 @@ from numba import njit
 
 from attentive_gym.attention.tracking.track_regions import MOTION_FLOOR, MOVING_PROBABILITY
 
-__all__ = ["ONSET_WINDOW", "MIN_CENTROIDS", "remember_centroid", "ramp_onset", "ramp_fit"]
+__all__ = [
+    "ONSET_WINDOW",
+    "CENTROID_BUFFER",
+    "MIN_CENTROIDS",
+    "remember_centroid",
+    "ramp_onset",
+    "ramp_fit",
+    "velocity_change",
+    "kink_fit",
+]
 
-#: Centroids kept per track (scans): 0.4 s at 20 Hz, 1.6 s at 5 Hz.
+#: Centroids the start test fits (scans): 0.4 s at 20 Hz, 1.6 s at 5 Hz.
 ONSET_WINDOW = 8
+#: Centroids kept per track, and the most the change test fits (scans): a change of velocity
+#: bends a line less than a start lifts a standing body, and needs a longer run before it.
+CENTROID_BUFFER = 16
 #: The fewest centroids the test runs on: two standing, two moving.
 MIN_CENTROIDS = 4
 #: The fewest centroids after a start: one would let a single outlier pass for a ramp.
 _MIN_MOVING = 2
+#: The fewest centroids the change test runs on: two before the change, two after, and one
+#: more than its six parameters need to leave a scatter to judge.
+MIN_CHANGE_CENTROIDS = 5
 #: A fitted start slower than this (m/s) is not taken: slow wander of a static segment's
 #: centre as the view changes, not a body's motion.
 MIN_START_SPEED_MPS = 0.1
@@ -121,12 +141,14 @@ def ramp_fit(times, z, weights, start_s, theta, covariance):
 
 
 @njit(cache=True)
-def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_P, p_moving, alive):
+def ramp_onset(t_s, log_ratio_threshold, change_log_ratio, runaway_mps, history, counts, cv_x, cv_P, p_moving, alive):
     """The start test of every live track judged standing (``p_moving ≤ MOVING_PROBABILITY``)
-    whose newest centroid is this scan's (``t_s``, s), in place.
+    whose newest centroid is this scan's (``t_s``, s), in place; 0 for ``log_ratio_threshold``
+    (nats) turns it off.
 
-    A track judged moving clears its buffer (``counts[k] = 0``): the test looks for a start
-    in a standing phase only. With at least ``MIN_CENTROIDS`` centroids, each buffered time
+    A track judged moving takes the change test at ``change_log_ratio`` (nats;
+    ``velocity_change``), or, with 0, clears its buffer (``counts[k] = 0``): the start test
+    looks for a start in a standing phase only. With at least ``MIN_CENTROIDS`` centroids, each buffered time
     with at least ``_MIN_MOVING`` centroids after it, and the midpoint after it (a start falls
     between scans: at 5 Hz, taking the scan before would halve the fitted speed), is tried
     as the start τ (the oldest: the body moved all along). Each ratio is divided by the
@@ -152,11 +174,17 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
     for k in range(alive.shape[0]):
         if not alive[k]:
             continue
-        if p_moving[k] > MOVING_PROBABILITY:
+        moving = p_moving[k] > MOVING_PROBABILITY
+        if moving and change_log_ratio <= 0.0:
             counts[k] = 0
             continue
-        n = min(counts[k], window)
-        if n < MIN_CENTROIDS or history[k, (counts[k] - 1) % window, 0] != t_s:
+        if counts[k] == 0 or history[k, (counts[k] - 1) % window, 0] != t_s:
+            continue
+        if moving:
+            velocity_change(k, t_s, change_log_ratio, runaway_mps, history, counts, cv_x, cv_P, p_moving)
+            continue
+        n = min(counts[k], window, ONSET_WINDOW)
+        if n < MIN_CENTROIDS or log_ratio_threshold <= 0.0:
             continue
         standing = _gather(history[k], counts[k], n, times, z, weights, sums)
         if 0.5 * standing <= log_ratio_threshold:
@@ -185,6 +213,144 @@ def ramp_onset(t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_
         odds = p_moving[k] / (1.0 - p_moving[k]) * math.exp(min(best, 50.0))
         p_moving[k] = min(odds / (1.0 + odds), 1.0 - MOTION_FLOOR)
         counts[k] = 0
+
+
+@njit(cache=True)
+def velocity_change(k, t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_P, p_moving):
+    """The change test of moving track ``k`` whose newest centroid is this scan's (``t_s``, s),
+    in place.
+
+    With at least ``MIN_CHANGE_CENTROIDS`` buffered centroids (weighed as ``_gather`` weighs
+    them), each buffered time with at least two centroids before it and two from it on, and
+    the midpoint before it, is tried as the change τ of ``kink_fit``'s model against its line
+    (``w = 0``). The line's fit is shared by every τ, and each kink's χ² follows from the 2×2
+    Schur complement of the line's normal equations. Each ratio ``½ (χ²_line − χ²_kink)`` is
+    divided by the kink's own scatter, ``max(1, χ²_kink / (2n − 6))``. Where the best exceeds
+    ``log_ratio_threshold`` (nats) and the speed after τ is under ``runaway_mps`` (m/s; 0: no
+    bound), the body changed its motion:
+
+    ``cv_x[k]`` becomes the fit's position now and velocity after τ, ``cv_P[k]`` their
+    covariance (× the scatter), and the buffer clears. The probability of moving stays: a
+    stop's velocity is near zero, and the filters judge it from there.
+    """
+    window = history.shape[1]
+    n = min(counts[k], window)
+    if n < MIN_CHANGE_CENTROIDS:
+        return
+    times, z, weights, sums = np.empty(window), np.empty((window, 2)), np.empty((window, 2, 2)), np.empty(6)
+    _gather(history[k], counts[k], n, times, z, weights, sums)
+    line, line_inverse, line_rhs = _line_fit(times, z, weights, n, t_s)
+    if 0.5 * line <= log_ratio_threshold:
+        return  # no change can explain more than the line leaves
+    best, best_change, best_scale = 0.0, 0.0, 1.0
+    for j in range(2, n - 1):
+        for half in range(2):
+            change = times[j] - 0.5 * half * (times[j] - times[j - 1])
+            kink = line - _kink_reduction(times, z, weights, n, t_s, change, line_inverse, line_rhs)
+            scale = max(1.0, kink / (2 * n - 6))
+            ratio = 0.5 * (line - kink) / scale
+            if ratio > best:
+                best, best_change, best_scale = ratio, change, scale
+    if best <= log_ratio_threshold:
+        return
+    theta, covariance = np.empty(6), np.empty((6, 6))
+    kink_fit(times[:n], z[:n], weights[:n], t_s, best_change, theta, covariance)
+    speed = math.hypot(theta[2], theta[3])
+    if runaway_mps > 0.0 and speed > runaway_mps:
+        return
+    cv_x[k] = theta[:4]
+    cv_P[k] = best_scale * covariance[:4, :4]
+    counts[k] = 0
+
+
+@njit(cache=True)
+def kink_fit(times, z, weights, now_s, change_s, theta, covariance):
+    """Weighted least-squares fit of ``z_i = a + v (t_i − now_s) + w · max(0, change_s − t_i)``:
+    a body at ``a`` now, moving at ``v`` since ``change_s`` and at ``v − w`` before.
+
+    Args:
+        times: ``(n,)`` the centroids' times (s); z: ``(n, 2)`` positions (m);
+            weights: ``(n, 2, 2)`` their inverse covariances (1/m²).
+        now_s: the time of ``a`` (s); change_s: the change τ (s).
+        theta: ``(6,)`` output ``(a_x, a_y, v_x, v_y, w_x, w_y)`` (m, m/s, m/s).
+        covariance: ``(6, 6)`` output, the fit's covariance.
+
+    Returns:
+        χ² of the fit, or ``inf`` when the normal equations are singular.
+    """
+    normal = np.zeros((6, 6))
+    rhs = np.zeros(6)
+    factors = np.empty(3)
+    for i in range(times.shape[0]):
+        factors[0], factors[1], factors[2] = 1.0, times[i] - now_s, max(0.0, change_s - times[i])
+        for b in range(3):
+            for p in range(2):
+                rhs[2 * b + p] += factors[b] * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
+                for c in range(3):
+                    for q in range(2):
+                        normal[2 * b + p, 2 * c + q] += factors[b] * factors[c] * weights[i, p, q]
+    if abs(np.linalg.det(normal)) < 1e-300:
+        return math.inf
+    covariance[:] = np.linalg.inv(normal)
+    theta[:] = covariance @ rhs
+    chi2 = 0.0
+    for i in range(times.shape[0]):
+        s, r = times[i] - now_s, max(0.0, change_s - times[i])
+        e0 = z[i, 0] - theta[0] - s * theta[2] - r * theta[4]
+        e1 = z[i, 1] - theta[1] - s * theta[3] - r * theta[5]
+        chi2 += weights[i, 0, 0] * e0 * e0 + 2.0 * weights[i, 0, 1] * e0 * e1 + weights[i, 1, 1] * e1 * e1
+    return chi2
+
+
+@njit(cache=True, inline="always")
+def _line_fit(times, z, weights, n, now_s):
+    """χ² of the line ``z_i = a + v (t_i − now_s)`` over the first ``n`` centroids, with the
+    inverse ``(4, 4)`` of its normal matrix and its right-hand side ``(4,)`` (``_kink_reduction``'s)."""
+    normal = np.zeros((4, 4))
+    rhs = np.zeros(4)
+    quadratic = 0.0
+    for i in range(n):
+        s = times[i] - now_s
+        for p in range(2):
+            wz = weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1]
+            quadratic += z[i, p] * wz
+            rhs[p] += wz
+            rhs[p + 2] += s * wz
+            for q in range(2):
+                normal[p, q] += weights[i, p, q]
+                normal[p, q + 2] += s * weights[i, p, q]
+                normal[p + 2, q] += s * weights[i, p, q]
+                normal[p + 2, q + 2] += s * s * weights[i, p, q]
+    inverse = np.linalg.inv(normal)
+    return quadratic - rhs @ inverse @ rhs, inverse, rhs
+
+
+@njit(cache=True, inline="always")
+def _kink_reduction(times, z, weights, n, now_s, change_s, line_inverse, line_rhs):
+    """How much a kink at ``change_s`` lowers the line's χ² (``_line_fit``'s): ``yᵀ S⁻¹ y`` with
+    ``B`` ``(4, 2)`` and ``C`` ``(2, 2)`` the kink column's blocks of the normal matrix, ``S = C −
+    Bᵀ A⁻¹ B`` and ``y = r_w − Bᵀ A⁻¹ r`` (the partitioned least squares)."""
+    b = np.zeros((4, 2))
+    c = np.zeros((2, 2))
+    r_w = np.zeros(2)
+    for i in range(n):
+        r = change_s - times[i]
+        if r <= 0.0:
+            continue
+        s = times[i] - now_s
+        for p in range(2):
+            r_w[p] += r * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
+            for q in range(2):
+                b[p, q] += r * weights[i, p, q]
+                b[p + 2, q] += r * s * weights[i, p, q]
+                c[p, q] += r * r * weights[i, p, q]
+    m = line_inverse @ b
+    schur = c - b.T @ m
+    y = r_w - m.T @ line_rhs
+    det = schur[0, 0] * schur[1, 1] - schur[0, 1] * schur[1, 0]
+    if det <= 0.0:
+        return 0.0
+    return (schur[1, 1] * y[0] * y[0] - (schur[0, 1] + schur[1, 0]) * y[0] * y[1] + schur[0, 0] * y[1] * y[1]) / det
 
 
 @njit(cache=True, inline="always")

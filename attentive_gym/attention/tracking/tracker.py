@@ -55,7 +55,7 @@ from attentive_gym.attention.tracking.kalman import (
     static_predict,
     static_update,
 )
-from attentive_gym.attention.tracking.onset import ONSET_WINDOW, ramp_onset, remember_centroid
+from attentive_gym.attention.tracking.onset import CENTROID_BUFFER, ramp_onset, remember_centroid
 from attentive_gym.attention.tracking.segmentation import (
     SEGMENT_FIELDS,
     STRUCTURE,
@@ -133,10 +133,11 @@ _CARVE_PROBABILITY = 0.5
     _GOAL_PROBABILITY,
     _OCCLUSION_KEEPS,
     _ONSET_LOG_RATIO,
+    _CHANGE_LOG_RATIO,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(40)
+) = range(41)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
 #: The parameter vector's entry of ``AttentionConfig.track_speed_goal_probability`` (1.0 on).
 GOAL_PROBABILITY_PARAM = _GOAL_PROBABILITY
@@ -299,8 +300,8 @@ class Tracker:
         spacing = 0.45 * min(config.free_space_lags_s)  # every scan at 20 Hz while the shortest lag is 0.1 s
         rows = math.ceil(max(config.free_space_lags_s) / spacing) + 2 if config.free_space_evidence else 0
         self.scan_history = np.zeros((rows, 4 + LASER_BEAMS))
-        # each track's last matched centroids for the start test (onset.ramp_onset)
-        self.centroid_history = np.zeros((capacity, ONSET_WINDOW, 9))
+        # each track's last matched centroids for the start and change tests (onset.ramp_onset)
+        self.centroid_history = np.zeros((capacity, CENTROID_BUFFER, 9))
         self.centroid_count = np.zeros(capacity, np.int64)
         self.bounds = np.zeros((LASER_BEAMS, 2), np.int64)
         self.segments = np.zeros((LASER_BEAMS, len(SEGMENT_FIELDS)))
@@ -343,6 +344,7 @@ class Tracker:
         params[_GOAL_PROBABILITY] = config.track_speed_goal_probability
         params[_OCCLUSION_KEEPS] = config.track_occlusion_keeps_motion
         params[_ONSET_LOG_RATIO] = config.track_onset_log_ratio
+        params[_CHANGE_LOG_RATIO] = config.track_change_log_ratio
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -548,7 +550,7 @@ def track_step(
     speed_probability,
 ):
     """``Tracker.step``: ``advance_pose``, ``track_scan`` of ``readings[8:]`` when ``laser_new``
-    (then ``free_space_step``, ``onset_velocity`` and ``onset.ramp_onset``, each unless the
+    (then ``free_space_step``, ``onset_velocity`` and ``onset.ramp_onset`` (with the change test), each unless the
     configuration turns it off), ``sonar_filters`` of
     ``readings[:8]`` when ``sonar_new``, ``track_channels`` and
     ``track_table`` (into ``rows``, ``covariance``); returns the number of table rows.
@@ -619,10 +621,11 @@ def track_step(
                 alive,
                 born_s,
             )
-        if params[_ONSET_LOG_RATIO] > 0.0:
+        if params[_ONSET_LOG_RATIO] > 0.0 or params[_CHANGE_LOG_RATIO] > 0.0:
             ramp_onset(
                 t_s,
                 params[_ONSET_LOG_RATIO],
+                params[_CHANGE_LOG_RATIO],
                 params[_RUNAWAY],
                 centroid_history,
                 centroid_count,
@@ -933,12 +936,13 @@ def track_scan(
        miss. It is deleted after ``params[_DELETE]`` misses in a row, or once it has had
        no segment of its own for ``params[_COAST]`` seconds (hidden bodies coast, merged
        ones follow their carved measurements, meanwhile). A matched track's centroid goes
-       into its buffer for the start test, when it is on (``onset.remember_centroid``; a segment cut by the
-       edge or hidden at an end clears it instead, and so does a miss).
+       into its buffer for the start and change tests, when either is on (``onset.remember_centroid``; a
+       segment cut by the edge or hidden at an end clears it instead, and so does a miss).
     5. Give each unmatched candidate with enough beams a new track in a free slot (none
        when full); its buffer starts with its centroid.
     """
     no_echo = params[_NO_ECHO]
+    buffered = params[_ONSET_LOG_RATIO] != 0.0 or params[_CHANGE_LOG_RATIO] != 0.0  # the centroid tests' buffers
     n_segments = segment_scan(
         ranges_m, no_echo, params[_NOISE_REL], params[_NOISE_FLOOR], params[_JUMP], params[_JUMP_SIGMAS], bounds
     )
@@ -1048,9 +1052,9 @@ def track_scan(
                 p_moving[k] = p_before  # cut by the field of view's edge: where the body is, only in part
             elif params[_OCCLUSION_KEEPS] != 0.0 and occluded:
                 p_moving[k] = p_before  # partly hidden behind a nearer body: its visible part slides as that moves
-            if params[_ONSET_LOG_RATIO] != 0.0 and (cut or occluded):
+            if buffered and (cut or occluded):
                 centroid_count[k] = 0  # a part of the body: its centroid slides with the view, not with the body
-            elif params[_ONSET_LOG_RATIO] != 0.0:
+            elif buffered:
                 remember_centroid(
                     k, t_s, z[b], r[b], segments[m, _EXTENT], params[_SURFACE], pose, centroid_history, centroid_count
                 )
@@ -1139,7 +1143,7 @@ def track_scan(
         extent_m[slot] = segments[candidate[b], _EXTENT]
         segment_of[slot] = candidate[b]
         centroid_count[slot] = 0
-        if params[_ONSET_LOG_RATIO] != 0.0:
+        if buffered:
             remember_centroid(
                 slot,
                 t_s,
