@@ -113,31 +113,10 @@ def ramp_fit(times, z, weights, start_s, theta, covariance):
         χ² of the fit (the weighted sum of squared residuals), or ``inf`` when the
         normal equations are singular.
     """
-    normal = np.zeros((4, 4))
-    rhs = np.zeros(4)
+    factors = np.empty((times.shape[0], 2))
     for i in range(times.shape[0]):
-        s = max(0.0, times[i] - start_s)
-        for p in range(2):
-            wz = weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1]
-            rhs[p] += wz
-            rhs[p + 2] += s * wz
-            for q in range(2):
-                w = weights[i, p, q]
-                normal[p, q] += w
-                normal[p, q + 2] += s * w
-                normal[p + 2, q] += s * w
-                normal[p + 2, q + 2] += s * s * w
-    if abs(np.linalg.det(normal)) < 1e-300:
-        return math.inf
-    covariance[:] = np.linalg.inv(normal)
-    theta[:] = covariance @ rhs
-    chi2 = 0.0
-    for i in range(times.shape[0]):
-        s = max(0.0, times[i] - start_s)
-        e0 = z[i, 0] - theta[0] - s * theta[2]
-        e1 = z[i, 1] - theta[1] - s * theta[3]
-        chi2 += weights[i, 0, 0] * e0 * e0 + 2.0 * weights[i, 0, 1] * e0 * e1 + weights[i, 1, 1] * e1 * e1
-    return chi2
+        factors[i, 0], factors[i, 1] = 1.0, max(0.0, times[i] - start_s)
+    return _regression(factors, z, weights, theta, covariance)
 
 
 @njit(cache=True)
@@ -193,10 +172,8 @@ def ramp_onset(t_s, log_ratio_threshold, change_log_ratio, runaway_mps, history,
         for j in range(n - _MIN_MOVING):
             for half in range(2):
                 start = times[j] + 0.5 * half * (times[j + 1] - times[j])
-                chi2 = _ramp_chi2(times, z, weights, n, start, sums)
                 # scattered more than the covariances say: the segment's shape moves, not only the body
-                scale = max(1.0, chi2 / (2 * n - 4))
-                ratio = 0.5 * (standing - chi2) / scale
+                ratio, scale = _scaled_ratio(standing, _ramp_chi2(times, z, weights, n, start, sums), 2 * n - 4)
                 if ratio > best:
                     best, best_start, best_scale = ratio, start, scale
         if best <= log_ratio_threshold:
@@ -247,8 +224,7 @@ def velocity_change(k, t_s, log_ratio_threshold, runaway_mps, history, counts, c
         for half in range(2):
             change = times[j] - 0.5 * half * (times[j] - times[j - 1])
             kink = line - _kink_reduction(times, z, weights, n, t_s, change, line_inverse, line_rhs)
-            scale = max(1.0, kink / (2 * n - 6))
-            ratio = 0.5 * (line - kink) / scale
+            ratio, scale = _scaled_ratio(line, kink, 2 * n - 6)
             if ratio > best:
                 best, best_change, best_scale = ratio, change, scale
     if best <= log_ratio_threshold:
@@ -278,26 +254,39 @@ def kink_fit(times, z, weights, now_s, change_s, theta, covariance):
     Returns:
         χ² of the fit, or ``inf`` when the normal equations are singular.
     """
-    normal = np.zeros((6, 6))
-    rhs = np.zeros(6)
-    factors = np.empty(3)
+    factors = np.empty((times.shape[0], 3))
     for i in range(times.shape[0]):
-        factors[0], factors[1], factors[2] = 1.0, times[i] - now_s, max(0.0, change_s - times[i])
-        for b in range(3):
+        factors[i, 0], factors[i, 1], factors[i, 2] = 1.0, times[i] - now_s, max(0.0, change_s - times[i])
+    return _regression(factors, z, weights, theta, covariance)
+
+
+@njit(cache=True)
+def _regression(factors, z, weights, theta, covariance):
+    """Weighted least-squares fit of ``z_i = Σ_b factors[i, b] · θ_b`` (``θ_b ∈ R²``): the
+    regressors ``factors`` ``(n, m)`` act on both axes of the positions ``z`` ``(n, 2)`` (m),
+    weighed by ``weights`` ``(n, 2, 2)`` (1/m²). ``theta`` ``(2m,)`` and ``covariance``
+    ``(2m, 2m)`` are outputs, ``θ_b`` at ``theta[2b : 2b + 2]``. Returns χ² of the fit, or
+    ``inf`` when the normal equations are singular."""
+    n, m = factors.shape
+    normal = np.zeros((2 * m, 2 * m))
+    rhs = np.zeros(2 * m)
+    for i in range(n):
+        for b in range(m):
             for p in range(2):
-                rhs[2 * b + p] += factors[b] * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
-                for c in range(3):
+                rhs[2 * b + p] += factors[i, b] * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
+                for c in range(m):
                     for q in range(2):
-                        normal[2 * b + p, 2 * c + q] += factors[b] * factors[c] * weights[i, p, q]
+                        normal[2 * b + p, 2 * c + q] += factors[i, b] * factors[i, c] * weights[i, p, q]
     if abs(np.linalg.det(normal)) < 1e-300:
         return math.inf
     covariance[:] = np.linalg.inv(normal)
     theta[:] = covariance @ rhs
     chi2 = 0.0
-    for i in range(times.shape[0]):
-        s, r = times[i] - now_s, max(0.0, change_s - times[i])
-        e0 = z[i, 0] - theta[0] - s * theta[2] - r * theta[4]
-        e1 = z[i, 1] - theta[1] - s * theta[3] - r * theta[5]
+    for i in range(n):
+        e0, e1 = z[i, 0], z[i, 1]
+        for b in range(m):
+            e0 -= factors[i, b] * theta[2 * b]
+            e1 -= factors[i, b] * theta[2 * b + 1]
         chi2 += weights[i, 0, 0] * e0 * e0 + 2.0 * weights[i, 0, 1] * e0 * e1 + weights[i, 1, 1] * e1 * e1
     return chi2
 
@@ -388,7 +377,16 @@ def _reshaping_ratio(rows, count, n, times, z, weights, start_s):
         target[2 * i + 1] = l11 * z[i, 1]
     standing = _residual2(np.ascontiguousarray(design[:, :4]), target)
     ramp = _residual2(design, target)
-    return 0.5 * (standing - ramp) / max(1.0, ramp / (2 * n - 6))
+    return _scaled_ratio(standing, ramp, 2 * n - 6)[0]
+
+
+@njit(cache=True, inline="always")
+def _scaled_ratio(simple_chi2, model_chi2, dof):
+    """The log-likelihood ratio of a model over a simpler one it contains, ``½ (χ²_simple −
+    χ²_model)``, divided by the model's excess scatter ``max(1, χ²_model / dof)`` (``dof`` its
+    degrees of freedom), and that scale."""
+    scale = max(1.0, model_chi2 / dof)
+    return 0.5 * (simple_chi2 - model_chi2) / scale, scale
 
 
 @njit(cache=True, inline="always")
