@@ -43,6 +43,7 @@ __all__ = [
     "ONSET_WINDOW",
     "CENTROID_BUFFER",
     "MIN_CENTROIDS",
+    "MIN_CHANGE_CENTROIDS",
     "remember_centroid",
     "ramp_onset",
     "ramp_fit",
@@ -160,7 +161,7 @@ def ramp_onset(t_s, log_ratio_threshold, change_log_ratio, runaway_mps, history,
         if counts[k] == 0 or history[k, (counts[k] - 1) % window, 0] != t_s:
             continue
         if moving:
-            velocity_change(k, t_s, change_log_ratio, runaway_mps, history, counts, cv_x, cv_P, p_moving)
+            velocity_change(k, t_s, change_log_ratio, runaway_mps, history, counts, cv_x, cv_P, times, z, weights, sums)
             continue
         n = min(counts[k], window, ONSET_WINDOW)
         if n < MIN_CENTROIDS or log_ratio_threshold <= 0.0:
@@ -193,7 +194,7 @@ def ramp_onset(t_s, log_ratio_threshold, change_log_ratio, runaway_mps, history,
 
 
 @njit(cache=True)
-def velocity_change(k, t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_P, p_moving):
+def velocity_change(k, t_s, log_ratio_threshold, runaway_mps, history, counts, cv_x, cv_P, times, z, weights, sums):
     """The change test of moving track ``k`` whose newest centroid is this scan's (``t_s``, s),
     in place.
 
@@ -208,13 +209,13 @@ def velocity_change(k, t_s, log_ratio_threshold, runaway_mps, history, counts, c
 
     ``cv_x[k]`` becomes the fit's position now and velocity after τ, ``cv_P[k]`` their
     covariance (× the scatter), and the buffer clears. The probability of moving stays: a
-    stop's velocity is near zero, and the filters judge it from there.
+    stop's velocity is near zero, and the filters judge it from there. ``times``, ``z``,
+    ``weights`` and ``sums`` are scratch arrays of at least the buffer's length (``_gather``'s).
     """
     window = history.shape[1]
     n = min(counts[k], window)
     if n < MIN_CHANGE_CENTROIDS:
         return
-    times, z, weights, sums = np.empty(window), np.empty((window, 2)), np.empty((window, 2, 2)), np.empty(6)
     _gather(history[k], counts[k], n, times, z, weights, sums)
     line, line_inverse, line_rhs = _line_fit(times, z, weights, n, t_s)
     if 0.5 * line <= log_ratio_threshold:
