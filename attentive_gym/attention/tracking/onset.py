@@ -269,15 +269,7 @@ def _regression(factors, z, weights, theta, covariance):
     ``(2m, 2m)`` are outputs, ``θ_b`` at ``theta[2b : 2b + 2]``. Returns χ² of the fit, or
     ``inf`` when the normal equations are singular."""
     n, m = factors.shape
-    normal = np.zeros((2 * m, 2 * m))
-    rhs = np.zeros(2 * m)
-    for i in range(n):
-        for b in range(m):
-            for p in range(2):
-                rhs[2 * b + p] += factors[i, b] * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
-                for c in range(m):
-                    for q in range(2):
-                        normal[2 * b + p, 2 * c + q] += factors[i, b] * factors[i, c] * weights[i, p, q]
+    normal, rhs = _normal_equations(factors, z, weights)
     if abs(np.linalg.det(normal)) < 1e-300:
         return math.inf
     covariance[:] = np.linalg.inv(normal)
@@ -293,24 +285,33 @@ def _regression(factors, z, weights, theta, covariance):
 
 
 @njit(cache=True, inline="always")
+def _normal_equations(factors, z, weights):
+    """The normal matrix ``(2m, 2m)`` and right-hand side ``(2m,)`` of ``_regression``'s fit over
+    the rows of ``factors`` ``(n, m)``."""
+    n, m = factors.shape
+    normal = np.zeros((2 * m, 2 * m))
+    rhs = np.zeros(2 * m)
+    for i in range(n):
+        for b in range(m):
+            for p in range(2):
+                rhs[2 * b + p] += factors[i, b] * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
+                for c in range(m):
+                    for q in range(2):
+                        normal[2 * b + p, 2 * c + q] += factors[i, b] * factors[i, c] * weights[i, p, q]
+    return normal, rhs
+
+
+@njit(cache=True, inline="always")
 def _line_fit(times, z, weights, n, now_s):
     """χ² of the line ``z_i = a + v (t_i − now_s)`` over the first ``n`` centroids, with the
     inverse ``(4, 4)`` of its normal matrix and its right-hand side ``(4,)`` (``_kink_reduction``'s)."""
-    normal = np.zeros((4, 4))
-    rhs = np.zeros(4)
+    factors = np.empty((n, 2))
     quadratic = 0.0
     for i in range(n):
-        s = times[i] - now_s
+        factors[i, 0], factors[i, 1] = 1.0, times[i] - now_s
         for p in range(2):
-            wz = weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1]
-            quadratic += z[i, p] * wz
-            rhs[p] += wz
-            rhs[p + 2] += s * wz
-            for q in range(2):
-                normal[p, q] += weights[i, p, q]
-                normal[p, q + 2] += s * weights[i, p, q]
-                normal[p + 2, q] += s * weights[i, p, q]
-                normal[p + 2, q + 2] += s * s * weights[i, p, q]
+            quadratic += z[i, p] * (weights[i, p, 0] * z[i, 0] + weights[i, p, 1] * z[i, 1])
+    normal, rhs = _normal_equations(factors, z, weights)
     inverse = np.linalg.inv(normal)
     return quadratic - rhs @ inverse @ rhs, inverse, rhs
 
