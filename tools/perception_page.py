@@ -20,7 +20,7 @@ from pathlib import Path
 
 from attentive_gym.perception.geometry import SIGHT_BEAMS, SIGHT_BEARING_DEG, VIEW_RANGE_M
 from attentive_gym.perception.records import FALSE_LABEL_M
-from page_text import RESULTS, banner, number, read_rows, table, values
+from page_text import RESULTS, banner, interval, number, read_rows, table, values
 
 NAME = "perception.md"
 SOURCES = (RESULTS / "perception.csv", RESULTS / "perception_clutter.csv", RESULTS / "perception_motion.csv")
@@ -73,6 +73,17 @@ def _pair(first: float | None, second: float | None, digits: int = 2) -> str:
     return f"{number(first, digits)} / {number(second, digits)}"
 
 
+def _rate(figures: Mapping[str, float], metric: str) -> str:
+    """A focus rate of ``figures`` with its interval over the episodes where the CSV has one
+    (``metric_low``, ``metric_high``; rows from before have none); "—" where it has no rate."""
+    if metric not in figures:
+        return "—"
+    low, high = figures.get(f"{metric}_low"), figures.get(f"{metric}_high")
+    if low is None or high is None:
+        return number(figures[metric])
+    return interval(figures[metric], low, high)
+
+
 def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
     """A row per figure, a column per kinematics mode, at 5 % Gaussian noise ("—": the mode
     has no such figure; "a / b": robot still / driving)."""
@@ -106,6 +117,10 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
 
     def focus_pair(mode, goal, metric):
         return _pair(focus[(mode, "still", goal)].get(metric), focus[(mode, "driving", goal)].get(metric))
+
+    def focus_rates(mode, goal, metric):
+        """still / driving focus rate with their intervals over the episodes."""
+        return f"{_rate(focus[(mode, 'still', goal)], metric)} / {_rate(focus[(mode, 'driving', goal)], metric)}"
 
     def track_error(robot):
         return lambda mode: (
@@ -170,8 +185,9 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         ],
         *[
             [
-                f"focus on target, goal {goal_text(goal)}, still / driving (chance 0.125)",
-                *per_mode(lambda m, g=goal: focus_pair(m, g, "focus_on_target")),
+                f"focus on target, goal {goal_text(goal)}, still / driving (chance 0.125; 95 % intervals over "
+                "the episodes)",
+                *per_mode(lambda m, g=goal: focus_rates(m, g, "focus_on_target")),
             ]
             for goal in GOALS
         ],
@@ -195,7 +211,7 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
             [
                 f"focus on target in sight (also within {SIGHT_BEARING_DEG:g}° of the heading, on ≥ {SIGHT_BEAMS} "
                 f"laser beams), goal {goal_text(goal)}, still / driving",
-                *per_mode(lambda m, g=goal: focus_pair(m, g, "focus_on_target_in_sight")),
+                *per_mode(lambda m, g=goal: focus_rates(m, g, "focus_on_target_in_sight")),
             ]
             for goal in GOALS
             if any("focus_on_target_in_sight" in figures for figures in focus.values())
@@ -269,7 +285,7 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
         still = values(rows, section="speed", mode="tracker", robot="still", noise=noise)
         driving = values(rows, section="speed", mode="tracker", robot="driving", noise=noise)
         focus = [
-            values(rows, section="focus", mode="tracker", robot=robot, noise=noise, goal=goal).get("focus_on_target")
+            _rate(values(rows, section="focus", mode="tracker", robot=robot, noise=noise, goal=goal), "focus_on_target")
             for goal in GOALS
             for robot in ("still", "driving")
         ]
@@ -279,7 +295,7 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
                 name,
                 _pair(still.get("track_median_mps"), driving.get("track_median_mps")),
                 _pair(still.get("goal_agreement_track"), driving.get("goal_agreement_track")),
-                f"{_pair(focus[0], focus[1])}; {_pair(focus[2], focus[3])}",
+                f"{focus[0]} / {focus[1]}; {focus[2]} / {focus[3]}",
                 number(control.get("success_focus")),
                 number(control.get("success_memory")),
                 _pair(still.get("false_label_steps"), driving.get("false_label_steps")),
@@ -372,7 +388,8 @@ def page(root: Path, write_figures: bool = True) -> str:
             "",
             banner(SOURCES),
             "How well each kinematics mode estimates motion, and how often the focus lands on the task's target, in "
-            "the procedural 10 m arena with 3 distractors (24 episodes × 20 s per row; the controllers on 40 seeds in "
+            "the procedural 10 m arena with 3 distractors (96 episodes × 20 s per row, the goals in turn; "
+            "the controllers on 40 seeds in "
             "the 8 m arena with 2 distractors). Speed error: movers within 5 m in front, in view for at least 1 s; "
             "goal agreement: the goal judged from the estimate equals the goal judged from the truth; focus on "
             "target: the share of the steps with the target in front and within 5 m at which the focus is its "
@@ -417,7 +434,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "## Reproduce",
             "",
             "```bash",
-            f"{WRITTEN_BY}            # about 3 minutes on 2 cores",
+            f"{WRITTEN_BY}            # about 9 minutes on 2 cores",
             f"{CLUTTER_WRITTEN_BY}",
             f"{MOTION_WRITTEN_BY}",
             "python tools/report.py render",

@@ -8,6 +8,9 @@ reach below 0 and above 1). Here, following ``rliable``:
 - ``bootstrap_ci``: a percentile bootstrap confidence interval of a statistic, the seeds
   resampled with replacement (stratified by variant: each variant is resampled on its
   own), clipped to the metric's range.
+- ``ratio_ci``: a rate pooled over clusters (the steps of episodes: on-target steps over
+  steps in view) with a bootstrap interval that resamples whole clusters, since steps of
+  one episode are not independent.
 - ``probability_of_improvement``: P(X > Y) + ½ P(X = Y) for a run X of one variant and a
   run Y of another, with its bootstrap interval (both samples resampled).
 - ``performance_profile``: the share of runs scoring above each threshold τ (the run-score
@@ -27,7 +30,15 @@ import numpy as np
 
 from attentive_gym._checks import check_int
 
-__all__ = ["BOOTSTRAP_REPS", "iqm", "mean", "bootstrap_ci", "probability_of_improvement", "performance_profile"]
+__all__ = [
+    "BOOTSTRAP_REPS",
+    "iqm",
+    "mean",
+    "bootstrap_ci",
+    "ratio_ci",
+    "probability_of_improvement",
+    "performance_profile",
+]
 
 #: Bootstrap resamples per interval.
 BOOTSTRAP_REPS = 2000
@@ -96,6 +107,40 @@ def bootstrap_ci(
     rng = np.random.default_rng(_SEED)
     resampled = statistic(x[rng.integers(0, x.size, size=(reps, x.size))], -1)
     return (point, *_percentile_interval(resampled, point, confidence, bounds))
+
+
+def ratio_ci(
+    hits: Sequence[float], totals: Sequence[float], confidence: float = 0.95, reps: int = BOOTSTRAP_REPS
+) -> tuple[float, float, float]:
+    """(Σ hits / Σ totals, low, high): a rate pooled over clusters, with a percentile bootstrap
+    interval that resamples the clusters (cluster ``i`` scores ``hits[i]`` of ``totals[i]``
+    events; an episode's on-target steps of its steps in view), clipped to [0, 1].
+
+    Clusters with no events carry no information about the rate and are left out. NaNs
+    without events; NaN bounds with one cluster.
+
+    Raises:
+        ValueError: ``hits`` and ``totals`` of different lengths, a negative or non-finite
+            count, hits above their total, or ``confidence``/``reps`` as ``bootstrap_ci``.
+    """
+    _check_bootstrap(confidence, reps)
+    on, n = np.asarray(hits, dtype=float).reshape(-1), np.asarray(totals, dtype=float).reshape(-1)
+    if on.shape != n.shape:
+        raise ValueError(f"hits and totals must be one count per cluster each, got {on.size} and {n.size}")
+    if not (np.isfinite(on).all() and np.isfinite(n).all()) or (on < 0).any() or (on > n).any():
+        raise ValueError(
+            f"hits and totals must be finite counts with 0 <= hits <= totals, got {on.tolist()} of {n.tolist()}"
+        )
+    on, n = on[n > 0], n[n > 0]
+    if n.size == 0:
+        return math.nan, math.nan, math.nan
+    point = float(on.sum() / n.sum())
+    if n.size == 1:
+        return point, math.nan, math.nan
+    rng = np.random.default_rng(_SEED)
+    picks = rng.integers(0, n.size, size=(reps, n.size))
+    resampled = on[picks].sum(axis=1) / n[picks].sum(axis=1)
+    return (point, *_percentile_interval(resampled, point, confidence, (0.0, 1.0)))
 
 
 def _check_bootstrap(confidence: float, reps: int) -> None:

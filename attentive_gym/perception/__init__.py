@@ -31,7 +31,7 @@ Example:
     >>> record = record_episode(env, seed=0, goal=goal, policy=Wander(seed=0), seconds=2.0)
     >>> record.region_speed.shape == (len(record.t_s), 8)
     True
-    >>> rate, steps = focus_on_target([record])[str(goal)]   # fraction of `steps` on target
+    >>> focus = focus_on_target([record])[str(goal)]   # focus.rate of focus.steps, focus.low–high
     >>> metrics = speed_metrics([record])                    # region_median_mps, ...
 """
 

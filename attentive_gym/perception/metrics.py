@@ -7,7 +7,8 @@ motion, and does it attend to the goal's target?
   after a turn apart); the speed the regions that see static structure only report; and
   how often "the goal holds" judged from the estimate agrees with the truth.
 - ``focus_on_target``: per goal, the fraction of the steps with the target in view (or,
-  told so, in sight of the laser) at which the focus is the target's region (chance: 1/8).
+  told so, in sight of the laser) at which the focus is the target's region (chance: 1/8),
+  with a 95 % bootstrap interval over the episodes (``agents.statistics.ratio_ci``).
 - ``target_cases``: the same steps split by why the focus is or is not on the target
   (``records.TARGET_CASES``).
 - ``focus_by_track_age``, ``focus_after_turns``: the focus on target by the age of the
@@ -25,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from attentive_gym.agents.statistics import ratio_ci
 from attentive_gym.attention.goals import Feature
 from attentive_gym.perception.geometry import in_sight, in_view, region_of
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, EpisodeRecord
@@ -32,6 +34,7 @@ from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, EpisodeReco
 __all__ = [
     "speed_metrics",
     "focus_on_target",
+    "FocusRate",
     "target_cases",
     "focus_by_track_age",
     "focus_after_turns",
@@ -203,25 +206,43 @@ def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     return metrics
 
 
-def focus_on_target(records: Iterable[EpisodeRecord], in_sight_only: bool = False) -> dict[str, tuple[float, int]]:
+@dataclass(frozen=True)
+class FocusRate:
+    """Focus on target under one goal: the pooled rate ``rate`` (on-target steps over
+    ``steps``, the steps counted; NaN for none), its 95 % interval ``low``–``high`` over
+    the ``episodes`` episodes that had such steps (the episodes resampled; NaN with fewer
+    than 2)."""
+
+    rate: float
+    low: float
+    high: float
+    steps: int
+    episodes: int
+
+
+def focus_on_target(records: Iterable[EpisodeRecord], in_sight_only: bool = False) -> dict[str, FocusRate]:
     """Per goal (``str(goal)``): the fraction of the steps with the target in view
     (``in_view``; with ``in_sight_only``, in sight of the laser: ``in_sight``) at which the
-    focus is the target's region, and the number of such steps (NaN rate for none).
+    focus is the target's region, pooled over the records, with its interval over them.
 
     Raises:
         ValueError: ``in_sight_only`` for a record without ``target_beams``.
     """
-    hits: dict[str, list[int]] = {}
+    counts: dict[str, tuple[list[int], list[int]]] = {}
     for record in records:
         target_xy = record.mover_xy[:, record.target]
         if in_sight_only and record.target_beams is None:
             raise ValueError("focus on target in sight needs records with target_beams (record_episode's)")
         visible = in_sight(target_xy, record.target_beams) if in_sight_only else in_view(target_xy)
         on_target = record.focus[visible] == region_of(target_xy[visible])
-        counts = hits.setdefault(str(record.goal), [0, 0])
-        counts[0] += int(on_target.sum())
-        counts[1] += int(visible.sum())
-    return {goal: (on / n if n else math.nan, n) for goal, (on, n) in hits.items()}
+        hits, totals = counts.setdefault(str(record.goal), ([], []))
+        hits.append(int(on_target.sum()))
+        totals.append(int(visible.sum()))
+    rates = {}
+    for goal, (hits, totals) in counts.items():
+        rate, low, high = ratio_ci(hits, totals)
+        rates[goal] = FocusRate(rate, low, high, sum(totals), sum(1 for n in totals if n))
+    return rates
 
 
 def target_cases(records: Iterable[EpisodeRecord]) -> dict[str, float]:

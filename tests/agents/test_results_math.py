@@ -16,7 +16,13 @@ from attentive_gym.agents.results import (
     write_csv_atomic,
     write_text_atomic,
 )
-from attentive_gym.agents.statistics import bootstrap_ci, iqm, performance_profile, probability_of_improvement
+from attentive_gym.agents.statistics import (
+    bootstrap_ci,
+    iqm,
+    performance_profile,
+    probability_of_improvement,
+    ratio_ci,
+)
 
 
 def test_iqm_by_hand():
@@ -59,6 +65,33 @@ def test_bootstrap_ci_agrees_with_the_normal_interval_for_many_seeds_and_is_repr
     assert (high - low) / 2 == pytest.approx(half, rel=0.1)
     assert bootstrap_ci(values) == (point, low, high)
     assert bootstrap_ci(values, iqm)[0] == pytest.approx(iqm(values))
+
+
+def test_ratio_ci_by_hand():
+    # clusters scoring 1 of 2 and 3 of 4: pooled 4/6; two clusters resampled give 2/4, 4/6 or
+    # 6/8 with chances 1/4, 1/2, 1/4, so the central 95 % runs from 0.5 to 0.75
+    assert ratio_ci([1, 3], [2, 4]) == pytest.approx((4 / 6, 0.5, 0.75))
+    point, low, high = ratio_ci([3, 0], [4, 0])  # a cluster without events says nothing
+    assert point == 0.75 and math.isnan(low) and math.isnan(high)
+    assert all(math.isnan(v) for v in ratio_ci([0, 0], [0, 0]))
+    assert ratio_ci([2, 2, 2], [4, 4, 4]) == (0.5, 0.5, 0.5)
+    for hits, totals, message in (
+        ([1], [1, 2], "one count per cluster"),
+        ([3], [2], "hits <= totals"),
+        ([-1], [2], "0 <= hits"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            ratio_ci(hits, totals)
+
+
+def test_ratio_ci_resamples_clusters_not_events():
+    # the same 200 of 400 events, spread evenly over 10 clusters or all-or-nothing per cluster:
+    # the steps of one episode are not independent, and the interval must widen with that
+    even_point, even_low, even_high = ratio_ci([20] * 10, [40] * 10)
+    point, low, high = ratio_ci([40] * 5 + [0] * 5, [40] * 10)
+    assert even_point == point == 0.5 and (even_low, even_high) == (0.5, 0.5)
+    assert low < 0.3 and high > 0.7  # about 0.5 ± 1.96·0.5/√10
+    assert ratio_ci([40] * 5 + [0] * 5, [40] * 10) == (point, low, high)  # reproducible
 
 
 def test_probability_of_improvement_by_hand():

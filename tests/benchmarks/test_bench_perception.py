@@ -23,14 +23,17 @@ def test_the_perception_tables_and_their_csv_rows(tmp_path, capsys):
             assert f"| {bench.BOUND} | {robot} | {noise.name} |" in out
     assert "Focus on target relative to the perfect-perception bound" in out
     bound = [row for row in results.rows if row["mode"] == bench.BOUND]
+    rates = ("focus_on_target", "focus_on_target_in_sight")
     assert {row["metric"] for row in bound} == {
-        "focus_on_target",
+        *rates,
+        *(f"{rate}_{end}" for rate in rates for end in ("low", "high")),
         "target_in_view_steps",
-        "focus_on_target_in_sight",
         "target_in_sight_steps",
     }
-    # one goal in one episode: in view and in sight, a rate and a step count each
-    assert len(bound) == 4 * len(bench.NOISE_SETTINGS) * len(bench.ROBOT_MODES)
+    # one goal in one episode: in view and in sight, a rate, its interval and a step count each
+    assert len(bound) == 8 * len(bench.NOISE_SETTINGS) * len(bench.ROBOT_MODES)
+    # one episode gives no interval
+    assert all(math.isnan(row["value"]) for row in bound if row["metric"].endswith(("_low", "_high")))
     steps = {
         (row["mode"] == bench.BOUND, row["robot"], row["noise"]): row["value"]
         for row in results.rows

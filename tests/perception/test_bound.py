@@ -168,8 +168,8 @@ def test_the_bound_records_the_attended_episodes_and_attends_a_seen_target(atten
         assert bound[-1].track_speed is None and bound[-1].target_case is None
     by_bound, by_tracker = focus_on_target(bound), focus_on_target(tracker)
     for goal in (str(FAST), str(SLOW)):
-        assert by_bound[goal][1] == by_tracker[goal][1] > 200  # the same in-view steps
-        assert by_bound[goal][0] >= by_tracker[goal][0] + 0.1  # 0.99 / 0.69, 0.98 / 0.55 (bound / tracker)
+        assert by_bound[goal].steps == by_tracker[goal].steps > 200  # the same in-view steps
+        assert by_bound[goal].rate >= by_tracker[goal].rate + 0.1  # 0.99 / 0.69, 0.98 / 0.55 (bound / tracker)
     on, seen_steps = 0, 0
     for seed, goal in episodes:
         obs, info = bound_env.reset(seed=seed, options={"goal": goal})

@@ -26,8 +26,8 @@ def test_metrics_are_finite_and_in_range(records):
     assert figures["region_median_mps"] <= figures["region_p90_mps"]
     assert 0.0 <= figures["goal_agreement_region"] <= 1.0
     assert "track_pairs" not in figures and "false_label_steps" not in figures  # the window mode has no tracks
-    for rate, steps in metrics.focus_on_target([driving]).values():
-        assert steps > 0 and 0.0 <= rate <= 1.0
+    for focus in metrics.focus_on_target([driving]).values():
+        assert focus.steps > 0 and 0.0 <= focus.rate <= 1.0 and focus.episodes == 1
 
 
 def test_a_corrupted_estimate_has_a_larger_error(records):
@@ -67,9 +67,26 @@ def test_a_focus_on_the_target_scores_one(records):
     driving, _ = records
     target_regions = region_of(driving.mover_xy[:, driving.target])
     rates = metrics.focus_on_target([dataclasses.replace(driving, focus=target_regions)])
-    assert [rate for rate, _ in rates.values()] == [1.0]
+    assert [focus.rate for focus in rates.values()] == [1.0]
     nowhere = metrics.focus_on_target([dataclasses.replace(driving, focus=np.full_like(driving.focus, -1))])
-    assert [rate for rate, _ in nowhere.values()] == [0.0]
+    assert [focus.rate for focus in nowhere.values()] == [0.0]
+
+
+def test_focus_on_target_gives_an_interval_over_the_episodes(records):
+    driving, still = records
+    on = [
+        dataclasses.replace(record, focus=region_of(record.mover_xy[:, record.target]))
+        for record in (driving, dataclasses.replace(still, goal=driving.goal))
+    ]
+    off = dataclasses.replace(on[1], focus=np.full_like(on[1].focus, -1))
+    [focus] = metrics.focus_on_target([on[0], off]).values()
+    steps = [int(in_view(record.mover_xy[:, record.target]).sum()) for record in (on[0], off)]
+    assert min(steps) > 0 and focus.episodes == 2 and focus.steps == sum(steps)
+    assert focus.rate == pytest.approx(steps[0] / sum(steps))
+    # one episode all on target, the other all off: resampled, the pair gives 0, the rate or 1
+    assert (focus.low, focus.high) == (0.0, 1.0)
+    [both_on] = metrics.focus_on_target(on).values()
+    assert (both_on.rate, both_on.low, both_on.high) == (1.0, 1.0, 1.0)
 
 
 def test_focus_on_target_in_sight_counts_only_the_steps_the_laser_sees_the_target_on(records):
@@ -82,7 +99,8 @@ def test_focus_on_target_in_sight_counts_only_the_steps_the_laser_sees_the_targe
     beams[visible[::2]] = 3  # the laser sees the target at every other step in view
     on_target = np.where(np.arange(len(driving.t_s)) % 2 == visible[0] % 2, region_of(target_xy), -1)
     record = dataclasses.replace(driving, target_beams=beams, focus=on_target)
-    [(rate, steps)] = metrics.focus_on_target([record], in_sight_only=True).values()
+    [focus] = metrics.focus_on_target([record], in_sight_only=True).values()
+    rate, steps = focus.rate, focus.steps
     sighted = np.flatnonzero(in_sight(target_xy, beams))
     assert steps == sighted.size > 0
     assert rate == pytest.approx(np.mean(on_target[sighted] == region_of(target_xy[sighted])))
