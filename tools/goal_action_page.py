@@ -16,8 +16,8 @@ from typing import Any
 
 from attentive_gym.agents.goal_choice import WEIGHT_COLUMNS, goal_share_columns, menu_labels
 from attentive_gym.agents.plots import plot_goal_choice
-from attentive_gym.agents.statistics import bootstrap_ci
 from attentive_gym.attention.config import MAP_NAMES
+from attentive_gym.statistics import bootstrap_ci
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, DEFAULT_MAX_WEIGHT
 from page_text import FIGURES, RESULTS, banner, interval, read_rows, table
 

@@ -62,7 +62,7 @@ CLUTTER_WRITTEN_BY = (
     "python benchmarks/bench_perception.py --modes tracker --sections clutter --csv docs/results/perception_clutter.csv"
 )
 MOTION_WRITTEN_BY = (
-    "python benchmarks/bench_perception.py --modes tracker,window --sections motion --episodes 10 "
+    "python benchmarks/bench_perception.py --modes tracker,window --sections motion --episodes 30 "
     "--csv docs/results/perception_motion.csv"
 )
 #: The motion section's scenes, as its CSV names them, and how the page names them.
@@ -74,8 +74,9 @@ def _pair(first: float | None, second: float | None, digits: int = 2) -> str:
 
 
 def _rate(figures: Mapping[str, float], metric: str) -> str:
-    """A focus rate of ``figures`` with its interval over the episodes where the CSV has one
-    (``metric_low``, ``metric_high``; rows from before have none); "—" where it has no rate."""
+    """A figure of ``figures`` (a rate, a median) with its interval over the episodes where the
+    CSV has one (``metric_low``, ``metric_high``; rows from before have none); "—" where it has
+    no such figure."""
     if metric not in figures:
         return "—"
     low, high = figures.get(f"{metric}_low"), figures.get(f"{metric}_high")
@@ -114,6 +115,12 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         """still / driving of a speed figure; "—" where the mode has none."""
         pair = _pair(speed[(mode, "still")].get(metric), speed[(mode, "driving")].get(metric))
         return "—" if pair == "— / —" else pair
+
+    def speed_rates(mode, metric):
+        """still / driving share of a speed-section figure with its interval over the episodes."""
+        if metric not in speed[(mode, "still")]:
+            return "—"
+        return f"{_rate(speed[(mode, 'still')], metric)} / {_rate(speed[(mode, 'driving')], metric)}"
 
     def focus_pair(mode, goal, metric):
         return _pair(focus[(mode, "still", goal)].get(metric), focus[(mode, "driving", goal)].get(metric))
@@ -171,11 +178,11 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         ],
         ["goal agreement, tracks, still / driving", *per_mode(lambda m: speed_pair(m, "goal_agreement_track"))],
         *[
-            [label, *per_mode(lambda m, key=key: speed_pair(m, key))]
+            [label, *per_mode(lambda m, key=key: speed_rates(m, key))]
             for label, key in (
                 (
                     f"phantom motion: steps with a confirmed track labelled moving > {FALSE_LABEL_M:g} m from every "
-                    "mover, still / driving",
+                    "mover, still / driving (95 % intervals over the episodes)",
                     "false_label_steps",
                 ),
                 (f"the same, one within {VIEW_RANGE_M:g} m of the robot", "false_label_near_steps"),
@@ -298,7 +305,7 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
                 f"{focus[0]} / {focus[1]}; {focus[2]} / {focus[3]}",
                 number(control.get("success_focus")),
                 number(control.get("success_memory")),
-                _pair(still.get("false_label_steps"), driving.get("false_label_steps")),
+                f"{_rate(still, 'false_label_steps')} / {_rate(driving, 'false_label_steps')}",
             ]
         )
     return table(
@@ -354,7 +361,7 @@ def motion_table(rows: Sequence[Mapping[str, str]]) -> str:
                             mode,
                             number(f.get("latency_median_s")),
                             number(f.get("latency_p90_s")),
-                            number(f.get("latency_median_scans")),
+                            _rate(f, "latency_median_scans"),
                             number(f.get("false_label_steps")),
                             number(f.get("false_in_band_steps")),
                             number(f.get("moving_recall")),
@@ -368,7 +375,7 @@ def motion_table(rows: Sequence[Mapping[str, str]]) -> str:
         "mode",
         "start to goal judged, median s",
         "90th percentile s",
-        "median in laser scans",
+        "median in laser scans [95 % interval over the episodes]",
         "false moving labels",
         "of them in the goal's band",
         "walker as a moving track",
@@ -421,7 +428,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             "## Motion seen at once",
             "",
             "A walker that stands 2 s and then walks 1.5 m at 0.5–0.9 m/s (stop and go), or runs back and forth "
-            "0.3–0.9 m in front of a wall or a row of rubble 2–5 m ahead (along structure); 10 episodes of 20 s per "
+            "0.3–0.9 m in front of a wall or a row of rubble 2–5 m ahead (along structure); 30 episodes of 20 s per "
             "row, the goal speed in [0.5, 0.9] m/s. The latency runs from each start (after ≥ 1 s standing, in view) "
             "to the first step at which the goal is judged met in the walker's region (inf: more than a tenth of the "
             "starts never judged before the walker stopped; —: no starts), and its median in the laser's scan "

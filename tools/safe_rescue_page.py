@@ -2,7 +2,7 @@
 
 From ``docs/results/safe_rescue.csv`` (written by ``tools/safe_rescue_table.py``): per task
 setting and controller, the mean over seeds of the final success, safe success, contact
-time and episode length, with 95 % bootstrap intervals (``agents.statistics``).
+time and episode length, with 95 % bootstrap intervals (``attentive_gym.statistics``).
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from attentive_gym.agents.statistics import bootstrap_ci
+from attentive_gym.statistics import bootstrap_ci
 from page_text import RESULTS, banner, interval, read_rows, table
 
 NAME = "safe_rescue.md"

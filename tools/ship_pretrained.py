@@ -23,9 +23,9 @@ from pathlib import Path
 
 from attentive_gym.agents.evaluation import evaluate_policy
 from attentive_gym.agents.pretrained import PRETRAINED, RECORD_FILE, pretrained_run
-from attentive_gym.agents.statistics import bootstrap_ci
 from attentive_gym.agents.training import env_factory, eval_seed, load_policy
 from attentive_gym.registration import VARIANT_IDS
+from attentive_gym.statistics import bootstrap_ci
 
 #: The files of a run that make a shipped policy.
 FILES = ("final_model.zip", "obs_normalization.npz", "spec.json")

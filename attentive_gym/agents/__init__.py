@@ -12,21 +12,24 @@
   ``results.csv``, ``learning_curves.png`` and ``summary.md``/``summary.csv``.
 - ``backends.run_many``: the runs in spawned processes or Ray tasks; ``stopping``: Ctrl-C and
   SIGTERM (``Interrupted``), which both ``backends`` and ``training`` stop on.
-- ``results``: atomic writes and summaries; ``statistics``: IQM, bootstrap CIs, probability of
-  improvement (as ``rliable``); ``plots``: the figures; ``sweep``: the clutter sweep;
+- ``results``: atomic writes and summaries, with the statistics of
+  ``attentive_gym.statistics`` (IQM, bootstrap CIs, probability of improvement, as
+  ``rliable``); ``plots``: the figures; ``sweep``: the clutter sweep;
   ``merged``: many comparisons' rows in one table, tagged with their training setting, and
   attention against its bound and control (the repository's ``tools/report.py`` renders the
   docs' results pages from them; ``report`` is its deprecated former home).
 
 Importing this package does not import torch or SB3 (the ``agents`` extra); the functions do.
-SB3's vector env over a fleet, ``NativeVecEnv``, moved to ``attentive_gym.vector.sb3``; its old
-path ``attentive_gym.agents.native_vec`` still imports, with a ``DeprecationWarning``.
+SB3's vector env over a fleet, ``NativeVecEnv``, moved to ``attentive_gym.vector.sb3``, and the
+statistics to ``attentive_gym.statistics`` (the perception metrics use them too); the old paths
+``attentive_gym.agents.native_vec`` and ``attentive_gym.agents.statistics`` still import, with a
+``DeprecationWarning``.
 """
 
 from attentive_gym import _moved
 from attentive_gym.agents.config import ALGOS, RunSpec, parse_seeds, parse_variants
 from attentive_gym.agents.results import summarise
-from attentive_gym.agents.statistics import bootstrap_ci, iqm, probability_of_improvement
+from attentive_gym.statistics import bootstrap_ci, iqm, probability_of_improvement
 
 __all__ = [
     "ALGOS",
@@ -42,7 +45,9 @@ __all__ = [
     "load_model",
 ]
 
-_moved.install({f"{__name__}.native_vec": "attentive_gym.vector.sb3"})
+_moved.install(
+    {f"{__name__}.native_vec": "attentive_gym.vector.sb3", f"{__name__}.statistics": "attentive_gym.statistics"}
+)
 
 
 def __getattr__(name):

@@ -25,8 +25,8 @@ from typing import Any
 
 from attentive_gym._checks import check_int
 from attentive_gym.agents.results import read_csv, write_csv_atomic
-from attentive_gym.agents.statistics import bootstrap_ci
 from attentive_gym.agents.stopping import raise_on_stop_signals, stop_on_sigterm_only
+from attentive_gym.statistics import bootstrap_ci
 from attentive_gym.wrappers.variants import VARIANTS
 
 __all__ = [

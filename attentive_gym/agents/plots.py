@@ -19,10 +19,10 @@ import numpy as np
 from attentive_gym._atomic import save_figure
 from attentive_gym._optional import require
 from attentive_gym.agents.goal_choice import WEIGHT_COLUMNS, goal_share_columns, menu_labels
-from attentive_gym.agents.statistics import bootstrap_ci, performance_profile
 from attentive_gym.attention import Goal
 from attentive_gym.attention.config import MAP_ALIASES, MAP_NAMES
 from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.statistics import bootstrap_ci, performance_profile
 from attentive_gym.wrappers.goal_action import DEFAULT_GOAL_MENU, DEFAULT_MAX_WEIGHT
 from attentive_gym.wrappers.variants import VARIANTS
 

@@ -25,8 +25,8 @@ from typing import Any
 import numpy as np
 
 from attentive_gym._atomic import atomic_file
-from attentive_gym.agents.statistics import bootstrap_ci, iqm, mean, probability_of_improvement
 from attentive_gym.envs.reward import SAFE_CONTACT_S
+from attentive_gym.statistics import bootstrap_ci, iqm, mean, probability_of_improvement
 
 __all__ = [
     "EVAL_COLUMNS",
@@ -228,7 +228,7 @@ def summarise(
 
     Returns:
         Dicts with ``SUMMARY_COLUMNS``: means and interquartile means across seeds with
-        95 % stratified bootstrap intervals (``attentive_gym.agents.statistics``) clipped to
+        95 % stratified bootstrap intervals (``attentive_gym.statistics``) clipped to
         the metric's range; NaN bounds for a single seed; NaN safe-success and contact
         columns for a variant not every seed of which records ``SAFE_COLUMNS`` (and NaN
         ``prob_safe_improvement`` when the baseline does not).

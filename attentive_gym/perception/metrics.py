@@ -8,7 +8,7 @@ motion, and does it attend to the goal's target?
   how often "the goal holds" judged from the estimate agrees with the truth.
 - ``focus_on_target``: per goal, the fraction of the steps with the target in view (or,
   told so, in sight of the laser) at which the focus is the target's region (chance: 1/8),
-  with a 95 % bootstrap interval over the episodes (``agents.statistics.ratio_ci``).
+  with a 95 % bootstrap interval over the episodes (``attentive_gym.statistics.ratio_ci``).
 - ``target_cases``: the same steps split by why the focus is or is not on the target
   (``records.TARGET_CASES``).
 - ``focus_by_track_age``, ``focus_after_turns``: the focus on target by the age of the
@@ -26,10 +26,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from attentive_gym.agents.statistics import ratio_ci
 from attentive_gym.attention.goals import Feature
 from attentive_gym.perception.geometry import in_sight, in_view, region_of
 from attentive_gym.perception.records import SETTLE_S, TARGET_CASES, EpisodeRecord
+from attentive_gym.statistics import ratio_ci
 
 __all__ = [
     "speed_metrics",
@@ -173,7 +173,8 @@ def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     (fraction of steady pairs, speed goals only; NaN otherwise); with tracks,
     ``false_label_steps``, ``false_label_near_steps`` and ``false_in_band_steps``: the share of
     the steps with phantom motion (``records.false_moving_tracks``) anywhere, within
-    ``VIEW_RANGE_M`` of the robot, and at a speed inside the goal's range.
+    ``VIEW_RANGE_M`` of the robot, and at a speed inside the goal's range, each with its 95 %
+    interval over the episodes (``<name>_low``, ``<name>_high``; ``attentive_gym.statistics.ratio_ci``).
     """
     records = list(records)
     steady, transient = Pairs(), Pairs()
@@ -197,9 +198,10 @@ def speed_metrics(records: Iterable[EpisodeRecord]) -> dict[str, float]:
     metrics["static_p90_mps"] = float(np.percentile(static, 90)) if static.size else math.nan
     tracked = any(record.track_speed is not None for record in records)
     if tracked and all(record.false_label is not None for record in records):
-        phantoms = np.concatenate([record.false_label for record in records])
+        steps = [len(record.false_label) for record in records]
         for column, name in enumerate(("false_label_steps", "false_label_near_steps", "false_in_band_steps")):
-            metrics[name] = float(phantoms[:, column].mean())
+            share, low, high = ratio_ci([int(record.false_label[:, column].sum()) for record in records], steps)
+            metrics |= {name: share, f"{name}_low": low, f"{name}_high": high}
     goal_true = steady.array("goal_true")
     metrics["goal_agreement_region"] = _agreement(steady.array("goal_region"), goal_true)
     metrics["goal_agreement_track"] = _agreement(steady.array("goal_track"), goal_true)

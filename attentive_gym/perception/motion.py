@@ -30,6 +30,7 @@ from attentive_gym.attention import Goal
 from attentive_gym.perception.controllers import Policy
 from attentive_gym.perception.geometry import region_of, to_robot_frame
 from attentive_gym.perception.records import FALSE_LABEL_M, MOVING_PROBABILITY, TRACK_MATCH_M, false_moving_tracks
+from attentive_gym.statistics import pooled_median_ci
 from attentive_gym.world.scenario import (
     BoxRubble,
     CircleRubble,
@@ -280,13 +281,16 @@ def onset_latencies(record: MotionRecord) -> np.ndarray:
 def motion_metrics(records: list[MotionRecord]) -> dict[str, float]:
     """The figures of ``records``: starts, the latencies' median and 90th percentile (s; inf
     when more than that share was never judged), their median in scan intervals (each latency
-    over its record's ``scan_interval_s``), the share of starts judged, the shares of
+    over its record's ``scan_interval_s``) with its 95 % interval over the records
+    (``attentive_gym.statistics.pooled_median_ci``), the share of starts judged, the shares of
     steps with a false moving label and with one in the goal's band, the recall of the moving
     target as a moving track (in view and within ``NEAR_RANGE_M``), and the focus on the
     target while it is in view."""
     per_record = [onset_latencies(record) for record in records]
     latencies = np.concatenate(per_record)
-    in_scans = np.concatenate([lat / record.scan_interval_s for lat, record in zip(per_record, records)])
+    per_record_scans = [lat / record.scan_interval_s for lat, record in zip(per_record, records)]
+    in_scans = np.concatenate(per_record_scans)
+    _, scans_low, scans_high = pooled_median_ci(per_record_scans)
     steps = np.concatenate
     moving = steps([r.target_near & (r.target_speed > MOVING_MPS) for r in records])
     in_view = steps([r.target_in_view for r in records])
@@ -295,6 +299,8 @@ def motion_metrics(records: list[MotionRecord]) -> dict[str, float]:
         "latency_median_s": float(np.median(latencies)) if len(latencies) else math.nan,
         "latency_p90_s": float(np.quantile(latencies, 0.9, method="inverted_cdf")) if len(latencies) else math.nan,
         "latency_median_scans": float(np.median(in_scans)) if len(in_scans) else math.nan,
+        "latency_median_scans_low": scans_low,
+        "latency_median_scans_high": scans_high,
         "starts_judged": float(np.mean(np.isfinite(latencies))) if len(latencies) else math.nan,
         "false_label_steps": float(np.mean(steps([r.false_label for r in records]))),
         "false_in_band_steps": float(np.mean(steps([r.false_in_band for r in records]))),

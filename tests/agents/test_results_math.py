@@ -1,12 +1,16 @@
 """Bootstrap intervals, IQM and probability of improvement (checked against hand computation),
 summaries and atomic writes."""
 
+import importlib
 import math
 import os
+import sys
 
 import numpy as np
 import pytest
 
+import attentive_gym.agents as agents
+import attentive_gym.statistics as statistics
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
     SAFE_COLUMNS,
@@ -16,13 +20,22 @@ from attentive_gym.agents.results import (
     write_csv_atomic,
     write_text_atomic,
 )
-from attentive_gym.agents.statistics import (
+from attentive_gym.statistics import (
     bootstrap_ci,
     iqm,
     performance_profile,
+    pooled_median_ci,
     probability_of_improvement,
     ratio_ci,
 )
+
+
+def test_the_statistics_old_path_warns_and_gives_the_moved_module(monkeypatch):
+    monkeypatch.delitem(sys.modules, "attentive_gym.agents.statistics", raising=False)
+    if "statistics" in vars(agents):
+        monkeypatch.delattr(agents, "statistics")
+    with pytest.warns(DeprecationWarning, match="attentive_gym.agents.statistics moved to attentive_gym.statistics"):
+        assert importlib.import_module("attentive_gym.agents.statistics") is statistics
 
 
 def test_iqm_by_hand():
@@ -92,6 +105,20 @@ def test_ratio_ci_resamples_clusters_not_events():
     assert even_point == point == 0.5 and (even_low, even_high) == (0.5, 0.5)
     assert low < 0.3 and high > 0.7  # about 0.5 ± 1.96·0.5/√10
     assert ratio_ci([40] * 5 + [0] * 5, [40] * 10) == (point, low, high)  # reproducible
+
+
+def test_pooled_median_ci_by_hand():
+    # one cluster of values 1 and 2, one of 3: pooled median 2; resampled, the pair gives
+    # medians 1.5, 2 or 3 with chances 1/4, 1/2, 1/4
+    assert pooled_median_ci([[1.0, 2.0], [3.0]]) == (2.0, 1.5, 3.0)
+    # a start never judged is +inf: the median and a bound may be inf, never NaN
+    point, low, high = pooled_median_ci([[1.0], [math.inf], [math.inf]])
+    assert (point, low, high) == (math.inf, 1.0, math.inf)
+    point, low, high = pooled_median_ci([[4.0, 5.0], []])  # an empty cluster says nothing
+    assert point == 4.5 and math.isnan(low) and math.isnan(high)
+    assert all(math.isnan(v) for v in pooled_median_ci([[], []]))
+    with pytest.raises(ValueError, match=r"\+inf"):
+        pooled_median_ci([[1.0, float("nan")]])
 
 
 def test_probability_of_improvement_by_hand():

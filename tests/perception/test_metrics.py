@@ -235,3 +235,14 @@ def test_phantom_shares_count_the_steps_of_every_tracker_episode(tracked_record)
     assert figures["false_label_near_steps"] == pytest.approx(near)
     assert figures["false_in_band_steps"] == pytest.approx(in_band)
     assert 0.0 <= figures["false_label_near_steps"] <= figures["false_label_steps"] <= 1.0
+    # two copies of one episode agree: the interval over the episodes has no width
+    assert figures["false_label_steps_low"] == figures["false_label_steps_high"] == pytest.approx(anywhere)
+    # an episode free of phantoms beside one full of them: the interval spans both
+    clean = dataclasses.replace(tracked_record, false_label=np.zeros_like(tracked_record.false_label))
+    full = dataclasses.replace(tracked_record, false_label=np.ones_like(tracked_record.false_label))
+    mixed = metrics.speed_metrics([clean, full])
+    assert (mixed["false_label_steps"], mixed["false_label_steps_low"], mixed["false_label_steps_high"]) == (
+        0.5,
+        0.0,
+        1.0,
+    )

@@ -84,6 +84,11 @@ def test_the_median_latency_in_scans_divides_each_record_by_its_own_scan_interva
     assert motion.motion_metrics([slow])["latency_median_scans"] == pytest.approx(2.0)
     assert motion.motion_metrics([fast, slow, slow])["latency_median_scans"] == pytest.approx(2.0)
     assert motion.motion_metrics([fast, fast, slow])["latency_median_scans"] == pytest.approx(8.0)
+    # over the records: resampled, three records give medians of 2 (slow ones) or 8 (fast ones)
+    mixed = motion.motion_metrics([fast, slow, slow])
+    assert (mixed["latency_median_scans_low"], mixed["latency_median_scans_high"]) == pytest.approx((2.0, 8.0))
+    one = motion.motion_metrics([slow])
+    assert math.isnan(one["latency_median_scans_low"]) and math.isnan(one["latency_median_scans_high"])
 
 
 def test_a_recorded_episode_holds_the_model_judging_the_walker():

@@ -1,4 +1,7 @@
-"""Statistics across training seeds, as the RL field reports them (Agarwal et al., 2021).
+"""Statistics across training seeds and episodes, as the RL field reports them (Agarwal et al., 2021).
+
+Used by the agents' summaries and by the perception metrics, so it stands outside the
+package's layers (it imports numpy only).
 
 Few seeds make normal-approximation intervals misleading (a success rate's t-interval can
 reach below 0 and above 1). Here, following ``rliable``:
@@ -10,7 +13,8 @@ reach below 0 and above 1). Here, following ``rliable``:
   own), clipped to the metric's range.
 - ``ratio_ci``: a rate pooled over clusters (the steps of episodes: on-target steps over
   steps in view) with a bootstrap interval that resamples whole clusters, since steps of
-  one episode are not independent.
+  one episode are not independent; ``pooled_median_ci``: the same for the median of values
+  pooled over clusters (the latencies of every start of every episode).
 - ``probability_of_improvement``: P(X > Y) + ½ P(X = Y) for a run X of one variant and a
   run Y of another, with its bootstrap interval (both samples resampled).
 - ``performance_profile``: the share of runs scoring above each threshold τ (the run-score
@@ -36,6 +40,7 @@ __all__ = [
     "mean",
     "bootstrap_ci",
     "ratio_ci",
+    "pooled_median_ci",
     "probability_of_improvement",
     "performance_profile",
 ]
@@ -141,6 +146,39 @@ def ratio_ci(
     picks = rng.integers(0, n.size, size=(reps, n.size))
     resampled = on[picks].sum(axis=1) / n[picks].sum(axis=1)
     return (point, *_percentile_interval(resampled, point, confidence, (0.0, 1.0)))
+
+
+def pooled_median_ci(
+    clusters: Sequence[Sequence[float]], confidence: float = 0.95, reps: int = BOOTSTRAP_REPS
+) -> tuple[float, float, float]:
+    """(median, low, high): the median (``np.median``) of the values of every cluster pooled,
+    with a percentile bootstrap interval that resamples the clusters (each cluster's values go
+    in or out together). Values may be +inf (an event that never happened: a start never
+    judged), and so may the median and the bounds; the bounds are resampled medians
+    themselves (``inverted_cdf``), never a mean of one and inf.
+
+    Clusters without values are left out. NaNs without values; NaN bounds with one cluster.
+
+    Raises:
+        ValueError: a NaN or −inf value, or ``confidence``/``reps`` as ``bootstrap_ci``.
+    """
+    _check_bootstrap(confidence, reps)
+    groups = [np.asarray(cluster, dtype=float).reshape(-1) for cluster in clusters]
+    bad = [value for group in groups for value in group if math.isnan(value) or value == -math.inf]
+    if bad:
+        raise ValueError(f"values must be numbers or +inf (never happened), got {bad}")
+    groups = [group for group in groups if group.size]
+    if not groups:
+        return math.nan, math.nan, math.nan
+    point = float(np.median(np.concatenate(groups)))
+    if len(groups) == 1:
+        return point, math.nan, math.nan
+    rng = np.random.default_rng(_SEED)
+    picks = rng.integers(0, len(groups), size=(reps, len(groups)))
+    medians = np.array([np.median(np.concatenate([groups[i] for i in pick])) for pick in picks])
+    tail = 50.0 * (1.0 - confidence)
+    low, high = np.percentile(medians, [tail, 100.0 - tail], method="inverted_cdf")
+    return point, float(min(low, point)), float(max(high, point))
 
 
 def _check_bootstrap(confidence: float, reps: int) -> None:
