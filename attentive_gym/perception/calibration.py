@@ -33,8 +33,9 @@ MOVING_MPS = 0.1
 BINS = (0.0, 0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 1.0001)
 #: The arrays of ``judged_track_steps``, one entry per confirmed track and step:
 #: ``probability`` (the model's judgement), ``point`` (0 or 1), ``moving`` (the track's
-#: probability of moving), ``in_band`` and ``truly_moving`` (0 or 1, the truth).
-JUDGED_FIELDS = ("probability", "point", "moving", "in_band", "truly_moving")
+#: probability of moving), ``in_band`` and ``truly_moving`` (0 or 1, the truth), and
+#: ``true_speed`` (m/s; 0 for a track on no mover).
+JUDGED_FIELDS = ("probability", "point", "moving", "in_band", "truly_moving", "true_speed")
 
 
 def judged_track_steps(
@@ -70,6 +71,7 @@ def judged_track_steps(
                 out["moving"].append(p_moving)
                 out["in_band"].append(float(lo <= true_speed <= hi))
                 out["truly_moving"].append(float(true_speed > MOVING_MPS))
+                out["true_speed"].append(float(true_speed))
             if terminated or truncated:
                 break
     return {name: np.array(values, float) for name, values in out.items()}

@@ -28,6 +28,9 @@ def test_every_confirmed_track_step_is_judged(steps):
     assert len(sizes) == 1 and sizes.pop() > 500
     assert steps["in_band"].sum() > 50  # movers in the band were tracked: the check is not vacuous
     assert np.all((steps["probability"] >= 0) & (steps["probability"] <= 1))
+    speed = steps["true_speed"]  # the truth's flags are the true speed's
+    np.testing.assert_array_equal(steps["in_band"], (BAND[0] <= speed) & (speed <= BAND[1]))
+    np.testing.assert_array_equal(steps["truly_moving"], speed > 0.1)
 
 
 def test_the_judgement_is_calibrated_and_beats_the_point_rule(steps):
