@@ -313,6 +313,14 @@ class AttentionConfig:
             velocity (a line with a kink: a stop, a turn, a reversal; ``tracking.onset``)
             better than the line by this log-likelihood ratio (nats; 0 turns the test off) has
             changed: its position and velocity come from the part after the kink.
+        track_outlier_share: the share of a track's matches that the motion probability
+            takes for outliers (0–0.5; 0 turns it off): each filter's likelihood of a match
+            is a mixture of its Gaussian (weight ``1 − share``) and one
+            ``track_outlier_sigmas`` times wider (``kalman.robust_log_likelihood``), so that a
+            centroid that jumps (a segment that merges, splits or shows a new face) weighs on
+            either hypothesis no more than the wide component allows.
+        track_outlier_sigmas: how many times wider than the filter's the outlier
+            component is (σ, > 1).
         track_speed_goal_probability: judge a speed goal at a region by the probability
             that the region's track moves at a wanted speed (its probability of moving ×
             P(speed in the goal's range), the speed normal along the velocity estimate with
@@ -433,6 +441,8 @@ class AttentionConfig:
     track_occlusion_keeps_motion: bool = True
     track_onset_log_ratio: float = 6.0
     track_change_log_ratio: float = 0.0
+    track_outlier_share: float = 0.0
+    track_outlier_sigmas: float = 3.0
     track_speed_goal_probability: bool = False
     # --- sensors -------------------------------------------------------------------
     laser_mount_x_m: float = 0.16
@@ -585,6 +595,8 @@ class AttentionConfig:
         self._check_free_space()
         for name in ("track_onset_log_ratio", "track_change_log_ratio"):
             _check_number(name, getattr(self, name), "nats", low=0.0, low_inclusive=True, high=100.0)
+        _check_number("track_outlier_share", self.track_outlier_share, "a share", low=0.0, low_inclusive=True, high=0.5)
+        _check_number("track_outlier_sigmas", self.track_outlier_sigmas, "σ", low=1.0, low_inclusive=False, high=100.0)
         for name in (
             "laser_only",
             "td_require_target",

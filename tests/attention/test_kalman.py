@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 from numba import njit
 
-from attentive_gym.attention.tracking.kalman import cv_update, static_update
+from attentive_gym.attention.tracking.kalman import (
+    cv_update,
+    gaussian_log_likelihood_2d,
+    innovation_d2,
+    robust_log_likelihood,
+    static_update,
+)
 
 
 @njit(cache=False)
@@ -109,3 +115,61 @@ def test_joseph_update_equals_the_blas_form(update, n):
             assert np.array_equal(P_new, P_old)
         else:
             np.testing.assert_allclose(P_new, P_old, rtol=1e-12, atol=1e-15 * np.abs(P_old).max())
+
+
+def test_innovation_d2_is_the_mahalanobis_distance_before_the_update():
+    x, P = np.array([1.0, 2.0, 0.3, -0.1]), np.diag([0.04, 0.09, 0.5, 0.5])
+    P[0, 1] = P[1, 0] = 0.01
+    R = np.array([[0.01, 0.002], [0.002, 0.02]])
+    y = np.array([1.3, 1.8]) - x[:2]
+    expected = y @ np.linalg.solve(P[:2, :2] + R, y)
+    assert innovation_d2(x, P, 1.3, 1.8, R) == pytest.approx(expected, rel=1e-12)
+
+
+def _mixture(y, S, share, sigmas):
+    """log((1 − share) N(y; 0, S) + share N(y; 0, sigmas² S)), summed directly."""
+
+    def density(cov):
+        return np.exp(-0.5 * y @ np.linalg.solve(cov, y)) / (2 * np.pi * np.sqrt(np.linalg.det(cov)))
+
+    return np.log((1 - share) * density(S) + share * density(sigmas**2 * S))
+
+
+@pytest.mark.parametrize("y", [(0.01, -0.02), (0.3, 0.1), (2.0, -1.5)])
+def test_the_robust_likelihood_is_the_mixture_of_the_filter_s_gaussian_and_a_wider_one(y):
+    y, S = np.array(y), np.array([[0.05, 0.01], [0.01, 0.03]])
+    gaussian = gaussian_log_likelihood_2d(y[0], y[1], S[0, 0], S[0, 1], S[1, 1])
+    d2 = y @ np.linalg.solve(S, y)
+    assert robust_log_likelihood(gaussian, d2, 0.2, 3.0) == pytest.approx(_mixture(y, S, 0.2, 3.0), rel=1e-9)
+
+
+def test_a_jump_weighs_less_on_the_motion_test_with_outliers():
+    # a static track's prediction is tight, a constant-velocity track's wider: a centroid jump
+    # of 0.5 m (a segment that merged) favours "moving" by many nats with Gaussians alone
+    jump = np.array([0.5, 0.0])
+    static_S, moving_S = np.diag([0.01, 0.01]), np.diag([0.06, 0.06])
+
+    def ratio(share):
+        logs = []
+        for S in (moving_S, static_S):
+            gaussian = gaussian_log_likelihood_2d(jump[0], jump[1], S[0, 0], S[0, 1], S[1, 1])
+            d2 = jump @ np.linalg.solve(S, jump)
+            logs.append(gaussian if share == 0 else robust_log_likelihood(gaussian, d2, share, 3.0))
+        return logs[0] - logs[1]
+
+    assert ratio(0.0) > 8.0
+    assert 0.0 < ratio(0.2) < 0.5 * ratio(0.0)
+    # a small innovation: both filters lose the same log(1 − share), their ratio stays
+    small = np.array([0.02, 0.01])
+    for share in (0.0, 0.2):
+        logs = [gaussian_log_likelihood_2d(small[0], small[1], S[0, 0], S[0, 1], S[1, 1]) for S in (moving_S, static_S)]
+        if share:
+            logs = [
+                robust_log_likelihood(g, small @ np.linalg.solve(S, small), share, 3.0)
+                for g, S in zip(logs, (moving_S, static_S))
+            ]
+        assert logs[0] - logs[1] == pytest.approx(
+            gaussian_log_likelihood_2d(small[0], small[1], 0.06, 0.0, 0.06)
+            - gaussian_log_likelihood_2d(small[0], small[1], 0.01, 0.0, 0.01),
+            abs=0.05,
+        )

@@ -560,3 +560,33 @@ def test_the_start_test_is_refused_below_zero():
         AttentionConfig(track_onset_log_ratio=-1.0)
     with pytest.raises(ValueError, match="track_change_log_ratio"):
         AttentionConfig(track_change_log_ratio=-1.0)
+
+
+def test_outliers_in_the_motion_test_keep_a_start_and_a_corridor_as_they_were(scene):
+    """With a share of outliers in the motion test (``track_outlier_share``), a victim 3 m ahead
+    that stands 1 s and then crosses at 0.6 m/s is still labelled moving within 2 scans of the
+    test off's median (5 noise draws at 5 %), and driving down a corridor no track of the walls
+    ends up labelled moving: the mixture caps jumps, not motion."""
+    on = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0, track_outlier_share=0.2)
+    off = AttentionConfig(range_noise_rel=0.05, laser_mount_x_m=0.0)
+
+    def victim(t):
+        return (3.0, -1.0 + 0.6 * max(t - 1.0, 0.0))
+
+    latencies = {
+        name: float(np.median([_scans_until_moving(scene, victim, 40, 20, config, seed) for seed in range(5)]))
+        for name, config in (("on", on), ("off", off))
+    }
+    assert latencies["on"] <= latencies["off"] + 2 < 20, latencies
+    walls = [(-20.0, 1.5, 40.0, 1.5), (-20.0, -2.5, 40.0, -2.5)]
+    drive = dict(sigma=0.05, walls=walls, robot_at=lambda t: ((0.6 * t, 0.0), 0.0), odometry=lambda t: (0.6, 0.0))
+    outs = _run(scene, lambda t: [], 100, config=on, **drive)
+    assert all(float(o.tracks.moving_probability[o.tracks.confirmed].max(initial=0.0)) < 0.5 for o in outs)
+
+
+@pytest.mark.parametrize(
+    ("field", "value"), [("track_outlier_share", -0.1), ("track_outlier_share", 0.6), ("track_outlier_sigmas", 1.0)]
+)
+def test_an_outlier_share_or_width_out_of_range_is_refused(field, value):
+    with pytest.raises(ValueError, match=field):
+        AttentionConfig(**{field: value})

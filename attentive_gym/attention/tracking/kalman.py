@@ -7,7 +7,9 @@
   decide how probably the track moves (``motion_probability``).
 - ``rate_predict`` / ``rate_update``: the 1-D range/range-rate filter of one sonar, state
   ``(r, ṙ)`` (m, m/s), covariance ``(2, 2)``.
-- ``gaussian_log_likelihood_2d``: ``log N(y; 0, S)`` of a 2-D innovation.
+- ``gaussian_log_likelihood_2d``: ``log N(y; 0, S)`` of a 2-D innovation;
+  ``innovation_d2``: its squared Mahalanobis distance before an update;
+  ``robust_log_likelihood``: the likelihood under a Gaussian with a share of outliers.
 
 Process noise is the continuous white-noise acceleration model: spectral density ``q``
 (m²/s³) per axis gives ``Q = q [[dt³/3, dt²/2], [dt²/2, dt]]`` over ``dt`` seconds.
@@ -36,6 +38,8 @@ __all__ = [
     "rate_predict",
     "rate_update",
     "gaussian_log_likelihood_2d",
+    "innovation_d2",
+    "robust_log_likelihood",
     "motion_probability",
 ]
 
@@ -77,6 +81,17 @@ def gaussian_log_likelihood_2d(y0, y1, s00, s01, s11):
     i00, i01, i11, det = _inverse_2x2(s00, s01, s11)
     d2 = y0 * (i00 * y0 + i01 * y1) + y1 * (i01 * y0 + i11 * y1)
     return -0.5 * (d2 + math.log(det)) - _LOG_2PI
+
+
+@njit(cache=True, inline="always")
+def innovation_d2(x, P, z0, z1, R):
+    """The squared Mahalanobis distance of the measurement ``z`` (m; covariance ``R``
+    ``(2, 2)``) from the state ``x``'s position (its first two entries; ``P`` their
+    covariance's block), before an update."""
+    s00, s01, s11 = P[0, 0] + R[0, 0], 0.5 * (P[0, 1] + P[1, 0]) + R[0, 1], P[1, 1] + R[1, 1]
+    i00, i01, i11, _ = _inverse_2x2(s00, s01, s11)
+    y0, y1 = z0 - x[0], z1 - x[1]
+    return y0 * (i00 * y0 + i01 * y1) + y1 * (i01 * y0 + i11 * y1)
 
 
 @njit(cache=True, inline="always")
@@ -154,6 +169,21 @@ def static_update(x, P, z0, z1, R):
     """Update a static track's position ``x`` ``(2,)`` with ``z`` (m), covariance ``R``,
     in place; returns the innovation's log-likelihood."""
     return _joseph_update(x, P, z0, z1, R)
+
+
+@njit(cache=True, inline="always")
+def robust_log_likelihood(log_likelihood, d2, outlier_share, outlier_sigmas):
+    """The log-likelihood of a 2-D innovation under a mixture: ``1 − outlier_share`` of the
+    filter's Gaussian (``log_likelihood``, its squared Mahalanobis distance ``d2``) and
+    ``outlier_share`` of one with ``outlier_sigmas`` times its σ (covariance × k², so its
+    log-density is ``log_likelihood + ½ d2 (1 − 1/k²) − 2 log k`` in 2-D). A small
+    innovation keeps about ``log(1 − share)`` of the Gaussian's; a large one is capped by the
+    wide component's slower fall."""
+    k = outlier_sigmas
+    wide = log_likelihood + 0.5 * d2 * (1.0 - 1.0 / (k * k)) - 2.0 * math.log(k)
+    narrow_part, wide_part = math.log(1.0 - outlier_share) + log_likelihood, math.log(outlier_share) + wide
+    top = max(narrow_part, wide_part)
+    return top + math.log(math.exp(narrow_part - top) + math.exp(wide_part - top))
 
 
 @njit(cache=True)

@@ -49,9 +49,11 @@ from attentive_gym.attention.tracking.association import gated_assignment
 from attentive_gym.attention.tracking.kalman import (
     cv_predict,
     cv_update,
+    innovation_d2,
     motion_probability,
     rate_predict,
     rate_update,
+    robust_log_likelihood,
     static_predict,
     static_update,
 )
@@ -134,10 +136,12 @@ _CARVE_PROBABILITY = 0.5
     _OCCLUSION_KEEPS,
     _ONSET_LOG_RATIO,
     _CHANGE_LOG_RATIO,
+    _OUTLIER_SHARE,
+    _OUTLIER_SIGMAS,
     _FS_SPACING,
     _FS_N_LAGS,
     _FS_LAGS,
-) = range(41)
+) = range(43)
 _N_PARAMS = _FS_LAGS + MAX_FREE_SPACE_LAGS
 #: The parameter vector's entry of ``AttentionConfig.track_speed_goal_probability`` (1.0 on).
 GOAL_PROBABILITY_PARAM = _GOAL_PROBABILITY
@@ -345,6 +349,7 @@ class Tracker:
         params[_OCCLUSION_KEEPS] = config.track_occlusion_keeps_motion
         params[_ONSET_LOG_RATIO] = config.track_onset_log_ratio
         params[_CHANGE_LOG_RATIO] = config.track_change_log_ratio
+        params[_OUTLIER_SHARE], params[_OUTLIER_SIGMAS] = config.track_outlier_share, config.track_outlier_sigmas
         params[_FS_SPACING], params[_FS_N_LAGS] = spacing, len(config.free_space_lags_s)
         params[_FS_LAGS : _FS_LAGS + len(config.free_space_lags_s)] = config.free_space_lags_s
         self.params = params
@@ -1184,10 +1189,19 @@ def _mahalanobis2(x, P, z, r):
 @njit(cache=True, inline="always")
 def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_moving, hits, misses, extent_m):
     """Update track ``k`` with the measurement ``z`` (odometry frame, covariance ``r``) of a
-    body ``extent`` metres across: both filters, the motion probability, the counters,
-    and the track's extent (an exponential average over matches)."""
+    body ``extent`` metres across: both filters, the motion probability (each filter's
+    likelihood with a share of outliers, ``params[_OUTLIER_SHARE]`` > 0:
+    ``kalman.robust_log_likelihood``), the counters, and the track's extent (an exponential
+    average over matches)."""
+    outliers = params[_OUTLIER_SHARE]
+    if outliers > 0.0:
+        d2_moving = innovation_d2(cv_x[k], cv_P[k], z[0], z[1], r)
+        d2_static = innovation_d2(static_x[k], static_P[k], z[0], z[1], r)
     moving = cv_update(cv_x[k], cv_P[k], z[0], z[1], r)
     static = static_update(static_x[k], static_P[k], z[0], z[1], r)
+    if outliers > 0.0:
+        moving = robust_log_likelihood(moving, d2_moving, outliers, params[_OUTLIER_SIGMAS])
+        static = robust_log_likelihood(static, d2_static, outliers, params[_OUTLIER_SIGMAS])
     switch = 1.0 - math.exp(-params[_SWITCH_RATE] * dt_s)
     p_moving[k] = motion_probability(p_moving[k], moving, static, switch, MOTION_FLOOR)
     hits[k] += 1
