@@ -288,9 +288,9 @@ def motion_metrics(records: list[MotionRecord]) -> dict[str, float]:
     target while it is in view."""
     per_record = [onset_latencies(record) for record in records]
     latencies = np.concatenate(per_record)
-    per_record_scans = [lat / record.scan_interval_s for lat, record in zip(per_record, records)]
-    in_scans = np.concatenate(per_record_scans)
-    _, scans_low, scans_high = pooled_median_ci(per_record_scans)
+    scans_median, scans_low, scans_high = pooled_median_ci(
+        [lat / record.scan_interval_s for lat, record in zip(per_record, records)]
+    )
     steps = np.concatenate
     moving = steps([r.target_near & (r.target_speed > MOVING_MPS) for r in records])
     in_view = steps([r.target_in_view for r in records])
@@ -298,7 +298,7 @@ def motion_metrics(records: list[MotionRecord]) -> dict[str, float]:
         "starts": float(len(latencies)),
         "latency_median_s": float(np.median(latencies)) if len(latencies) else math.nan,
         "latency_p90_s": float(np.quantile(latencies, 0.9, method="inverted_cdf")) if len(latencies) else math.nan,
-        "latency_median_scans": float(np.median(in_scans)) if len(in_scans) else math.nan,
+        "latency_median_scans": scans_median,
         "latency_median_scans_low": scans_low,
         "latency_median_scans_high": scans_high,
         "starts_judged": float(np.mean(np.isfinite(latencies))) if len(latencies) else math.nan,

@@ -9,7 +9,6 @@ from numba import njit
 from attentive_gym.attention.tracking.kalman import (
     cv_update,
     gaussian_log_likelihood_2d,
-    innovation_d2,
     robust_log_likelihood,
     static_update,
 )
@@ -115,15 +114,6 @@ def test_joseph_update_equals_the_blas_form(update, n):
             assert np.array_equal(P_new, P_old)
         else:
             np.testing.assert_allclose(P_new, P_old, rtol=1e-12, atol=1e-15 * np.abs(P_old).max())
-
-
-def test_innovation_d2_is_the_mahalanobis_distance_before_the_update():
-    x, P = np.array([1.0, 2.0, 0.3, -0.1]), np.diag([0.04, 0.09, 0.5, 0.5])
-    P[0, 1] = P[1, 0] = 0.01
-    R = np.array([[0.01, 0.002], [0.002, 0.02]])
-    y = np.array([1.3, 1.8]) - x[:2]
-    expected = y @ np.linalg.solve(P[:2, :2] + R, y)
-    assert innovation_d2(x, P, 1.3, 1.8, R) == pytest.approx(expected, rel=1e-12)
 
 
 def _mixture(y, S, share, sigmas):

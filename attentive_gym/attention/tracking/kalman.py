@@ -8,7 +8,6 @@
 - ``rate_predict`` / ``rate_update``: the 1-D range/range-rate filter of one sonar, state
   ``(r, ṙ)`` (m, m/s), covariance ``(2, 2)``.
 - ``gaussian_log_likelihood_2d``: ``log N(y; 0, S)`` of a 2-D innovation;
-  ``innovation_d2``: its squared Mahalanobis distance before an update;
   ``robust_log_likelihood``: the likelihood under a Gaussian with a share of outliers.
 
 Process noise is the continuous white-noise acceleration model: spectral density ``q``
@@ -38,7 +37,6 @@ __all__ = [
     "rate_predict",
     "rate_update",
     "gaussian_log_likelihood_2d",
-    "innovation_d2",
     "robust_log_likelihood",
     "motion_probability",
 ]
@@ -81,17 +79,6 @@ def gaussian_log_likelihood_2d(y0, y1, s00, s01, s11):
     i00, i01, i11, det = _inverse_2x2(s00, s01, s11)
     d2 = y0 * (i00 * y0 + i01 * y1) + y1 * (i01 * y0 + i11 * y1)
     return -0.5 * (d2 + math.log(det)) - _LOG_2PI
-
-
-@njit(cache=True, inline="always")
-def innovation_d2(x, P, z0, z1, R):
-    """The squared Mahalanobis distance of the measurement ``z`` (m; covariance ``R``
-    ``(2, 2)``) from the state ``x``'s position (its first two entries; ``P`` their
-    covariance's block), before an update."""
-    s00, s01, s11 = P[0, 0] + R[0, 0], 0.5 * (P[0, 1] + P[1, 0]) + R[0, 1], P[1, 1] + R[1, 1]
-    i00, i01, i11, _ = _inverse_2x2(s00, s01, s11)
-    y0, y1 = z0 - x[0], z1 - x[1]
-    return y0 * (i00 * y0 + i01 * y1) + y1 * (i01 * y0 + i11 * y1)
 
 
 @njit(cache=True, inline="always")

@@ -49,7 +49,6 @@ from attentive_gym.attention.tracking.association import gated_assignment
 from attentive_gym.attention.tracking.kalman import (
     cv_predict,
     cv_update,
-    innovation_d2,
     motion_probability,
     rate_predict,
     rate_update,
@@ -1195,8 +1194,8 @@ def _update(k, dt_s, z, r, extent, params, cv_x, cv_P, static_x, static_P, p_mov
     average over matches)."""
     outliers = params[_OUTLIER_SHARE]
     if outliers > 0.0:
-        d2_moving = innovation_d2(cv_x[k], cv_P[k], z[0], z[1], r)
-        d2_static = innovation_d2(static_x[k], static_P[k], z[0], z[1], r)
+        d2_moving = _mahalanobis2(cv_x[k], cv_P[k], z, r)[0]
+        d2_static = _mahalanobis2(static_x[k], static_P[k], z, r)[0]
     moving = cv_update(cv_x[k], cv_P[k], z[0], z[1], r)
     static = static_update(static_x[k], static_P[k], z[0], z[1], r)
     if outliers > 0.0:
