@@ -39,6 +39,7 @@ NOISE_NAMES = {
     "usarsim": "usarsim (±5 % uniform, 5 Hz scans)",
 }
 GOALS = ("speed in [0.5, 0.9] m/s", "speed in [0.15, 0.45] m/s")
+ROBOTS = ("still", "driving")
 #: The benchmark's reasons for the focus being on, or off, the target, in its order.
 CASES = {
     "case_on_target": "on target",
@@ -85,23 +86,28 @@ def _rate(figures: Mapping[str, float], metric: str) -> str:
     return interval(figures[metric], low, high)
 
 
+def _rate_pair(still: Mapping[str, float], driving: Mapping[str, float], metric: str) -> str:
+    """``"still / driving"``: ``_rate`` of ``metric`` in the figures of each robot mode."""
+    return f"{_rate(still, metric)} / {_rate(driving, metric)}"
+
+
 def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
     """A row per figure, a column per kinematics mode, at 5 % Gaussian noise ("—": the mode
     has no such figure; "a / b": robot still / driving)."""
     speed = {
         (mode, robot): values(rows, section="speed", mode=mode, robot=robot, noise=NOISY)
         for mode in MODES
-        for robot in ("still", "driving")
+        for robot in ROBOTS
     }
     focus = {
         (mode, robot, goal): values(rows, section="focus", mode=mode, robot=robot, noise=NOISY, goal=goal)
         for mode in MODES
-        for robot in ("still", "driving")
+        for robot in ROBOTS
         for goal in GOALS
     }
     bound = {
         (robot, goal): values(rows, section="focus", mode=BOUND, robot=robot, noise=NOISY, goal=goal)
-        for robot in ("still", "driving")
+        for robot in ROBOTS
         for goal in GOALS
     }
     control = {mode: values(rows, section="control", mode=mode, noise=NOISY) for mode in MODES}
@@ -120,14 +126,14 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
         """still / driving share of a speed-section figure with its interval over the episodes."""
         if metric not in speed[(mode, "still")]:
             return "—"
-        return f"{_rate(speed[(mode, 'still')], metric)} / {_rate(speed[(mode, 'driving')], metric)}"
+        return _rate_pair(speed[(mode, "still")], speed[(mode, "driving")], metric)
 
     def focus_pair(mode, goal, metric):
         return _pair(focus[(mode, "still", goal)].get(metric), focus[(mode, "driving", goal)].get(metric))
 
     def focus_rates(mode, goal, metric):
         """still / driving focus rate with their intervals over the episodes."""
-        return f"{_rate(focus[(mode, 'still', goal)], metric)} / {_rate(focus[(mode, 'driving', goal)], metric)}"
+        return _rate_pair(focus[(mode, "still", goal)], focus[(mode, "driving", goal)], metric)
 
     def track_error(robot):
         return lambda mode: (
@@ -152,7 +158,7 @@ def summary_table(rows: Sequence[Mapping[str, str]]) -> str:
     def sight_over_bound(mode, goal):
         """still / driving focus on target in sight ÷ the bound's; "—" where either is missing."""
         ratios = []
-        for robot in ("still", "driving"):
+        for robot in ROBOTS:
             own = focus[(mode, robot, goal)].get("focus_on_target_in_sight")
             best = bound[(robot, goal)].get("focus_on_target_in_sight")
             ratios.append(own / best if own is not None and best else None)
@@ -271,7 +277,7 @@ def track_age_table(rows: Sequence[Mapping[str, str]]) -> str:
     """Focus on target by the age of the target's track (in brackets: the share of steps)."""
     lines = []
     for noise in (NOISY, NOISE_FREE):
-        for robot in ("still", "driving"):
+        for robot in ROBOTS:
             figures = values(rows, section="focus", mode="tracker", robot=robot, noise=noise, goal="")
             lines.append(
                 [
@@ -292,9 +298,14 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
         still = values(rows, section="speed", mode="tracker", robot="still", noise=noise)
         driving = values(rows, section="speed", mode="tracker", robot="driving", noise=noise)
         focus = [
-            _rate(values(rows, section="focus", mode="tracker", robot=robot, noise=noise, goal=goal), "focus_on_target")
+            _rate_pair(
+                *(
+                    values(rows, section="focus", mode="tracker", robot=robot, noise=noise, goal=goal)
+                    for robot in ROBOTS
+                ),
+                "focus_on_target",
+            )
             for goal in GOALS
-            for robot in ("still", "driving")
         ]
         control = values(rows, section="control", mode="tracker", noise=noise)
         lines.append(
@@ -302,10 +313,10 @@ def noise_table(rows: Sequence[Mapping[str, str]]) -> str:
                 name,
                 _pair(still.get("track_median_mps"), driving.get("track_median_mps")),
                 _pair(still.get("goal_agreement_track"), driving.get("goal_agreement_track")),
-                f"{focus[0]} / {focus[1]}; {focus[2]} / {focus[3]}",
+                "; ".join(focus),
                 number(control.get("success_focus")),
                 number(control.get("success_memory")),
-                f"{_rate(still, 'false_label_steps')} / {_rate(driving, 'false_label_steps')}",
+                _rate_pair(still, driving, "false_label_steps"),
             ]
         )
     return table(
@@ -350,7 +361,7 @@ def motion_table(rows: Sequence[Mapping[str, str]]) -> str:
     out = []
     for scene, scene_name in SCENES.items():
         for noise in noises:
-            for robot in ("still", "driving"):
+            for robot in ROBOTS:
                 for mode in modes:
                     f = values(rows, section="motion", mode=mode, robot=robot, noise=noise, scene=scene)
                     out.append(
