@@ -1,16 +1,12 @@
 """Bootstrap intervals, IQM and probability of improvement (checked against hand computation),
 summaries and atomic writes."""
 
-import importlib
 import math
 import os
-import sys
 
 import numpy as np
 import pytest
 
-import attentive_gym.agents as agents
-import attentive_gym.statistics as statistics
 from attentive_gym.agents.results import (
     EVAL_COLUMNS,
     SAFE_COLUMNS,
@@ -28,14 +24,6 @@ from attentive_gym.statistics import (
     probability_of_improvement,
     ratio_ci,
 )
-
-
-def test_the_statistics_old_path_warns_and_gives_the_moved_module(monkeypatch):
-    monkeypatch.delitem(sys.modules, "attentive_gym.agents.statistics", raising=False)
-    if "statistics" in vars(agents):
-        monkeypatch.delattr(agents, "statistics")
-    with pytest.warns(DeprecationWarning, match="attentive_gym.agents.statistics moved to attentive_gym.statistics"):
-        assert importlib.import_module("attentive_gym.agents.statistics") is statistics
 
 
 def test_iqm_by_hand():

@@ -1,5 +1,6 @@
-"""The batched environments' old module paths still import, with a ``DeprecationWarning``
-pointing at the importing line, and give the modules of ``attentive_gym.vector`` themselves."""
+"""Moved modules' old paths (the batched environments', and the agents' statistics) still
+import, with a ``DeprecationWarning`` pointing at the importing line, and give the modules
+at their new paths themselves."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ import pytest
 
 import attentive_gym.agents as agents
 import attentive_gym.envs as envs
-from attentive_gym import _moved
+from attentive_gym import _moved, statistics
 from attentive_gym.vector import fleet, sb3, vector_env
 
 REPO = Path(__file__).resolve().parents[2]
@@ -23,6 +24,7 @@ OLD_PATHS = {
     "attentive_gym.envs.fleet": fleet,
     "attentive_gym.envs.vector_env": vector_env,
     "attentive_gym.agents.native_vec": sb3,
+    "attentive_gym.agents.statistics": statistics,
 }
 
 
@@ -54,6 +56,7 @@ OLD_NAMES = {
     "attentive_gym.envs.fleet": ("Fleet", "stack_observations"),
     "attentive_gym.envs.vector_env": ("AttentiveRescueVectorEnv", "make_vector_env", "batch_infos", "AUTORESET_MODES"),
     "attentive_gym.agents.native_vec": ("NativeVecEnv",),
+    "attentive_gym.agents.statistics": ("bootstrap_ci", "iqm", "probability_of_improvement", "performance_profile"),
 }
 
 
