@@ -4,7 +4,8 @@
   goals, goal changes, duration) on top of its built-in scenario.
 - ``run_experiment(name, noise, seed, out_dir, *, kinematics, profile, config)``: the
   immobile robot in the scenario, the model attending (kinematics "tracker" by default,
-  or "window", "literal"; sensor profile None or "usarsim"); returns an
+  or "window", "literal", or "truth": the perfect-perception bound; sensor profile None or
+  "usarsim"); returns an
   ``ExperimentResult`` (trace + ground truth) and can write ``NAME.npz`` and ``NAME.png``.
 - ``check_experiment(result)``: docs/model.md §9's criteria as named ``Check`` outcomes;
   ``pass_rates(name, noise, seeds, ...)`` over several seeds.
@@ -23,8 +24,8 @@ Example:
     >>> result = run_experiment("exp01", kinematics="window")
     >>> [c.name for c in check_experiment(result) if not c.passed]
     []
-    >>> [c.name for c in check_experiment(run_experiment("exp01")) if not c.passed]  # the tracker
-    ['first_winner_is_s4']
+    >>> [c.name for c in check_experiment(run_experiment("exp05", kinematics="truth")) if not c.passed]
+    ['faster_holds_focus', 'top_down_never_below_1', 'goal_change_moves_focus']
 """
 
 from attentive_gym.experiments.checks import CHECKS, Check, check_experiment, pass_rates

@@ -13,7 +13,10 @@ less often):
 - "window", "literal": the |radial speed| of a robot's centre over the window, what the
   least-squares (or two-sample) range rate estimates (docs/model.md §3);
 - "tracker": the robot's full 2-D speed over the window (its displacement over the
-  window's time), what the tracks' constant-velocity filters estimate (docs/model.md §10).
+  window's time), what the tracks' constant-velocity filters estimate (docs/model.md §10);
+- "truth" (the perfect-perception bound, whose model runs as the tracker): the robot's
+  instantaneous speed at the step, which is what it is fed; its regions and windows are
+  the tracker's.
 
 Which regions "see" a robot (its region(s), where the model puts its motion) follows the
 mode: with "window" and "literal", every region whose sonar's echo comes from it (each
@@ -36,12 +39,12 @@ from typing import Any
 
 import numpy as np
 
-from attentive_gym.attention import ORIGIN_CODES, AttentionConfig, AttentionModel
+from attentive_gym.attention import ORIGIN_CODES, AttentionConfig
 from attentive_gym.attention.config import MAP_NAMES
 from attentive_gym.attention.regions import nearest_sonar, region_name
 from attentive_gym.experiments.registry import get_experiment
 from attentive_gym.experiments.result import ExperimentResult
-from attentive_gym.experiments.runner import run_experiment
+from attentive_gym.experiments.runner import TRUTH, experiment_model, run_experiment
 
 __all__ = ["Check", "CHECKS", "check_experiment", "pass_rates"]
 
@@ -84,6 +87,7 @@ class _Run:
         self.dt = float(tr.t[1] - tr.t[0])
         self.kinematics = str(tr.config.get("kinematics", "window"))
         self.tracked = self.kinematics == "tracker"
+        self.truth = result.kinematics == TRUTH
         samples = 2 if self.kinematics == "literal" else int(tr.config["slope_samples"])
         # the window ending at step k: from the scan samples - 1 scans before the latest one
         # (the tracker reads the laser's scans, the range-rate modes the sonar's)
@@ -127,7 +131,10 @@ class _Run:
 
     def speed(self, i: int, k: int) -> float:
         """Robot i's true speed over the window ending at step k (m/s): its |radial speed|,
-        or with the tracker its 2-D speed (see the module docstring)."""
+        or with the tracker its 2-D speed; with the truth its speed at step k (see the module
+        docstring)."""
+        if self.truth:
+            return float(np.linalg.norm(self.result.mover_velocities[k, i]))
         lo, hi = int(self.window_start[k]), int(self.latest[k])
         if self.tracked:
             moved = float(np.linalg.norm(self.positions[hi, i] - self.positions[lo, i]))
@@ -450,20 +457,7 @@ def _combined_beats_single(run: _Run, holds: list[int]) -> Check:
     experiment = run.result.experiment
     singles = []
     for name in experiment.weights:
-        model = AttentionModel(AttentionConfig.from_dict(run.trace.config))
-        model.set_weights({name: experiment.weights[name]})
-        model.set_goals(*experiment.goals)
-        scans = zip(run.result.sonar_time_s, run.result.laser_time_s)
-        singles.append(
-            np.stack(
-                [
-                    model.step(
-                        t, o1, o2, **({"sonar_time_s": ts, "laser_time_s": tl} if run.result.scan_times_given else {})
-                    ).L
-                    for t, o1, o2, (ts, tl) in zip(run.t, run.trace.O1, run.trace.O2, scans)
-                ]
-            )
-        )
+        singles.append(_replayed_L(run.result, {name: experiment.weights[name]}))
     best_single = np.maximum(*singles)[:, _S4]
     both = run.trace.L[:, _S4]
     steps = np.asarray(holds, dtype=int)
@@ -475,6 +469,23 @@ def _combined_beats_single(run: _Run, holds: list[int]) -> Check:
         f"at s4, L(F1+F4) > max(L(F1), L(F4)) at {wins} of {steps.size} steps"
         + (f"; median ratio {np.median(both[steps] / np.maximum(best_single[steps], _EPS)):.2f}" if steps.size else ""),
     )
+
+
+def _replayed_L(result: ExperimentResult, weights: Mapping[str, float]) -> np.ndarray:
+    """``(T, J)`` L of the run's model replayed on its readings (and, for ``TRUTH``, its
+    truth) with ``weights`` in place of the experiment's; the experiment's goals (Exp04 has
+    no goal changes)."""
+    model = experiment_model(AttentionConfig.from_dict(result.trace.config), result.kinematics)
+    model.set_weights(weights)
+    model.set_goals(*result.experiment.goals)
+    trace, L = result.trace, []
+    for k, t in enumerate(trace.t):
+        inputs = {"sonar_time_s": result.sonar_time_s[k], "laser_time_s": result.laser_time_s[k]}
+        inputs = inputs if result.scan_times_given else {}
+        if result.kinematics == TRUTH:
+            inputs["truth"] = result.true_scene(k)
+        L.append(model.step(t, trace.O1[k], trace.O2[k], **inputs).L)
+    return np.stack(L)
 
 
 # --- Exp05 ------------------------------------------------------------------------------

@@ -3,8 +3,9 @@
 Runs one experiment (or all five, with a progress line on stderr after each: its time, the
 elapsed time and an ETA), prints each docs/model.md §9 check as PASS/FAIL with its measured
 values, and with ``--out`` writes ``DIR/NAME.npz`` (the trace) and ``DIR/NAME.png`` (the
-figure). ``--kinematics`` picks the model's kinematics mode (tracker, window, literal),
-``--profile`` the env's sensor profile (usarsim). Exit status 0 whatever the checks say.
+figure). ``--kinematics`` picks the model's kinematics mode (tracker, window, literal, or
+truth: the perfect-perception bound), ``--profile`` the env's sensor profile (usarsim).
+Exit status 0 whatever the checks say.
 """
 
 from __future__ import annotations
@@ -16,10 +17,9 @@ from pathlib import Path
 
 from attentive_gym._atomic import refuse_existing
 from attentive_gym._optional import require
-from attentive_gym.attention.config import KINEMATICS_MODES
 from attentive_gym.experiments.checks import check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES, get_experiment
-from attentive_gym.experiments.runner import _check_kinematics, _check_profile, run_experiment
+from attentive_gym.experiments.runner import EXPERIMENT_KINEMATICS, _check_kinematics, _check_profile, run_experiment
 from attentive_gym.progress import Progress, format_duration
 from attentive_gym.sensors import SENSOR_PROFILES
 
@@ -52,7 +52,8 @@ def add_experiment_parser(subparsers) -> None:
         "--kinematics",
         default="tracker",
         metavar="MODE",
-        help=f"the model's kinematics: {', '.join(KINEMATICS_MODES)} (default tracker)",
+        help=f"the model's kinematics: {', '.join(EXPERIMENT_KINEMATICS)} (truth: the model fed the simulator's "
+        "true kinematics, the perfect-perception bound; default tracker)",
     )
     parser.add_argument(
         "--profile",

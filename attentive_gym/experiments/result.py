@@ -17,6 +17,7 @@ import numpy as np
 
 from attentive_gym.attention import Trace
 from attentive_gym.experiments.registry import Experiment
+from attentive_gym.perception.bound import TrueScene
 
 __all__ = ["ExperimentResult"]
 
@@ -40,13 +41,18 @@ class ExperimentResult:
             with the readings).
         laser_sees: ``(T, K)`` bool, some laser beam's echo at step k comes from mover i
             (held between scans likewise).
+        laser_movers: ``(T, 180)`` int, the mover (row of ``mover_names``) whose body each
+            laser beam's echo at step k comes from, −1 for none (held likewise).
+        robot_poses: ``(T, 3)`` the robot's x, y (m) and heading (rad) in the world frame.
         goal_index: ``(T,)`` int, which goal set was in force at each step: 0 the
             experiment's initial goals, i > 0 those of ``goal_changes[i - 1]``.
         region_speeds: ``(T, J)`` the model's speed estimate per region (m/s), the
             ``speeds_mps`` of each step's output.
         sonar_time_s, laser_time_s: ``(T,)`` time (s) of the scan each step's sonar and
             laser readings come from (equal to ``trace.t`` when a sensor scans every step).
-        kinematics: the model's kinematics mode ("tracker", "window" or "literal").
+        kinematics: the model's kinematics mode ("tracker", "window" or "literal"), or
+            "truth" for the perfect-perception bound (``runner.TRUTH``; its trace's
+            configuration says "tracker").
         profile: the env's ``sensor_profile`` (None or e.g. "usarsim").
         noise_model: "gaussian" or "uniform".
         scan_times_given: the scan times were passed to the model (the sensors scan less
@@ -63,6 +69,8 @@ class ExperimentResult:
     mover_names: tuple[str, ...]
     sees: np.ndarray
     laser_sees: np.ndarray
+    laser_movers: np.ndarray
+    robot_poses: np.ndarray
     goal_index: np.ndarray
     region_speeds: np.ndarray
     sonar_time_s: np.ndarray
@@ -78,6 +86,14 @@ class ExperimentResult:
         """The relative σ of the range noise (dimensionless): ``noise`` for Gaussian noise,
         ``noise / √3`` for uniform ±noise."""
         return self.noise / np.sqrt(3.0) if self.noise_model == "uniform" else self.noise
+
+    def true_scene(self, k: int) -> TrueScene:
+        """The simulator's truth at step ``k`` as the perfect-perception model takes it (the
+        movers' ids are their rows)."""
+        movers = np.arange(len(self.mover_names))
+        return TrueScene(
+            self.robot_poses[k], self.laser_movers[k], movers, self.mover_positions[k], self.mover_velocities[k]
+        )
 
     def describe_noise(self) -> str:
         """The run's sensors in words, e.g. "no noise", "noise 5 %, seed 0" or

@@ -4,7 +4,9 @@
   step ``AttentiveRescueEnv`` with zero commands and the ``AttentionModel`` configured by
   the registry; returns an ``ExperimentResult`` and, with ``out_dir``, writes
   ``DIR/NAME.npz`` (the trace, in the ``TraceRecorder`` format) and ``DIR/NAME.png`` (the
-  figure).
+  figure). ``kinematics="truth"`` runs the perfect-perception bound instead: the same model
+  with the simulator's true kinematics (``attentive_gym.perception.bound``).
+- ``experiment_model(config, kinematics)``: the model a run of that kinematics steps.
 - ``experiment_config(kinematics, noise_model, noise, config)``: the model's
   ``AttentionConfig`` for a run.
 - ``ExperimentResult`` (from ``attentive_gym.experiments.result``): the trace plus the
@@ -31,9 +33,20 @@ from attentive_gym.envs.rescue_env import AttentiveRescueEnv
 from attentive_gym.experiments.figures import plot_experiment
 from attentive_gym.experiments.registry import get_experiment
 from attentive_gym.experiments.result import ExperimentResult
+from attentive_gym.perception.bound import PerfectPerceptionModel, TrueScene
 from attentive_gym.sensors import SENSOR_PROFILES, LaserConfig, resolve_sensor_profile
 
-__all__ = ["ExperimentResult", "run_experiment", "experiment_config", "DT_S", "MAX_NOISE", "FIXED_FIELDS"]
+__all__ = [
+    "ExperimentResult",
+    "run_experiment",
+    "experiment_config",
+    "experiment_model",
+    "DT_S",
+    "MAX_NOISE",
+    "FIXED_FIELDS",
+    "TRUTH",
+    "EXPERIMENT_KINEMATICS",
+]
 
 #: Step of the experiments (s), the paper's 20 Hz.
 DT_S = 0.05
@@ -43,6 +56,12 @@ MAX_NOISE = 0.5
 #: the paper's immobile robot (``ego_motion=None``) and the ``kinematics`` keyword.
 FIXED_FIELDS = ("ego_motion", "kinematics")
 _CONFIG_FIELDS = frozenset(f.name for f in dataclasses.fields(AttentionConfig))
+#: The runner's kinematics beyond the model's modes: the simulator's true kinematics fed to the
+#: same model (``PerfectPerceptionModel``), which frames each check as the perfect-perception
+#: bound frames the perception benchmark's figures.
+TRUTH = "truth"
+#: Every ``kinematics`` a run accepts: the model's modes, then ``TRUTH``.
+EXPERIMENT_KINEMATICS = (*KINEMATICS_MODES, TRUTH)
 
 
 def run_experiment(
@@ -77,7 +96,9 @@ def run_experiment(
             None writes nothing.
         figure: with ``out_dir``, also write the figure.
         kinematics: the model's kinematics mode, one of "tracker" (default), "window",
-            "literal" (``AttentionConfig.kinematics``).
+            "literal" (``AttentionConfig.kinematics``), or "truth": the perfect-perception
+            bound, the model (as "tracker") fed each step's true kinematics of the movers the
+            laser sees (``PerfectPerceptionModel``).
         profile: the env's ``sensor_profile``: None (Gaussian noise, both sensors scanned
             every step) or a name of ``attentive_gym.sensors.SENSOR_PROFILES`` ("usarsim":
             uniform noise, 5 Hz scans).
@@ -101,10 +122,11 @@ def run_experiment(
     noise = settings.noise if noise is None and profile is not None else _check_noise(0.0 if noise is None else noise)
     seed = _check_seed(seed)
     laser = LaserConfig()  # the env's laser, and where it sits for the tracker
-    model = AttentionModel(
+    model = experiment_model(
         experiment_config(
             kinematics, settings.noise_model, noise, config, laser_mount_m=(laser.mount_x_m, laser.mount_y_m)
-        )
+        ),
+        kinematics,
     )
     holds = settings.sonar_scan_interval_s is not None or settings.laser_scan_interval_s is not None
     env = AttentiveRescueEnv(
@@ -119,7 +141,8 @@ def run_experiment(
     recorder = TraceRecorder(model.config)
     changes = experiment.goal_changes
     n_steps = int(round(experiment.duration_s / DT_S)) + 1
-    positions, velocities, owners, laser_owners, speeds, sonar_times, laser_times = [], [], [], [], [], [], []
+    positions, velocities, owners, laser_owners, poses = [], [], [], [], []
+    speeds, sonar_times, laser_times = [], [], []
     goal_index = np.empty(n_steps, dtype=np.int64)
     observation, info = env.reset(seed=seed)
     mover_ids = np.array([mover.entity.id for mover in env.world.movers])
@@ -136,16 +159,22 @@ def run_experiment(
         goal_index[k] = goals_set
         sonar, laser = observation["sonar"], observation["laser"]
         scans = {"sonar_time_s": info["sonar_time_s"], "laser_time_s": info["laser_time_s"]} if holds else {}
+        if kinematics == TRUTH:
+            scans["truth"] = TrueScene.of_info(info, mover_ids)
         output = model.step(t, sonar, laser, observation["odometry"], **scans)
         recorder.append(output, sonar, laser)
         positions.append(info["mover_positions"])
         velocities.append(info["mover_velocities"])
         owners.append(info["sonar_hits"][:FRONT_SONARS])
         laser_owners.append(info["laser_hits"])
+        poses.append(info["robot_pose"])
         speeds.append(output.speeds_mps)
         sonar_times.append(info["sonar_time_s"])
         laser_times.append(info["laser_time_s"])
     env.close()
+    # (T, 180): the row of the mover each beam's echo comes from, −1 for none
+    hits = np.stack(laser_owners)
+    laser_movers = np.where(hits[..., None] == mover_ids, np.arange(len(mover_ids)), -1).max(axis=-1)
     result = ExperimentResult(
         experiment=experiment,
         noise=noise,
@@ -155,7 +184,9 @@ def run_experiment(
         mover_velocities=np.stack(velocities),
         mover_names=tuple(info["mover_names"]),
         sees=np.stack(owners)[:, None, :] == mover_ids[None, :, None],
-        laser_sees=(np.stack(laser_owners)[:, None, :] == mover_ids[None, :, None]).any(axis=2),
+        laser_sees=(laser_movers[:, None, :] == np.arange(len(mover_ids))[None, :, None]).any(axis=2),
+        laser_movers=laser_movers,
+        robot_poses=np.asarray(poses, dtype=float),
         goal_index=goal_index,
         region_speeds=np.stack(speeds),
         sonar_time_s=np.asarray(sonar_times, dtype=float),
@@ -182,7 +213,7 @@ def experiment_config(
     laser_mount_m: tuple[float, float] | None = None,
 ) -> AttentionConfig:
     """The model's configuration for a run: ``AttentionConfig(ego_motion=None,
-    kinematics=kinematics, range_noise_rel=σ, laser_mount_x_m=x, laser_mount_y_m=y,
+    kinematics=kinematics ("tracker" for ``TRUTH``), range_noise_rel=σ, laser_mount_x_m=x, laser_mount_y_m=y,
     **config)``, σ = ``noise`` (Gaussian) or ``noise / √3`` (uniform ±noise), ``(x, y)`` =
     ``laser_mount_m``, where the env's laser sits on the robot (m; None keeps the config's
     default). See ``run_experiment``."""
@@ -191,12 +222,19 @@ def experiment_config(
     if laser_mount_m is not None:
         fields["laser_mount_x_m"], fields["laser_mount_y_m"] = (float(v) for v in laser_mount_m)
     fields.update(_check_config(config))
-    return AttentionConfig(**fields, ego_motion=None, kinematics=_check_kinematics(kinematics))
+    mode = _check_kinematics(kinematics)
+    return AttentionConfig(**fields, ego_motion=None, kinematics="tracker" if mode == TRUTH else mode)
+
+
+def experiment_model(config: AttentionConfig, kinematics: str) -> AttentionModel:
+    """The model a run of ``kinematics`` steps: ``PerfectPerceptionModel(config)`` for
+    ``TRUTH`` (its ``step`` then takes ``truth=``), else ``AttentionModel(config)``."""
+    return PerfectPerceptionModel(config) if _check_kinematics(kinematics) == TRUTH else AttentionModel(config)
 
 
 def _check_kinematics(kinematics) -> str:
-    if not isinstance(kinematics, str) or kinematics not in KINEMATICS_MODES:
-        raise ValueError(f"kinematics must be one of {', '.join(KINEMATICS_MODES)}, got {kinematics!r}")
+    if not isinstance(kinematics, str) or kinematics not in EXPERIMENT_KINEMATICS:
+        raise ValueError(f"kinematics must be one of {', '.join(EXPERIMENT_KINEMATICS)}, got {kinematics!r}")
     return kinematics
 
 

@@ -1,16 +1,18 @@
 """The table of the experiments' checks, one column per kinematics mode.
 
 - ``COLUMNS``: the measured set-ups, (kinematics mode, sensor profile): the three modes
-  with Gaussian noise, and the tracker under the "usarsim" profile.
+  and the perfect-perception bound ("truth") with Gaussian noise, and the tracker under the
+  "usarsim" profile.
 - ``measure(seeds, noise, config, workers)``: for every check, whether it holds noise-free
   in each mode, and its pass rate over ``seeds`` with noise in each column.
 - ``to_rows(measured, n_seeds, noise, config)`` / ``from_rows(rows)``: the measurement as
   tidy rows (``CSV_COLUMNS``, one per check and column) and back, so that a table can be
   rendered again without rerunning the experiments.
 - ``markdown(measured)``: the table as Markdown, with a row of totals.
-- ``measure_causes(config, workers)``: every check with the tracker, noise-free, under each
-  of ``CAUSE_SETTINGS`` (the laser clipped to the sonars' range; no vigilance), as tidy rows:
-  which checks fail only through what a setting removes.
+- ``measure_causes(config, workers)``: every check with the tracker and with the
+  perfect-perception bound, noise-free, under each of ``CAUSE_SETTINGS`` (the laser clipped to
+  the sonars' range; no vigilance), as tidy rows: which checks fail only through what a
+  setting removes.
 
 The repository's ``tools/experiments_table.py`` measures the table into
 ``docs/results/experiment_checks.csv`` (its run time: ``docs/results/checks.md``) and
@@ -34,7 +36,7 @@ from attentive_gym._checks import check_int
 from attentive_gym._scripts import CHECKOUT_TOOLS, load_checkout_tool
 from attentive_gym.experiments.checks import CHECKS, check_experiment
 from attentive_gym.experiments.registry import EXPERIMENT_NAMES
-from attentive_gym.experiments.runner import _check_config, _check_noise, run_experiment
+from attentive_gym.experiments.runner import TRUTH, _check_config, _check_noise, run_experiment
 from attentive_gym.sensors.sonar import SonarConfig
 
 __all__ = [
@@ -42,6 +44,7 @@ __all__ = [
     "CSV_COLUMNS",
     "MIN_PASS_RATE",
     "CAUSE_SETTINGS",
+    "CAUSE_KINEMATICS",
     "CAUSE_COLUMNS",
     "measure",
     "measure_causes",
@@ -56,6 +59,7 @@ COLUMNS: tuple[tuple[str, str | None], ...] = (
     ("tracker", None),
     ("window", None),
     ("literal", None),
+    (TRUTH, None),
     ("tracker", "usarsim"),
 )
 #: docs/model.md §9: a criterion must hold in at least this fraction of the noisy seeds.
@@ -212,29 +216,35 @@ CAUSE_SETTINGS: tuple[tuple[str, dict[str, float]], ...] = (
     (f"laser clipped to {SonarConfig().max_range_m:g} m", {"laser_max_range_m": SonarConfig().max_range_m}),
     ("no vigilance", {"vigilance_after_s": 1000.0}),
 )
-#: The tidy CSV of ``measure_causes``: one row per (check, setting); ``noise_free``: "pass" or "fail".
-CAUSE_COLUMNS = ("experiment", "check", "setting", "config", "noise_free")
+#: The kinematics ``measure_causes`` reruns: the tracker, and the perfect-perception bound.
+CAUSE_KINEMATICS = ("tracker", TRUTH)
+#: The tidy CSV of ``measure_causes``: one row per (check, kinematics, setting); ``noise_free``:
+#: "pass" or "fail".
+CAUSE_COLUMNS = ("experiment", "check", "kinematics", "setting", "config", "noise_free")
 
 
 def measure_causes(
     config: Mapping[str, Any] | None = None, workers: int = 1, names: Sequence[str] = EXPERIMENT_NAMES
 ) -> list[dict[str, str]]:
-    """Every check of ``names`` with the tracker, noise-free, under each of ``CAUSE_SETTINGS``
-    (its fields over ``config``), as tidy rows of text (``CAUSE_COLUMNS``): a check that
-    fails by default and holds under a setting fails through what that setting removes."""
+    """Every check of ``names`` with each of ``CAUSE_KINEMATICS``, noise-free, under each of
+    ``CAUSE_SETTINGS`` (its fields over ``config``), as tidy rows of text (``CAUSE_COLUMNS``):
+    a check that fails by default and holds under a setting fails through what that setting
+    removes."""
     config = _check_config(config)
     check_int("workers", workers, 1)
+    cases = [(kinematics, label, fields) for kinematics in CAUSE_KINEMATICS for label, fields in CAUSE_SETTINGS]
     jobs = [
-        ("exact", name, 0.0, 0, "tracker", None, {**config, **fields})
-        for label, fields in CAUSE_SETTINGS
+        ("exact", name, 0.0, 0, kinematics, None, {**config, **fields})
+        for kinematics, _, fields in cases
         for name in names
     ]
     done = _run_jobs(jobs, workers)
-    labels = [label for label, _ in CAUSE_SETTINGS for _ in names]
+    labels = [label for _, label, _ in cases for _ in names]
     return [
         {
             "experiment": job[1],
             "check": check,
+            "kinematics": job[4],
             "setting": label,
             "config": json.dumps(job[6], sort_keys=True),
             "noise_free": "pass" if ok else "fail",
