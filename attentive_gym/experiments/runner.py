@@ -213,10 +213,11 @@ def experiment_config(
     laser_mount_m: tuple[float, float] | None = None,
 ) -> AttentionConfig:
     """The model's configuration for a run: ``AttentionConfig(ego_motion=None,
-    kinematics=kinematics ("tracker" for ``TRUTH``), range_noise_rel=σ, laser_mount_x_m=x, laser_mount_y_m=y,
+    kinematics=kinematics, range_noise_rel=σ, laser_mount_x_m=x, laser_mount_y_m=y,
     **config)``, σ = ``noise`` (Gaussian) or ``noise / √3`` (uniform ±noise), ``(x, y)`` =
     ``laser_mount_m``, where the env's laser sits on the robot (m; None keeps the config's
-    default). See ``run_experiment``."""
+    default); the kinematics is "tracker" for ``TRUTH``, whose model runs as the tracker. See
+    ``run_experiment``."""
     sigma = noise / math.sqrt(3.0) if noise_model == "uniform" else noise
     fields: dict[str, Any] = {"range_noise_rel": sigma}
     if laser_mount_m is not None:
