@@ -12,7 +12,7 @@ from pathlib import Path
 
 from attentive_gym.experiments.runner import TRUTH
 from attentive_gym.experiments.table import CAUSE_KINEMATICS as KINDS
-from attentive_gym.experiments.table import MIN_PASS_RATE, Measured, from_rows, markdown
+from attentive_gym.experiments.table import COLUMNS, MIN_PASS_RATE, Measured, from_rows, markdown
 from page_text import RESULTS, banner, read_rows, table
 
 NAME = "checks.md"
@@ -57,6 +57,7 @@ def page(root: Path, write_figures: bool = True) -> str:
             markdown(measured, n_seeds, noise),
             "",
             *causes,
+            *_measured_markdown(measured),
             "## Reproduce",
             "",
             "```bash",
@@ -114,6 +115,39 @@ def _causes_markdown(measured: Measured, causes: list[dict[str, str]]) -> list[s
             lines,
         ),
     ]
+
+
+def _measured_markdown(measured: Measured) -> list[str]:
+    """The section with what each noise-free run measured, a table per experiment: a row per
+    check, a column per noise-free set-up of ``COLUMNS`` ("—" where a cell was not measured)."""
+    columns = [column for column in COLUMNS if column[1] is None]
+    lines = [
+        "## What the noise-free runs measured",
+        "",
+        "Each check's measurement in the noise-free run of each set-up (seed 0), as `attentive-gym experiment NAME "
+        "--kinematics MODE` prints it; **fail** marks the checks that do not hold.",
+        "",
+    ]
+    for name in dict.fromkeys(key[0] for key in measured):
+        rows = []
+        for (experiment, check), cell in measured.items():
+            if experiment != name:
+                continue
+            texts = [
+                _measured_cell(cell["exact"].get(column), cell.get("measured", {}).get(column)) for column in columns
+            ]
+            rows.append([f"`{check}`", *texts])
+        lines += [f"### {name}", "", table(["check", *(column[0] for column in columns)], rows), ""]
+    return lines
+
+
+def _measured_cell(passed: bool | None, text: str | None) -> str:
+    """A noise-free measurement, prefixed with **fail** when its check does not hold; "—" where
+    it was not measured."""
+    if passed is None or not text:
+        return "—"
+    text = text.replace("|", "\\|")
+    return text if passed else f"**fail**: {text}"
 
 
 def _cell(outcome: str | None) -> str:

@@ -69,13 +69,13 @@ MIN_PASS_RATE = 0.8
 Measured = dict[tuple[str, str], dict[str, dict[tuple[str, str | None], Any]]]
 
 
-def _outcomes(job: tuple) -> tuple[tuple, dict[str, bool]]:
+def _outcomes(job: tuple) -> tuple[tuple, dict[str, tuple[bool, str]]]:
     _, name, noise, seed, kinematics, profile, config = job
     result = run_experiment(name, noise=noise, seed=seed, kinematics=kinematics, profile=profile, config=config)
-    return job, {c.name: c.passed for c in check_experiment(result)}
+    return job, {c.name: (c.passed, c.measured) for c in check_experiment(result)}
 
 
-def _run_jobs(jobs: list[tuple], workers: int) -> list[tuple[tuple, dict[str, bool]]]:
+def _run_jobs(jobs: list[tuple], workers: int) -> list[tuple[tuple, dict[str, tuple[bool, str]]]]:
     """Each job's ``_outcomes``, in order, in ``workers`` processes (1: in this one)."""
     if workers == 1:
         return [_outcomes(job) for job in jobs]
@@ -102,8 +102,9 @@ def measure(
         names: the experiments.
 
     Returns:
-        ``{(experiment, check): {"exact": {column: passed}, "rate": {column: pass rate}}}``;
-        a profile's column has no "exact" entry (its noise is part of the profile).
+        ``{(experiment, check): {"exact": {column: passed}, "measured": {column: what the
+        noise-free run measured, in words}, "rate": {column: pass rate}}}``; a profile's
+        column has no "exact" nor "measured" entry (its noise is part of the profile).
     """
     seeds = list(seeds)
     config = _check_config(config)
@@ -122,13 +123,16 @@ def measure(
         for seed in seeds
     ]
     done = _run_jobs(jobs, workers)
-    table: Measured = {(name, check): {"exact": {}, "rate": {}} for name in names for check in CHECKS[name]}
-    for (kind, name, _, _, kinematics, profile, _), passed in done:
+    table: Measured = {
+        (name, check): {"exact": {}, "measured": {}, "rate": {}} for name in names for check in CHECKS[name]
+    }
+    for (kind, name, _, _, kinematics, profile, _), outcomes in done:
         column = (kinematics, profile)
-        for check, ok in passed.items():
+        for check, (ok, measured) in outcomes.items():
             cell = table[(name, check)]
             if kind == "exact":
                 cell["exact"][column] = ok
+                cell["measured"][column] = measured
             else:
                 cell["rate"][column] = cell["rate"].get(column, 0.0) + ok / len(seeds)
     return table
@@ -137,8 +141,20 @@ def measure(
 #: The tidy CSV of a measurement: one row per (check, column). ``noise_free``: "pass",
 #: "fail", or empty for a profile's column (its noise is part of the profile); ``noise``: the
 #: relative σ of the noisy runs, empty for a profile's column; ``seeds_passed`` of ``seeds``
-#: noisy runs passed; ``config``: the extra ``AttentionConfig`` fields, as JSON.
-CSV_COLUMNS = ("experiment", "check", "kinematics", "profile", "noise_free", "noise", "seeds", "seeds_passed", "config")
+#: noisy runs passed; ``config``: the extra ``AttentionConfig`` fields, as JSON; ``measured``: what
+#: the noise-free run measured, in words (empty for a profile's column).
+CSV_COLUMNS = (
+    "experiment",
+    "check",
+    "kinematics",
+    "profile",
+    "noise_free",
+    "noise",
+    "seeds",
+    "seeds_passed",
+    "config",
+    "measured",
+)
 
 
 def to_rows(
@@ -166,6 +182,7 @@ def to_rows(
                     "seeds": str(n_seeds),
                     "seeds_passed": str(round(cell["rate"][column] * n_seeds)),
                     "config": config_text,
+                    "measured": cell["measured"].get(column, ""),
                 }
             )
     return rows
@@ -196,7 +213,7 @@ def from_rows(rows: Sequence[Mapping[str, str]]) -> tuple[Measured, int, float, 
         column = (row["kinematics"], row["profile"] or None)
         if column not in COLUMNS:
             raise ValueError(f"{row['experiment']} {row['check']}: the column {column} is none of {list(COLUMNS)}")
-        cell = measured.setdefault((row["experiment"], row["check"]), {"exact": {}, "rate": {}})
+        cell = measured.setdefault((row["experiment"], row["check"]), {"exact": {}, "measured": {}, "rate": {}})
         if row["noise_free"] not in ("pass", "fail", ""):
             raise ValueError(
                 f"{row['experiment']} {row['check']}: noise_free is {row['noise_free']!r}; "
@@ -204,6 +221,7 @@ def from_rows(rows: Sequence[Mapping[str, str]]) -> tuple[Measured, int, float, 
             )
         if row["noise_free"]:
             cell["exact"][column] = row["noise_free"] == "pass"
+            cell["measured"][column] = row["measured"]
         cell["rate"][column] = int(row["seeds_passed"]) / n_seeds
     return measured, n_seeds, noise, json.loads(next(iter(shared["config"])))
 
@@ -249,8 +267,8 @@ def measure_causes(
             "config": json.dumps(job[6], sort_keys=True),
             "noise_free": "pass" if ok else "fail",
         }
-        for label, (job, passed) in zip(labels, done)
-        for check, ok in passed.items()
+        for label, (job, outcomes) in zip(labels, done)
+        for check, (ok, _) in outcomes.items()
     ]
 
 

@@ -71,9 +71,14 @@ def _measured():
     rates = {column: 1.0 for column in COLUMNS}
     exact = {column: True for column in COLUMNS if column[1] is None}
     return {
-        ("exp02", "static_scene_fires"): {"exact": exact, "rate": rates},
+        ("exp02", "static_scene_fires"): {
+            "exact": exact,
+            "measured": {c: f"5 fires ({c[0]})" for c in exact},
+            "rate": rates,
+        },
         ("exp02", "ior_visits_several_regions"): {
             "exact": {c: False for c in exact},
+            "measured": {c: "regions fired: s3 | s6" for c in exact},
             "rate": {c: 0.25 for c in COLUMNS},
         },
     }
@@ -97,6 +102,12 @@ def test_the_checks_page_renders_the_measurement_read_back_without_running_an_ex
     assert '`{"threshold": 0.2}`' in page
     assert "| exp02 | `ior_visits_several_regions` | **fail**; **25 %** |" in page
     assert "## What the tracker fails" not in page  # every check fails or holds in both modes alike
+    measurements = page.split("## What the noise-free runs measured")[1].split("## Reproduce")[0]
+    assert "| check | tracker | window | literal | truth |" in measurements
+    assert "| `static_scene_fires` | 5 fires (tracker) | 5 fires (window) | 5 fires (literal) | 5 fires (truth) |" in (
+        measurements
+    )
+    assert "| `ior_visits_several_regions` | **fail**: regions fired: s3 \\| s6 |" in measurements  # a pipe escaped
 
 
 def test_the_checks_page_sets_the_trackers_failures_beside_the_bound_and_the_settings_that_remove_their_causes(
@@ -110,7 +121,11 @@ def test_the_checks_page_sets_the_trackers_failures_beside_the_bound_and_the_set
     measured = _measured()
     exact = dict.fromkeys((c for c in COLUMNS if c[1] is None), True)
     exact[("truth", None)] = False
-    measured[("exp04", "no_ior")] = {"exact": {**exact, ("tracker", None): False}, "rate": dict.fromkeys(COLUMNS, 1.0)}
+    measured[("exp04", "no_ior")] = {
+        "exact": {**exact, ("tracker", None): False},
+        "measured": dict.fromkeys(exact, "min M = 0.5"),
+        "rate": dict.fromkeys(COLUMNS, 1.0),
+    }
     _write(tmp_path / "docs/results/experiment_checks.csv", list(table.CSV_COLUMNS), to_rows(measured, 4, 0.05))
     outcomes = {"tracker": ("pass", "fail"), "truth": ("fail", "pass")}
     causes = [
@@ -122,7 +137,7 @@ def test_the_checks_page_sets_the_trackers_failures_beside_the_bound_and_the_set
     causes.append({**causes[0], "check": "static_scene_fires", "experiment": "exp02"})
     _write(tmp_path / "docs/results/experiment_causes.csv", list(table.CAUSE_COLUMNS), causes)
     page = checks_page.page(tmp_path)
-    section = page.split("## What the tracker fails that the window mode holds")[1].split("## Reproduce")[0]
+    section = page.split("## What the tracker fails that the window mode holds")[1].split("## What the noise-free")[0]
     (first, _), (second, _) = table.CAUSE_SETTINGS
     assert (
         f"| experiment | check | tracker | truth | tracker, {first} | truth, {first} | tracker, {second} "
