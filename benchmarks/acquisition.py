@@ -36,6 +36,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from attentive_gym.attention import AttentionConfig
+from attentive_gym.attention.tracking.track_regions import speed_goal_probability
 from attentive_gym.perception.bound import make_bound_env
 from attentive_gym.perception.controllers import Wander, stand_still
 from attentive_gym.perception.geometry import in_sight, region_of
@@ -45,15 +46,15 @@ from attentive_gym.world.arena import DEFAULT_TASK_GOALS
 
 #: Relative σ of the range noise, as the perception benchmark's main rows.
 NOISE = 0.05
+_CONFIG = AttentionConfig()
 #: A sighting outlasts gaps up to this long (s): the tracker's default coast.
-GAP_S = AttentionConfig().track_coast_s
+GAP_S = _CONFIG.track_coast_s
 #: The ideal estimator's line fits at most this much of the sighting (s).
 IDEAL_WINDOW_S = 2.0
 #: The ideal estimator judges a body moving only this many σ_v above zero.
 Z_STANDING = 2.0
 #: Bins of the time since sighting (s).
 AGE_BINS_S = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0, math.inf)
-_CONFIG = AttentionConfig()
 _BEAM_STEP_RAD = math.radians(1.0)
 
 
@@ -97,26 +98,19 @@ def ideal_speed_sigma(
     return sigma
 
 
-_erf = np.vectorize(math.erf, otypes=[float])
-
-
-def _normal_cdf(x: np.ndarray) -> np.ndarray:
-    return 0.5 * (1.0 + _erf(np.asarray(x, float) / math.sqrt(2.0)))
-
-
 def judged_probability(
     sigma_mps: np.ndarray, speed_mps: np.ndarray, band: tuple[float, float], z: float = Z_STANDING
 ) -> np.ndarray:
     """The probability that an estimate normal around ``speed_mps`` with σ ``sigma_mps`` lies
-    in ``band`` (m/s) and at least ``z`` σ above zero; 0 for an infinite σ."""
+    in ``band`` (m/s) and at least ``z`` σ above zero (the tracker's own normal band
+    probability, ``track_regions.speed_goal_probability``); 0 for an infinite σ."""
     lo, hi = band
-    sigma = np.asarray(sigma_mps, float)
-    finite = np.isfinite(sigma) & (sigma > 0.0)
-    s = np.where(finite, sigma, 1.0)
-    floor = np.maximum(lo, z * s)
-    probability = np.maximum(_normal_cdf((hi - speed_mps) / s) - _normal_cdf((floor - speed_mps) / s), 0.0)
-    exact = ((speed_mps >= lo) & (speed_mps <= hi) & (speed_mps > 0.0)).astype(float)
-    return np.where(finite, probability, np.where(sigma == 0.0, exact, 0.0))
+    return np.array(
+        [
+            speed_goal_probability(v, 0.0, s * s, 0.0, s * s, 1.0, max(lo, z * s), hi) if math.isfinite(s) else 0.0
+            for s, v in zip(np.asarray(sigma_mps, float), np.asarray(speed_mps, float))
+        ]
+    )
 
 
 def step_table(tracker: EpisodeRecord, bound: EpisodeRecord) -> np.ndarray:

@@ -480,8 +480,8 @@ def _replayed_L(result: ExperimentResult, weights: Mapping[str, float]) -> np.nd
     model.set_goals(*result.experiment.goals)
     trace, L = result.trace, []
     for k, t in enumerate(trace.t):
-        inputs = {"sonar_time_s": result.sonar_time_s[k], "laser_time_s": result.laser_time_s[k]}
-        inputs = inputs if result.scan_times_given else {}
+        times = {"sonar_time_s": result.sonar_time_s[k], "laser_time_s": result.laser_time_s[k]}
+        inputs = times if result.scan_times_given else {}
         if result.kinematics == TRUTH:
             inputs["truth"] = result.true_scene(k)
         L.append(model.step(t, trace.O1[k], trace.O2[k], **inputs).L)
