@@ -72,8 +72,9 @@ def page(root: Path, write_figures: bool = True) -> str:
 
 def _causes_markdown(measured: Measured, causes: list[dict[str, str]]) -> list[str]:
     """The section on the checks that the window mode holds and the tracker fails noise-free:
-    whether each holds with the tracker under every ``CAUSE_SETTINGS`` setting (``causes``:
-    ``measure_causes``' rows); none when there is no such check."""
+    whether each holds with the perfect-perception bound, and with the tracker and the bound
+    under every ``CAUSE_SETTINGS`` setting (``causes``: ``measure_causes``' rows); none when
+    there is no such check."""
     tracker, window, truth = ("tracker", None), ("window", None), (TRUTH, None)
     failing = [key for key, cell in measured.items() if cell["exact"].get(window) and not cell["exact"].get(tracker)]
     if not failing:

@@ -462,5 +462,5 @@ def test_checks_read_the_truths_speed_at_the_step():
     run = _Run(result)
     k = int(np.argmax(np.linalg.norm(result.mover_velocities[:, 0], axis=1) > 0.1))  # the target starts
     assert run.speed(0, k) == pytest.approx(float(np.linalg.norm(result.mover_velocities[k, 0])))
-    window = _Run(run_experiment("exp04", kinematics="tracker"))
-    assert window.speed(0, k) < run.speed(0, k)  # the tracker's window average lags the start
+    tracker = _Run(run_experiment("exp04", kinematics="tracker"))
+    assert tracker.speed(0, k) < run.speed(0, k)  # the tracker's window average lags the start
