@@ -38,11 +38,11 @@ import numpy as np
 from attentive_gym.attention import AttentionConfig
 from attentive_gym.attention.tracking.track_regions import speed_goal_probability
 from attentive_gym.perception.bound import make_bound_env
-from attentive_gym.perception.controllers import Wander, stand_still
 from attentive_gym.perception.geometry import in_sight, region_of
-from attentive_gym.perception.records import EpisodeRecord, record_episode
+from attentive_gym.perception.records import EpisodeRecord
 from attentive_gym.perception.settings import PERCEPTION_ARENA, VARIANT, make_attentive_env
 from attentive_gym.world.arena import DEFAULT_TASK_GOALS
+from bench_perception import robot_records
 
 #: Relative σ of the range noise, as the perception benchmark's main rows.
 NOISE = 0.05
@@ -160,15 +160,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         f"in-sight steps by time since sighting, {100 * NOISE:g} % noise, {args.episodes} episodes; ideal: a line "
         f"over ≤ {IDEAL_WINDOW_S:g} s of the target's true centroids, ≥ {Z_STANDING:g} σ above zero"
     )
-    for robot in ("still", "driving"):
-        policy = (lambda seed: stand_still) if robot == "still" else Wander
-        records = {
-            name: [
-                record_episode(env, seed, goals[seed % len(goals)], policy(seed), args.seconds)
-                for seed in range(args.episodes)
-            ]
-            for name, env in models.items()
-        }
+    by_model = {name: robot_records(env, args.episodes, args.seconds, goals) for name, env in models.items()}
+    for (robot, tracked), (_, bounded) in zip(by_model["tracker"], by_model["bound"]):
+        records = {"tracker": tracked, "bound": bounded}
         for goal in goals:
             pairs = [(a, b) for a, b in zip(records["tracker"], records["bound"]) if a.goal == goal]
             steps = np.concatenate([step_table(a, b) for a, b in pairs] or [np.zeros((0, 4))])

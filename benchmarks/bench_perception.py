@@ -216,12 +216,12 @@ def perception_records(modes: Iterable[str], episodes: int, seconds: float, goal
                 for robot in ROBOT_MODES:
                     yield mode, noise.name, robot, error
                 continue
-            for robot, records in _robot_records(env, episodes, seconds, goals):
+            for robot, records in robot_records(env, episodes, seconds, goals):
                 yield mode, noise.name, robot, records
             env.close()
 
 
-def _robot_records(env, episodes: int, seconds: float, goals: tuple[Goal, ...]):
+def robot_records(env, episodes: int, seconds: float, goals: tuple[Goal, ...]):
     """Per robot mode, the ``record_episode`` of ``env`` on seeds ``0..episodes-1`` (the goals
     in turn; the robot standing still or wandering): yields ``(robot, records)``."""
     for robot in ROBOT_MODES:
@@ -248,7 +248,7 @@ def bound_records(episodes: int, seconds: float, goals: tuple[Goal, ...]):
             for robot in ROBOT_MODES:
                 yield noise.name, robot, error
             continue
-        for robot, records in _robot_records(env, episodes, seconds, goals):
+        for robot, records in robot_records(env, episodes, seconds, goals):
             yield noise.name, robot, records
         env.close()
 
